@@ -1,0 +1,166 @@
+"""Decoupling of the stiffness matrix by a shift of the reference point (eq. 12-19).
+
+Shifting the reference point by ``d`` (the origin of the old frame seen from the new
+one, ``D = hat(d)``, ``Q = 1``) changes the blocks as eq. (17):
+``K'_rr = K_rr - K_rt D + D (K_rt^T - K_tt D)``, ``K'_rt = K_rt + D K_tt``,
+``K'_tt = K_tt``. Exact decoupling needs ``K_rt + D K_tt = 0``, possible only when
+``K_rt K_tt^{-1}`` is skew-symmetric; in general a residual coupling remains.
+
+Two methods:
+
+``"paper"``
+    eq. (19) as printed: ``M d = vect(K_rt)`` with ``M = (tr(K_tt) 1 - K_tt) / 2``.
+    It reproduces the paper's (28)-(32). Its sign contradicts (18b), so for the
+    paper's (22) it leaves a coupling larger than K_rt itself; K'_rr is then the
+    rotational block at a point that is not a centre of stiffness.
+``"least-squares"``
+    the ``d`` that minimises ``||K_rt + D K_tt||_F`` (linear least squares), with that
+    minimum reported: the best decoupling a shift can give.
+
+``residual_coupling = ||K_rt + D K_tt||_F / ||K_rt||_F`` (0 when decoupled exactly).
+Principal stiffnesses and directions are the eigen-pairs of K'_rr and K'_tt, ordered
+as the paper (directions closest to x, y, z), so that ``k_phi = f_rr[2]``,
+``k_x = f_tt[0]``, ``k_y = f_tt[1]`` for a planar design.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.conventions import FloatArray, hat, vect
+from ppm_stiffness.errors import InputDataError
+
+Method = Literal["paper", "least-squares"]
+
+
+@dataclass(frozen=True)
+class Decoupling:
+    """Result of :func:`decouple` (SI).
+
+    Attributes
+    ----------
+    method : str
+    M : ndarray (3, 3) [N/m]
+        eq. (19)'s matrix (reported for both methods).
+    d : ndarray (3,) [m]
+        The shift: the old reference point P seen from the new one.
+    D : ndarray (3, 3) [m]
+    K_rr, K_tt : ndarray (3, 3)
+        K'_rr [N·m/rad] and K'_tt [N/m] at the new point.
+    K_rt : ndarray (3, 3) [N]
+        The coupling left at the new point, ``K_rt + D K_tt``.
+    residual_coupling : float
+        ``||K'_rt||_F / ||K_rt||_F`` (0 if K_rt is 0).
+    rotational_values, translational_values : ndarray (3,)
+        Principal stiffnesses f_rr [N·m/rad], f_tt [N/m].
+    rotational_directions, translational_directions : ndarray (3, 3)
+        Unit eigenvectors as columns (Lambda_rr, Lambda_tt).
+    """
+
+    method: str
+    M: FloatArray
+    d: FloatArray
+    D: FloatArray
+    K_rr: FloatArray
+    K_tt: FloatArray
+    K_rt: FloatArray
+    residual_coupling: float
+    rotational_values: FloatArray
+    rotational_directions: FloatArray
+    translational_values: FloatArray
+    translational_directions: FloatArray
+
+
+def shift_blocks(stiffness: ArrayLike, d: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Blocks (K'_rr, K'_rt, K'_tt) after a shift ``d`` with Q = 1 (eq. 17)."""
+    k = np.asarray(stiffness, dtype=float)
+    krr, krt, ktt = k[:3, :3], k[:3, 3:], k[3:, 3:]
+    dd = hat(d)
+    new_rr = krr - krt @ dd + dd @ (krt.T - ktt @ dd)
+    return new_rr, krt + dd @ ktt, ktt.copy()
+
+
+def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Eigen-pairs of a symmetric 3x3 block, ordered as the paper.
+
+    Each eigenvector is assigned to the coordinate axis it is closest to (x, y, z),
+    and signed so that its largest component is... as a generic solver leaves it, made
+    deterministic: the component along its own axis is non-negative for x and z and
+    the first nonzero component is negative for in-plane pairs (the paper's (32)).
+
+    Returns
+    -------
+    values : ndarray (3,)
+    directions : ndarray (3, 3), unit eigenvectors as columns
+    """
+    b = np.asarray(block, dtype=float)
+    vals, vecs = np.linalg.eigh(0.5 * (b + b.T))
+    # assign eigenvectors to axes greedily by the largest |component|
+    order = [-1, -1, -1]
+    taken: set[int] = set()
+    weights = np.abs(vecs)
+    for _ in range(3):
+        masked = weights.copy()
+        for j in taken:
+            masked[:, j] = -1
+        for ax in range(3):
+            if order[ax] >= 0:
+                masked[ax, :] = -1
+        ax, j = np.unravel_index(np.argmax(masked), masked.shape)
+        order[int(ax)] = int(j)
+        taken.add(int(j))
+    vecs = vecs[:, order]
+    vals = vals[order]
+    for j in range(3):
+        if vecs[j, j] < 0:
+            vecs[:, j] = -vecs[:, j]
+    return vals, vecs
+
+
+def decouple(stiffness: ArrayLike, method: Method = "paper") -> Decoupling:
+    """Decouple a 6x6 stiffness matrix by shifting the reference point.
+
+    Parameters
+    ----------
+    stiffness : array_like, shape (6, 6)
+        SI, order of ``conventions``.
+    method : {"paper", "least-squares"}
+
+    Returns
+    -------
+    Decoupling
+    """
+    k = np.asarray(stiffness, dtype=float)
+    krt, ktt = k[:3, 3:], k[3:, 3:]
+    m = 0.5 * (np.trace(ktt) * np.eye(3) - ktt)
+    if method == "paper":
+        d = np.linalg.lstsq(m, vect(krt), rcond=None)[0]
+    elif method == "least-squares":
+        # K_rt + hat(d) K_tt is linear in d: stack the three columns of hat(e_k) K_tt
+        basis = np.stack([(hat(e) @ ktt).ravel() for e in np.eye(3)], axis=1)
+        d = np.linalg.lstsq(basis, -krt.ravel(), rcond=None)[0]
+    else:
+        raise InputDataError(f"unknown decoupling method {method!r}")
+    new_rr, new_rt, new_tt = shift_blocks(k, d)
+    base = np.linalg.norm(krt)
+    residual = float(np.linalg.norm(new_rt) / base) if base > 0 else 0.0
+    f_rr, l_rr = principal_axes(new_rr)
+    f_tt, l_tt = principal_axes(new_tt)
+    return Decoupling(
+        method=method,
+        M=m,
+        d=d,
+        D=hat(d),
+        K_rr=new_rr,
+        K_tt=new_tt,
+        K_rt=new_rt,
+        residual_coupling=residual,
+        rotational_values=f_rr,
+        rotational_directions=l_rr,
+        translational_values=f_tt,
+        translational_directions=l_tt,
+    )

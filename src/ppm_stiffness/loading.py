@@ -1,0 +1,104 @@
+"""The loaded manipulator: actuator forces, actuator stiffness and K under a wrench.
+
+An external wrench ``w = (m_x, m_y, m_z, f_x, f_y, f_z)`` [N·m, N] applied at P (axes
+of F_b) is shared by the legs in proportion to their stiffness:
+``w_i = K_i K^{-1} w`` (so that ``sum_i w_i = w``, equilibrium). All springs of a leg
+are in series, so each carries the projection of ``w_i`` on its screw; the actuator
+carries ``G_i = u_i . f_i`` [N]. For the 3-PPR each leg transmits a single in-plane
+force, so the in-plane split is statically determinate and these forces do not
+depend on the stiffness values used for the split.
+
+Sign: ``G_i > 0`` when the leg pushes the platform along +u_i in reaction... more
+precisely, ``G_i`` is the component along ``u_i`` of the force the leg must carry for
+the applied wrench; the actuator law is odd, so only ``|G_i|`` sets its stiffness.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness import actuator as act
+from ppm_stiffness import ppr
+from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.design import Design
+from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.model import leg_stiffnesses_at_pose, stiffness_at_pose, workspace_centre
+
+
+def validate_wrench(wrench: ArrayLike) -> FloatArray:
+    """A wrench as a finite (6,) array (m_x, m_y, m_z, f_x, f_y, f_z), or raise."""
+    w = np.asarray(wrench, dtype=float)
+    if w.shape != (6,):
+        raise InputDataError(
+            f"a wrench has 6 components (m_x, m_y, m_z, f_x, f_y, f_z), got shape {w.shape}"
+        )
+    if not np.all(np.isfinite(w)):
+        raise InputDataError("wrench components must be finite")
+    return w
+
+
+def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:
+    """Share of ``wrench`` carried by each leg, shape (n_legs, 6): ``K_i K^{-1} w``."""
+    total = np.sum(leg_stiffnesses, axis=0)
+    twist = np.linalg.solve(total, np.asarray(wrench, dtype=float))
+    return np.array([k @ twist for k in leg_stiffnesses])
+
+
+def actuator_forces(
+    design: Design,
+    wrench: ArrayLike,
+    pose: ArrayLike | None = None,
+    actuator_stiffness: ArrayLike | None = None,
+) -> FloatArray:
+    """Axial force [N] in each actuator for an external wrench at a pose.
+
+    ``actuator_stiffness`` only matters for statically indeterminate designs.
+    """
+    w = validate_wrench(wrench)
+    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)
+    shares = leg_wrenches(legs, w)
+    u = np.array([ppr.leg_directions(leg)[0] for leg in design.legs])
+    return np.einsum("ij,ij->i", shares[:, 3:], u)
+
+
+@dataclass(frozen=True)
+class LoadedState:
+    """The manipulator under a wrench (SI).
+
+    Attributes
+    ----------
+    pose : ndarray (3,)
+    wrench : ndarray (6,)
+    actuator_forces : ndarray (n_legs,) [N]
+    actuator_displacements : ndarray (n_legs,) [m], magnitudes from eq. (20)
+    actuator_stiffness : ndarray (n_legs,) [N/m], eq. (21)
+    stiffness_matrix : ndarray (6, 6)
+    """
+
+    pose: FloatArray
+    wrench: FloatArray
+    actuator_forces: FloatArray
+    actuator_displacements: FloatArray
+    actuator_stiffness: FloatArray
+    stiffness_matrix: FloatArray
+
+
+def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = None) -> LoadedState:
+    """Actuator forces, displacements, stiffnesses and K under ``wrench`` at ``pose``.
+
+    The forces come from the statics of the unloaded (locked) manipulator; the
+    structure is linear and the 3-PPR's in-plane split is determinate, so no
+    iteration is needed. Geometry changes under load are neglected (small
+    displacements), as in the paper.
+    """
+    w = validate_wrench(wrench)
+    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    forces = actuator_forces(design, w, p)
+    delta = act.displacement_from_force(design.actuator, forces)
+    k_act = act.stiffness_from_displacement(design.actuator, delta)
+    k = stiffness_at_pose(design, p, k_act)
+    return LoadedState(p, w, forces, delta, k_act, k)

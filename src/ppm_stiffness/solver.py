@@ -1,0 +1,131 @@
+"""Stiffness of legs and of the platform from virtual springs (paper eq. 1, 4).
+
+The solver knows nothing of the architecture. A leg is given as arrays:
+
+``screws`` (..., 6, m)
+    unit twists (at the reference point P, axes of F_b) of its m virtual springs,
+    the actuator included;
+``compliance`` (..., m, m)
+    the compliance of those springs in their own coordinates (block diagonal:
+    ``1/k`` for a single spring, eq. 3c for a beam);
+``passive`` (..., 6, p)
+    unit twists of its passive joints.
+
+The leg's compliance seen at P is ``J C J^T``; its stiffness ``K_i`` is the upper-left
+6x6 block of the inverse of the bordered matrix ``[[J C J^T, J_q], [J_q^T, 0]]``
+(eq. 1), which eliminates the passive joints exactly (``K_i @ J_q == 0``). The
+platform stiffness is the sum over legs (eq. 4). Leading dimensions are batch
+dimensions: one call evaluates many poses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.errors import SingularConfigurationError
+
+#: Length [m] used to balance rotational and translational coordinates before the
+#: bordered inverse; it changes the conditioning, not the result.
+_LENGTH_SCALE = 0.1
+
+
+@dataclass(frozen=True)
+class LegSprings:
+    """Virtual springs and passive joints of one leg, as arrays (see module doc).
+
+    Attributes
+    ----------
+    screws : ndarray, shape (..., 6, m)
+    compliance : ndarray, shape (..., m, m)
+    passive : ndarray, shape (..., 6, p)
+    actuator_index : int
+        Column of ``screws`` that is the actuator spring.
+    """
+
+    screws: FloatArray
+    compliance: FloatArray
+    passive: FloatArray
+    actuator_index: int = 0
+
+
+def leg_compliance_at_platform(screws: FloatArray, compliance: FloatArray) -> FloatArray:
+    """Compliance ``J C J^T`` of a leg's springs seen at P, shape (..., 6, 6)."""
+    return np.asarray(screws @ compliance @ np.swapaxes(screws, -1, -2))
+
+
+def bordered_stiffness(compliance6: FloatArray, passive: FloatArray) -> FloatArray:
+    """Leg stiffness by the bordered inverse of eq. (1).
+
+    Parameters
+    ----------
+    compliance6 : ndarray, shape (..., 6, 6)
+        ``J C J^T`` of the leg [rad/(N·m), rad/N, m/N].
+    passive : ndarray, shape (..., 6, p)
+        Unit twists of the passive joints.
+
+    Returns
+    -------
+    ndarray, shape (..., 6, 6)
+        Symmetric stiffness of the leg at P, with ``K @ passive == 0``.
+
+    Raises
+    ------
+    SingularConfigurationError
+        If the bordered matrix is singular (dependent passive joints, or a leg whose
+        springs leave a transmitted wrench without compliance).
+    """
+    scale = np.array([1.0, 1.0, 1.0, 1 / _LENGTH_SCALE, 1 / _LENGTH_SCALE, 1 / _LENGTH_SCALE])
+    # Twists in scaled units: t_s = S t with S = diag(1, 1/L); wrenches w_s = S^-1 w.
+    c = compliance6 * scale[:, None] * scale[None, :]
+    q = passive * scale[:, None]
+    p = q.shape[-1]
+    n = 6 + p
+    batch = c.shape[:-2]
+    bordered = np.zeros(batch + (n, n))
+    bordered[..., :6, :6] = c
+    bordered[..., :6, 6:] = q
+    bordered[..., 6:, :6] = np.swapaxes(q, -1, -2)
+    try:
+        inv = np.linalg.inv(bordered)
+    except np.linalg.LinAlgError as exc:
+        raise SingularConfigurationError(
+            "a leg's passive joints are dependent or its springs leave a wrench uncompliant"
+        ) from exc
+    k = inv[..., :6, :6] * scale[:, None] * scale[None, :]
+    return np.asarray(0.5 * (k + np.swapaxes(k, -1, -2)))
+
+
+def leg_stiffness(leg: LegSprings) -> FloatArray:
+    """Cartesian stiffness of one leg at P, shape (..., 6, 6) (eq. 1)."""
+    return bordered_stiffness(leg_compliance_at_platform(leg.screws, leg.compliance), leg.passive)
+
+
+def cartesian_stiffness(legs: Sequence[LegSprings]) -> FloatArray:
+    """Cartesian stiffness of the platform at P, axes of F_b: the sum of eq. (4).
+
+    Parameters
+    ----------
+    legs : sequence of LegSprings
+        All with the same batch shape.
+
+    Returns
+    -------
+    ndarray, shape (..., 6, 6)
+        [[K_rr, K_rt], [K_rt^T, K_tt]] in N·m/rad, N, N/m.
+    """
+    total = leg_stiffness(legs[0])
+    for leg in legs[1:]:
+        total = total + leg_stiffness(leg)
+    return total
+
+
+def transmitted_wrench_basis(passive: FloatArray) -> FloatArray:
+    """Orthonormal basis of the wrenches a leg can transmit (reciprocal to its passive
+    joints: ``passive^T @ W == 0``), shape (..., 6, 6 - p). Used by tests as an
+    independent route to the leg stiffness: ``K = W (W^T C W)^{-1} W^T``."""
+    u, _, _ = np.linalg.svd(passive, full_matrices=True)
+    return np.asarray(u[..., :, passive.shape[-1] :])
