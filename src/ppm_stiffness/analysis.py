@@ -1,0 +1,101 @@
+"""One analysis of a design at a pose (or of a given matrix), as plain data.
+
+:func:`analyze_design` and :func:`analyze_matrix` return the object that
+``ppm-stiffness analyze --json`` prints and that the report embeds, so both always
+carry the same numbers. All values SI (m, rad, N, N·m, N/m, N·m/rad).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.decoupling import Decoupling, Method, decouple
+from ppm_stiffness.design import Design
+from ppm_stiffness.eigenscrews import ScrewSprings, eigenscrews
+from ppm_stiffness.loading import loaded_state
+from ppm_stiffness.model import actuator_stiffness_vector, stiffness_at_pose, workspace_centre
+
+
+def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
+    """The six screw springs as dicts (Table 4 columns)."""
+    return [
+        {
+            "eigenvalue": float(springs.eigenvalues[i]),
+            "eigenforce": float(springs.eigenforces[i]),
+            "pitch": float(springs.pitches[i]),
+            "axis": springs.axes[i].tolist(),
+            "position": springs.positions[i].tolist(),
+            "spring_constant": float(springs.spring_constants[i]),
+        }
+        for i in range(6)
+    ]
+
+
+def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
+    return {
+        "method": dec.method,
+        "M": dec.M.tolist(),
+        "d": dec.d.tolist(),
+        "K_rr": dec.K_rr.tolist(),
+        "K_tt": dec.K_tt.tolist(),
+        "residual_coupling": dec.residual_coupling,
+    }
+
+
+def principal_dict(dec: Decoupling) -> dict[str, Any]:
+    return {
+        "rotational": {
+            "values": dec.rotational_values.tolist(),
+            "directions": dec.rotational_directions.tolist(),
+        },
+        "translational": {
+            "values": dec.translational_values.tolist(),
+            "directions": dec.translational_directions.tolist(),
+        },
+    }
+
+
+def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, Any]:
+    """Eigenscrews, decoupling (``method`` plus the least-squares shift) of a matrix."""
+    k = np.asarray(stiffness, dtype=float)
+    dec = decouple(k, method)
+    best = decouple(k, "least-squares")
+    return {
+        "stiffness_matrix": k.tolist(),
+        "eigenscrews": eigenscrews_dict(eigenscrews(k)),
+        "decoupling": decoupling_dict(dec),
+        "principal": principal_dict(dec),
+        "decoupling_least_squares": decoupling_dict(best),
+        "principal_least_squares": principal_dict(best),
+    }
+
+
+def analyze_design(
+    design: Design,
+    pose: ArrayLike | None = None,
+    wrench: ArrayLike | None = None,
+    method: Method = "paper",
+) -> dict[str, Any]:
+    """Full analysis at a pose, unloaded or under ``wrench`` (m_x..f_z, at P, F_b).
+
+    Keys: ``pose`` {x, y, phi}, ``actuator_stiffness`` [n], ``stiffness_matrix``,
+    ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``); with a
+    wrench also ``wrench``, ``actuator_forces``, ``actuator_displacements``.
+    """
+    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    out: dict[str, Any] = {"pose": {"x": float(p[0]), "y": float(p[1]), "phi": float(p[2])}}
+    if wrench is None:
+        k_act = actuator_stiffness_vector(design, None)
+        k = stiffness_at_pose(design, p, k_act)
+    else:
+        state = loaded_state(design, wrench, p)
+        k_act, k = state.actuator_stiffness, state.stiffness_matrix
+        out["wrench"] = state.wrench.tolist()
+        out["actuator_forces"] = state.actuator_forces.tolist()
+        out["actuator_displacements"] = state.actuator_displacements.tolist()
+    out["actuator_stiffness"] = np.asarray(k_act).tolist()
+    out.update(analyze_matrix(k, method))
+    return out

@@ -1,0 +1,71 @@
+"""Command-line interface: ``ppm-stiffness COMMAND ...``.
+
+A thin layer: each command lives in its own module of this package, exposing
+``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``; it parses,
+calls the library and prints. Errors of the library (:class:`PPMStiffnessError`)
+become one line on stderr and exit code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import sys
+from collections.abc import Sequence
+
+from ppm_stiffness.errors import PPMStiffnessError
+
+#: command name -> module (imported only when the command runs)
+COMMANDS: dict[str, str] = {
+    "analyze": "ppm_stiffness.cli.analyze",
+    "calibrate": "ppm_stiffness.cli.calibrate",
+    "fit-actuator": "ppm_stiffness.cli.fit_actuator",
+    "deflect": "ppm_stiffness.cli.deflect",
+    "map": "ppm_stiffness.cli.map_cmd",
+    "springs": "ppm_stiffness.cli.springs",
+    "mechanism": "ppm_stiffness.cli.mechanism",
+    "report": "ppm_stiffness.cli.report",
+    "validate": "ppm_stiffness.cli.validate",
+}
+
+
+def _available() -> dict[str, str]:
+    return {name: mod for name, mod in COMMANDS.items() if importlib.util.find_spec(mod)}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every available command."""
+    parser = argparse.ArgumentParser(
+        prog="ppm-stiffness",
+        description="Stiffness of compliant planar parallel manipulators "
+        "(virtual-spring model, eigenscrews, decoupling, actuation compliance).",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, modname in _available().items():
+        module = importlib.import_module(modname)
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point; returns the exit code (0 ok, 2 bad input)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
+        return int(exc.code or 0)
+    try:
+        return int(args._run(args))
+    except PPMStiffnessError as exc:
+        print(f"ppm-stiffness: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("ppm-stiffness: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

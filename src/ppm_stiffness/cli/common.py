@@ -1,0 +1,117 @@
+"""Helpers shared by the CLI commands: options, units at the edges, output."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from rich.console import Console
+
+from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.model import workspace_centre
+
+console = Console()
+err_console = Console(stderr=True)
+
+
+def add_design_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--design", metavar="FILE", help="TOML design file (default: the built-in 3-PPR)"
+    )
+
+
+def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--x", type=float, metavar="MM", help="x of P in F_b [mm]")
+    parser.add_argument("--y", type=float, metavar="MM", help="y of P in F_b [mm]")
+    parser.add_argument("--phi", type=float, metavar="DEG", help="orientation [deg]")
+
+
+def add_wrench_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--wrench",
+        metavar="FX,FY,FZ,MX,MY,MZ",
+        help="external wrench on the platform at P [N, N·m], axes of F_b",
+    )
+
+
+def load_design_arg(args: argparse.Namespace) -> Design:
+    return load_design(args.design) if getattr(args, "design", None) else default_design()
+
+
+def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
+    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg]."""
+    pose = workspace_centre(design).copy()
+    for i, (name, factor) in enumerate((("x", 1e-3), ("y", 1e-3), ("phi", math.pi / 180))):
+        value = getattr(args, name, None)
+        if value is not None:
+            if not math.isfinite(value):
+                raise InputDataError(f"--{name} must be finite")
+            pose[i] = value * factor
+    return pose
+
+
+def parse_wrench(text: str | None) -> np.ndarray | None:
+    """The CLI's wrench ``FX,FY,FZ,MX,MY,MZ`` [N, N·m] as the library's
+    ``(m_x, m_y, m_z, f_x, f_y, f_z)``."""
+    if text is None:
+        return None
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise InputDataError(f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {text!r}") from None
+    if len(values) != 6:
+        raise InputDataError(
+            f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {len(values)}"
+        )
+    if not all(math.isfinite(v) for v in values):
+        raise InputDataError("--wrench components must be finite")
+    f, m = values[:3], values[3:]
+    return np.array(m + f)
+
+
+def read_matrix_csv(path: str | Path) -> np.ndarray:
+    """A 6x6 matrix from CSV (``#`` comments allowed); raises InputDataError."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputDataError(f"file not found: {p}")
+    rows: list[list[float]] = []
+    try:
+        with p.open(newline="", encoding="utf-8") as fh:
+            for line in csv.reader(row for row in fh if not row.lstrip().startswith("#")):
+                if not line or all(not c.strip() for c in line):
+                    continue
+                rows.append([float(c) for c in line])
+    except ValueError as exc:
+        raise InputDataError(f"{p}: not a numeric CSV ({exc})") from None
+    if len(rows) != 6 or any(len(r) != 6 for r in rows):
+        shape = f"{len(rows)} rows of {sorted({len(r) for r in rows})} columns"
+        raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
+    return np.array(rows)
+
+
+def to_jsonable(obj: Any) -> Any:
+    """Numpy arrays and scalars to lists and floats, refusing NaN."""
+    if isinstance(obj, dict):
+        return {k: to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, (np.floating, float)):
+        value = float(obj)
+        if math.isnan(value):
+            raise InputDataError("internal error: a NaN reached the output")
+        return value
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def dump_json(obj: Any) -> str:
+    return json.dumps(to_jsonable(obj), indent=2, allow_nan=False)
