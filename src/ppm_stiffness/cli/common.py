@@ -6,6 +6,7 @@ import argparse
 import csv
 import json
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +17,8 @@ from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.model import workspace_centre
 
-console = Console()
+#: Tables go to stdout; piped output gets a fixed width wide enough for 6x6 matrices.
+console = Console(width=None if sys.stdout.isatty() else 140)
 err_console = Console(stderr=True)
 
 

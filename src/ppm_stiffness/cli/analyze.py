@@ -1,0 +1,169 @@
+"""``ppm-stiffness analyze``: K, screw springs, decoupling, principal stiffnesses."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+import numpy as np
+from rich.markup import escape
+from rich.table import Table
+
+from ppm_stiffness.analysis import analyze_design, analyze_matrix
+from ppm_stiffness.calibration import validate_stiffness_matrix
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    add_pose_arguments,
+    add_wrench_argument,
+    console,
+    dump_json,
+    load_design_arg,
+    parse_wrench,
+    pose_from_args,
+    read_matrix_csv,
+)
+from ppm_stiffness.conventions import TWIST_COMPONENTS
+from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.model import check_nonsingular
+
+HELP = "stiffness matrix, screw springs, decoupling and principal stiffnesses at a pose"
+
+_ROW_UNITS = ("N·m/rad, N",) * 3 + ("N, N/m",) * 3
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    add_pose_arguments(parser)
+    add_wrench_argument(parser)
+    parser.add_argument(
+        "--matrix", metavar="FILE.csv",
+        help="analyse this 6x6 stiffness matrix (SI, order phi_x,phi_y,phi_z,x,y,z) "
+        "instead of a design",
+    )
+    parser.add_argument(
+        "--method", choices=("paper", "least-squares"), default="paper",
+        help="decoupling shown first (default: the paper's eq. 19)",
+    )
+    parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.matrix:
+        if args.design or args.wrench or any(
+            getattr(args, k) is not None for k in ("x", "y", "phi")
+        ):
+            raise InputDataError("--matrix cannot be combined with --design, a pose or --wrench")
+        k = validate_stiffness_matrix(read_matrix_csv(args.matrix), args.matrix)
+        check_nonsingular(k, f" ({args.matrix})")
+        result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
+        result.update(analyze_matrix(k, args.method))
+        title = f"matrix {args.matrix}"
+    else:
+        design = load_design_arg(args)
+        pose = pose_from_args(args, design)
+        result = analyze_design(design, pose, parse_wrench(args.wrench), args.method)
+        title = design.name
+    if args.json:
+        print(dump_json(result))
+    else:
+        print_tables(result, title)
+    return 0
+
+
+def _clean(m: Any) -> np.ndarray:
+    """Round-off (below 1e-12 of the largest entry) shown as 0."""
+    a = np.asarray(m, dtype=float)
+    return np.where(np.abs(a) < 1e-12 * max(np.max(np.abs(a)), 1e-300), 0.0, a)
+
+
+def _matrix_table(
+    title: str,
+    m: Any,
+    labels: tuple[str, ...],
+    fmt: str = "{:.4g}",
+    units: tuple[str, ...] | None = None,
+) -> Table:
+    t = Table(title=escape(title), title_justify="left")
+    t.add_column("")
+    for lab in labels:
+        t.add_column(lab, justify="right")
+    if units:
+        t.add_column("row units")
+    for i, (lab, row) in enumerate(zip(labels, _clean(m), strict=True)):
+        cells = [fmt.format(v + 0.0) for v in row]
+        t.add_row(lab, *cells, *([units[i]] if units else []))
+    return t
+
+
+def _vec(v: Any, digits: int = 4) -> str:
+    return " ".join(f"{x + 0.0:+.{digits}f}" for x in _clean(v))
+
+
+def print_tables(result: dict[str, Any], title: str) -> None:
+    """Readable tables of an analysis dict (see :mod:`ppm_stiffness.analysis`)."""
+    c = console
+    c.print(f"[bold]{escape(title)}[/bold]")
+    if result["pose"] is not None:
+        p = result["pose"]
+        c.print(
+            f"pose: x = {p['x'] * 1e3:.3f} mm, y = {p['y'] * 1e3:.3f} mm, "
+            f"phi = {np.degrees(p['phi']):.3f} deg (P in F_b)"
+        )
+        k_act = ", ".join(f"{v:.6g}" for v in result["actuator_stiffness"])
+        c.print(f"actuator stiffness \\[N/m]: {k_act}")
+    if "wrench" in result:
+        w = result["wrench"]
+        c.print(
+            "wrench: f = ({:.4g}, {:.4g}, {:.4g}) N, m = ({:.4g}, {:.4g}, {:.4g}) N·m".format(
+                *w[3:], *w[:3]
+            )
+        )
+        forces = ", ".join(f"{v:.4g}" for v in result["actuator_forces"])
+        disp = ", ".join(f"{v * 1e3:.4g}" for v in result["actuator_displacements"])
+        c.print(f"actuator forces \\[N]: {forces}; displacements \\[mm]: {disp}")
+    k = np.asarray(result["stiffness_matrix"])
+    c.print(_matrix_table(
+        "Cartesian stiffness K at P, axes of F_b (w = K t; t = (phi, u) [rad, m], "
+        "w = (m, f) [N·m, N])",
+        k, TWIST_COMPONENTS, "{:.5g}", _ROW_UNITS,
+    ))
+
+    s = Table(title="Screw springs (eigenscrews of K zeta = lambda Gamma zeta, eq. 5-11)",
+              title_justify="left")
+    for col in ("spring", "lambda [N]", "eigenforce [N]", "k [N/m]", "axis e",
+                "position p [m]", "pitch [m/rad]"):
+        s.add_column(col, justify="right")
+    for i, sc in enumerate(result["eigenscrews"], start=1):
+        s.add_row(
+            f"s{i}", f"{sc['eigenvalue']:.1f}", f"{sc['eigenforce']:.1f}",
+            f"{sc['spring_constant']:.0f}",
+            _vec(sc["axis"]),
+            _vec(sc["position"]),
+            f"{sc['pitch']:.4f}",
+        )
+    c.print(s)
+
+    for key, pkey in (("decoupling", "principal"),
+                      ("decoupling_least_squares", "principal_least_squares")):
+        dec, pr = result[key], result[pkey]
+        c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
+        c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z"), "{:.5g}"))
+        c.print(f"d \\[m] = {_vec(dec['d'], 5)}   residual coupling ||K_rt + D K_tt|| / ||K_rt|| = "
+                f"{dec['residual_coupling']:.4f}")
+        c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
+        c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
+        pt = Table(title="Principal stiffnesses and directions", title_justify="left")
+        for col in ("", "value", "direction"):
+            pt.add_column(col, justify="right")
+        for name, block, unit in (("rot", "rotational", "N·m/rad"),
+                                  ("trans", "translational", "N/m")):
+            vals = pr[block]["values"]
+            dirs = np.asarray(pr[block]["directions"])
+            for j in range(3):
+                pt.add_row(f"{name} {j + 1}", f"{vals[j]:.5g} {unit}",
+                           _vec(dirs[:, j]))
+        c.print(pt)
+        if pr is result["principal"]:
+            r, tr = pr["rotational"]["values"], pr["translational"]["values"]
+            c.print(f"k_phi = {r[2]:.5g} N·m/rad, k_x = {tr[0]:.5g} N/m, "
+                    f"k_y = {tr[1]:.5g} N/m (paper's definitions)")
