@@ -1,0 +1,181 @@
+"""CLI, in process: analyze / calibrate tables, JSON keys, and every bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from paper import EQ22
+from ppm_stiffness.analysis import analyze_design
+from ppm_stiffness.cli import main
+from ppm_stiffness.design import default_design, dump_design, save_design
+from test_properties import wide_design
+
+EQ22_CSV = str(Path(__file__).parents[1] / "src/ppm_stiffness/data/paper_eq22.csv")
+
+
+def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_analyze_prints_all_tables(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "analyze")
+    assert code == 0, err
+    for heading in ("Cartesian stiffness K", "N·m/rad", "Screw springs", "M [N/m]",
+                    "d [m]", "K'_rr", "K'_tt", "Principal stiffnesses", "k_phi ="):
+        assert heading in out
+    # K_tt(x, x) of (22) appears with its value
+    assert "34570" in out
+
+
+def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "analyze", "--json", "--x", "2", "--y", "-3", "--phi", "5")
+    assert code == 0
+    data = json.loads(out)
+    assert set(data) >= {"pose", "actuator_stiffness", "stiffness_matrix", "eigenscrews",
+                         "decoupling", "principal"}
+    assert data["pose"] == pytest.approx({"x": 0.002, "y": -0.003, "phi": np.radians(5)})
+    assert len(data["eigenscrews"]) == 6
+    assert set(data["eigenscrews"][0]) == {"eigenvalue", "eigenforce", "pitch", "axis",
+                                           "position", "spring_constant"}
+    assert set(data["decoupling"]) >= {"M", "d", "K_rr", "K_tt", "residual_coupling"}
+    assert data["decoupling"]["method"] == "paper"
+    assert set(data["principal"]) == {"rotational", "translational"}
+    assert np.shape(data["principal"]["rotational"]["directions"]) == (3, 3)
+    ref = analyze_design(default_design(), [0.002, -0.003, np.radians(5)])
+    np.testing.assert_allclose(data["stiffness_matrix"], ref["stiffness_matrix"], rtol=1e-12)
+
+
+def test_analyze_with_wrench_reports_actuators(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "analyze", "--json", "--wrench", "5,5,20,0,0,0.1")
+    assert code == 0
+    data = json.loads(out)
+    # paper: K_act = [1.1108, 0.0516, 0.1912]e5 N/m under f = [5,5,20] N, m_z = 0.1 N·m
+    np.testing.assert_allclose(data["actuator_stiffness"], [1.1108e5, 5160, 19120], rtol=0.01)
+    assert len(data["actuator_forces"]) == 3 and len(data["actuator_displacements"]) == 3
+    code, out, _ = run(capsys, "analyze", "--wrench", "5,5,20,0,0,0.1")
+    assert "actuator forces" in out
+
+
+def test_analyze_matrix(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "analyze", "--matrix", EQ22_CSV, "--json")
+    assert code == 0
+    data = json.loads(out)
+    np.testing.assert_allclose(data["stiffness_matrix"], EQ22)
+    # eq. (29): d = [0.0212, 0.0241, 0] m
+    np.testing.assert_allclose(data["decoupling"]["d"], [0.0212, 0.0241, 0], atol=1e-4)
+
+
+def test_calibrate_writes_a_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    out_file = tmp_path / "cal.toml"
+    code, out, err = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
+                         "leg3.bearing_offset,leg3.guide_offset_w", "--sigma", "5",
+                         "--bound", "leg3.bearing_offset=0:0.149", "--out", str(out_file))
+    assert code == 0, err
+    assert "Fitted parameters" in out and "singular values" in out and "Residuals" in out
+    code, out, _ = run(capsys, "analyze", "--design", str(out_file), "--json")
+    assert code == 0
+    k = np.array(json.loads(out)["stiffness_matrix"])
+    assert abs(k[3, 3] - EQ22[3, 3]) < 10  # K_xx of (22), printing half-unit 5 plus slack
+
+
+def test_calibrate_flags_flat_direction(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
+                       "guide.vertical,bearing.radial_vertical")
+    assert code == 0
+    assert "flat direction" in out and "undetermined" in out
+
+
+def _bad(capsys: pytest.CaptureFixture[str], *args: str) -> str:
+    code, out, err = run(capsys, *args)
+    assert code == 2, (out, err)
+    lines = [line for line in err.strip().splitlines() if line]
+    assert len(lines) == 1 and "Traceback" not in err and "nan" not in err.lower()
+    return err
+
+
+def test_unreachable_pose(capsys: pytest.CaptureFixture[str]) -> None:
+    err = _bad(capsys, "analyze", "--x", "500")
+    assert "leg" in err and ("stroke" in err or "rod" in err)
+
+
+def test_singular_configuration(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    # At phi = 90 deg legs 1 and 2 act along the same vertical line: planar singularity.
+    f = tmp_path / "wide.toml"
+    save_design(wide_design(), f)
+    err = _bad(capsys, "analyze", "--design", str(f), "--phi", "90")
+    assert "singular" in err
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        (("tilt_lateral = 1010.0", "tilt_lateral = -1010.0"), "bearing.tilt_lateral"),
+        (("area = 0.00021", "area = 0.0"), "proximal.area"),
+        (("platform_radius = 0.03", "platform_radius = -0.03"), "leg1.platform_radius"),
+        (("yaw = 1700.0", "yaw = \"stiff\""), "guide.yaw"),
+        (("roll = 4700.0", "roll = 4700.0\ncolour = 1"), "guide.colour"),
+        (("locked_stiffness = 111080.0", "locked_stiffness = nan"),
+         "actuator.locked_stiffness"),
+    ],
+)
+def test_malformed_design_names_the_key(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, edit: tuple[str, str], key: str
+) -> None:
+    text = dump_design(default_design())
+    assert edit[0] in text, edit[0]
+    f = tmp_path / "bad.toml"
+    f.write_text(text.replace(edit[0], edit[1], 1))
+    err = _bad(capsys, "analyze", "--design", str(f))
+    assert key in err
+
+
+def test_design_not_toml_and_missing(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    f = tmp_path / "bad.toml"
+    f.write_text("this is = = not toml")
+    assert "not valid TOML" in _bad(capsys, "analyze", "--design", str(f))
+    assert "not found" in _bad(capsys, "analyze", "--design", str(tmp_path / "none.toml"))
+    f.write_text('name = "x"\n')
+    assert "actuator" in _bad(capsys, "analyze", "--design", str(f))
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("1,2,3\n4,5,6\n", "6x6"),
+        ("\n".join([",".join(["nan"] * 6)] * 6), "not finite"),
+        ("\n".join(",".join(str(float(i == j) + (i < j)) for j in range(6)) for i in range(6)),
+         "not symmetric"),
+        ("a,b,c,d,e,f\n" * 6, "numeric"),
+    ],
+)
+def test_bad_matrix(capsys: pytest.CaptureFixture[str], tmp_path: Path, content: str,
+                    message: str) -> None:
+    f = tmp_path / "k.csv"
+    f.write_text(content)
+    assert message in _bad(capsys, "analyze", "--matrix", str(f))
+
+
+def test_singular_matrix_and_missing_file(capsys: pytest.CaptureFixture[str],
+                                          tmp_path: Path) -> None:
+    f = tmp_path / "k.csv"
+    f.write_text("\n".join(",".join("1" if i == j and i < 5 else "0" for j in range(6))
+                           for i in range(6)))
+    assert "singular" in _bad(capsys, "analyze", "--matrix", str(f))
+    assert "not found" in _bad(capsys, "analyze", "--matrix", str(tmp_path / "none.csv"))
+
+
+def test_bad_wrench_and_pose(capsys: pytest.CaptureFixture[str]) -> None:
+    assert "6 numbers" in _bad(capsys, "analyze", "--wrench", "1,2,3")
+    assert "6 numbers" in _bad(capsys, "analyze", "--wrench", "1,2,x,4,5,6")
+    assert "finite" in _bad(capsys, "analyze", "--x", "nan")
+
+
+def test_usage_error_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "--no-such-option"]) == 2
+    assert main(["no-such-command"]) == 2
