@@ -15,6 +15,7 @@ from itertools import product
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 EQ22 = np.loadtxt(
     Path(__file__).parents[1] / "src/ppm_stiffness/data/paper_eq22.csv", delimiter=","
@@ -72,7 +73,7 @@ def rounding_range(func: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray
 
 
 def assert_in_rounding_range(
-    func: Callable[[np.ndarray], np.ndarray], printed: np.ndarray, half_unit: float
+    func: Callable[[np.ndarray], np.ndarray], printed: ArrayLike, half_unit: float
 ) -> None:
     """Assert the printed values lie in the rounding range widened by ``half_unit``."""
     lo, hi = rounding_range(func)
@@ -106,7 +107,8 @@ def loaded_from_unloaded(k_unloaded: np.ndarray, k_act: np.ndarray) -> np.ndarra
     structural = 1.0 / (1.0 / k_leg - 1.0 / LOCKED)
     k_new = 1.0 / (1.0 / structural + 1.0 / np.asarray(k_act))
     out = k_unloaded.copy()
-    out[np.ix_(idx, idx)] = sum(k * np.outer(s, s) for k, s in zip(k_new, LEG_WRENCHES))
+    pairs = zip(k_new, LEG_WRENCHES, strict=True)
+    out[np.ix_(idx, idx)] = sum(k * np.outer(s, s) for k, s in pairs)
     return out
 
 

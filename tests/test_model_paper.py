@@ -17,8 +17,8 @@ from paper import (
     PAPER_K_ACT_LOADED,
     PAPER_WRENCH,
     assert_in_rounding_range,
-    rounding_range,
     loaded_from_unloaded,
+    rounding_range,
 )
 from ppm_stiffness.decoupling import decouple
 from ppm_stiffness.design import default_design

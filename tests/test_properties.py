@@ -18,7 +18,7 @@ from ppm_stiffness.conventions import (
     vect,
     wrench_b_from_wrench_a,
 )
-from ppm_stiffness.decoupling import decouple, shift_blocks
+from ppm_stiffness.decoupling import Method, decouple, shift_blocks
 from ppm_stiffness.design import Design, default_design, design_from_dict
 from ppm_stiffness.eigenscrews import eigenscrews, stiffness_from_screw_springs
 from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose
@@ -43,7 +43,7 @@ def wide_design(design: Design = DESIGN) -> Design:
 def random_poses(n: int, seed: int) -> np.ndarray:
     """Seeded reachable poses of the built-in design."""
     rng = np.random.default_rng(seed)
-    out = []
+    out: list[np.ndarray] = []
     while len(out) < n:
         pose = np.array(
             [rng.uniform(-0.015, 0.010), rng.uniform(-0.03, 0.03), rng.uniform(-0.5, 0.5)]
@@ -85,8 +85,9 @@ def test_eigenscrews_pairs_pitch_sign_and_rebuild(pose: np.ndarray) -> None:
 @pytest.mark.parametrize("pose", POSES[:15])
 def test_decoupling_keeps_K_tt_and_is_a_frame_shift(pose: np.ndarray) -> None:
     k = stiffness_at_pose(DESIGN, pose)
-    for method in ("paper", "least-squares"):
-        dec = decouple(k, method)  # type: ignore[arg-type]
+    methods: tuple[Method, ...] = ("paper", "least-squares")
+    for method in methods:
+        dec = decouple(k, method)
         np.testing.assert_array_equal(dec.K_tt, k[3:, 3:])  # eq. (18c)
         # the decoupled blocks are K expressed at the shifted point, eq. (16)
         shifted = stiffness_b_from_stiffness_a(k, np.eye(3), dec.d)

@@ -110,9 +110,10 @@ def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
         for ax in range(3):
             if order[ax] >= 0:
                 masked[ax, :] = -1
-        ax, j = np.unravel_index(np.argmax(masked), masked.shape)
-        order[int(ax)] = int(j)
-        taken.add(int(j))
+        flat = int(np.argmax(masked))
+        ax, j = divmod(flat, 3)
+        order[ax] = j
+        taken.add(j)
     vecs = vecs[:, order]
     vals = vals[order]
     for j in range(3):

@@ -27,7 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--target", required=True, metavar="K.csv",
                         help="target 6x6 stiffness matrix, SI, order phi_x,phi_y,phi_z,x,y,z")
     parser.add_argument("--free", required=True, metavar="NAMES",
-                        help="comma-separated parameters to fit, e.g. leg1.bearing_offset,guide.yaw")
+                        help="comma-separated parameters to fit, "
+                        "e.g. leg1.bearing_offset,guide.yaw")
     parser.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
                         help="bounds of a free parameter in SI (repeatable)")
     add_design_argument(parser)

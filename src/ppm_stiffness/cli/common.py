@@ -66,7 +66,9 @@ def parse_wrench(text: str | None) -> np.ndarray | None:
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
-        raise InputDataError(f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {text!r}") from None
+        raise InputDataError(
+            f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {text!r}"
+        ) from None
     if len(values) != 6:
         raise InputDataError(
             f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {len(values)}"
