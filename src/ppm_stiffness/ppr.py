@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.beam import cantilever_compliance
-from ppm_stiffness.conventions import FloatArray, Z_AXIS, rotation_screw, translation_screw
+from ppm_stiffness.conventions import Z_AXIS, FloatArray, rotation_screw, translation_screw
 from ppm_stiffness.design import Design, PPRLegModel
 from ppm_stiffness.errors import UnreachablePoseError
 from ppm_stiffness.solver import LegSprings
