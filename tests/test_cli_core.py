@@ -179,3 +179,10 @@ def test_bad_wrench_and_pose(capsys: pytest.CaptureFixture[str]) -> None:
 def test_usage_error_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["analyze", "--no-such-option"]) == 2
     assert main(["no-such-command"]) == 2
+
+
+def test_list_parameters(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "calibrate", "--list-parameters")
+    assert code == 0
+    assert "leg3.guide_offset_w" in out and "guide.yaw" in out and "1700" in out
+    assert "--target" in _bad(capsys, "calibrate", "--free", "guide.yaw")

@@ -180,7 +180,10 @@ def _resolve(design: Design, name: str) -> tuple[Any, str]:
         if not isinstance(parts[-1], str) or parts[-1] not in type(obj).model_fields:
             raise KeyError(name)
     except (AttributeError, IndexError, KeyError, TypeError) as exc:
-        raise DesignError(f"unknown design parameter {name!r}") from exc
+        raise DesignError(
+            f"unknown design parameter {name!r} "
+            "(`ppm-stiffness calibrate --list-parameters` lists them)"
+        ) from exc
     return obj, parts[-1]
 
 

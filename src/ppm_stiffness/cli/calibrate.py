@@ -24,9 +24,11 @@ HELP = "identify design parameters from a target 6x6 stiffness matrix (bounded l
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--target", required=True, metavar="K.csv",
+    parser.add_argument("--list-parameters", action="store_true",
+                        help="list the design's parameter names and values, then exit")
+    parser.add_argument("--target", metavar="K.csv",
                         help="target 6x6 stiffness matrix, SI, order phi_x,phi_y,phi_z,x,y,z")
-    parser.add_argument("--free", required=True, metavar="NAMES",
+    parser.add_argument("--free", metavar="NAMES",
                         help="comma-separated parameters to fit, "
                         "e.g. leg1.bearing_offset,guide.yaw")
     parser.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
@@ -56,6 +58,16 @@ def _parse_bounds(items: list[str]) -> dict[str, tuple[float, float]]:
 
 def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
+    if args.list_parameters:
+        t = Table(title="Design parameters (SI)", title_justify="left")
+        t.add_column("name")
+        t.add_column("value", justify="right")
+        for name in design.scalar_parameter_names():
+            t.add_row(name, f"{design.parameter(name):.6g}")
+        console.print(t)
+        return 0
+    if not args.target or not args.free:
+        raise InputDataError("calibrate needs --target K.csv and --free NAMES")
     pose = pose_from_args(args, design)
     target = read_matrix_csv(args.target)
     names = [n.strip() for n in args.free.split(",") if n.strip()]

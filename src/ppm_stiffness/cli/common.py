@@ -111,6 +111,8 @@ def to_jsonable(obj: Any) -> Any:
         value = float(obj)
         if math.isnan(value):
             raise InputDataError("internal error: a NaN reached the output")
+        if math.isinf(value):
+            return None  # e.g. the spring constant of a zero-pitch screw: undefined
         return value
     if isinstance(obj, np.integer):
         return int(obj)
