@@ -7,6 +7,8 @@ carry the same numbers. All values SI (m, rad, N, N·m, N/m, N·m/rad).
 
 from __future__ import annotations
 
+import json
+import math
 from typing import Any
 
 import numpy as np
@@ -15,6 +17,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.design import Design
 from ppm_stiffness.eigenscrews import ScrewSprings, eigenscrews
+from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.loading import loaded_state
 from ppm_stiffness.model import actuator_stiffness_vector, stiffness_at_pose, workspace_centre
 
@@ -99,3 +102,28 @@ def analyze_design(
     out["actuator_stiffness"] = np.asarray(k_act).tolist()
     out.update(analyze_matrix(k, method))
     return out
+
+
+def to_jsonable(obj: Any) -> Any:
+    """Numpy arrays and scalars to lists and floats, refusing NaN."""
+    if isinstance(obj, dict):
+        return {k: to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, (np.floating, float)):
+        value = float(obj)
+        if math.isnan(value):
+            raise InputDataError("internal error: a NaN reached the output")
+        if math.isinf(value):
+            return None  # e.g. the spring constant of a zero-pitch screw: undefined
+        return value
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def dump_json(obj: Any) -> str:
+    """JSON text of an analysis (or any nested data), as ``analyze --json`` prints it."""
+    return json.dumps(to_jsonable(obj), indent=2, allow_nan=False)

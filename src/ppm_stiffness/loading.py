@@ -8,9 +8,8 @@ carries ``G_i = u_i . f_i`` [N]. For the 3-PPR each leg transmits a single in-pl
 force, so the in-plane split is statically determinate and these forces do not
 depend on the stiffness values used for the split.
 
-Sign: ``G_i > 0`` when the leg pushes the platform along +u_i in reaction... more
-precisely, ``G_i`` is the component along ``u_i`` of the force the leg must carry for
-the applied wrench; the actuator law is odd, so only ``|G_i|`` sets its stiffness.
+Sign: ``G_i = u_i . f_i``, the component along ``u_i`` of the force carried by leg i;
+the actuator law is odd, so only ``|G_i|`` sets its stiffness.
 """
 
 from __future__ import annotations
@@ -74,7 +73,11 @@ class LoadedState:
     pose : ndarray (3,)
     wrench : ndarray (6,)
     actuator_forces : ndarray (n_legs,) [N]
-    actuator_displacements : ndarray (n_legs,) [m], magnitudes from eq. (20)
+    actuator_displacements : ndarray (n_legs,) [m]
+        Magnitudes from the bare law, eq. (20): the delta that sets the stiffness in
+        eq. (21). The deflection module's actuator displacement, the integral of
+        1/K_act along the force path, exceeds it by G_th/K_locked - delta_th (20.9 um
+        for the paper's law) above the threshold (docs/actuation.md).
     actuator_stiffness : ndarray (n_legs,) [N/m], eq. (21)
     stiffness_matrix : ndarray (6, 6)
     """

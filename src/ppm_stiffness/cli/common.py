@@ -4,15 +4,14 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 import math
 import sys
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from rich.console import Console
 
+from ppm_stiffness.analysis import dump_json, to_jsonable
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.model import workspace_centre
@@ -98,26 +97,4 @@ def read_matrix_csv(path: str | Path) -> np.ndarray:
         raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
     return np.array(rows)
 
-
-def to_jsonable(obj: Any) -> Any:
-    """Numpy arrays and scalars to lists and floats, refusing NaN."""
-    if isinstance(obj, dict):
-        return {k: to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, (np.floating, float)):
-        value = float(obj)
-        if math.isnan(value):
-            raise InputDataError("internal error: a NaN reached the output")
-        if math.isinf(value):
-            return None  # e.g. the spring constant of a zero-pitch screw: undefined
-        return value
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
-def dump_json(obj: Any) -> str:
-    return json.dumps(to_jsonable(obj), indent=2, allow_nan=False)
+__all__ = ["dump_json", "to_jsonable"]  # re-exported for the commands

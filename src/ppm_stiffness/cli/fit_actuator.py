@@ -1,0 +1,76 @@
+"""``ppm-stiffness fit-actuator``: fit eq. (20) ``G = k_a delta^q`` to measured data."""
+
+from __future__ import annotations
+
+import argparse
+
+from rich.markup import escape
+
+from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
+from ppm_stiffness.cli.common import console, dump_json, load_design_arg
+from ppm_stiffness.design import save_design
+from ppm_stiffness.errors import DesignError
+
+HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "data", metavar="DATA.csv",
+        help="CSV with a header row 'displacement_mm,force_N' (or displacement_m); "
+        "'#' lines are comments",
+    )
+    parser.add_argument("--plot", metavar="FIG", help="write data and fit (PNG, SVG, PDF)")
+    parser.add_argument(
+        "--design", metavar="FILE",
+        help="design whose other values --write-design keeps (default: the built-in 3-PPR)",
+    )
+    parser.add_argument(
+        "--write-design", metavar="OUT",
+        help="write the design with actuator.k_a and actuator.q replaced by the fit",
+    )
+    parser.add_argument("--json", action="store_true", help="print the fit as one JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    data = read_force_displacement(args.data)
+    fit = fit_power_law(data.displacement_m, data.force_n)
+    design = load_design_arg(args) if (args.design or args.write_design) else None
+    if args.write_design:
+        assert design is not None
+        if not 0.0 < fit.q <= 1.0:
+            raise DesignError(
+                f"fitted q = {fit.q:.4g} is outside (0, 1]: not a softening actuator law, "
+                "not written to a design"
+            )
+        new = design.with_parameters({"actuator.k_a": fit.k_a, "actuator.q": fit.q})
+        save_design(new, args.write_design)
+    if args.plot:
+        from ppm_stiffness.visuals import save_figure, use_headless_backend
+        from ppm_stiffness.visuals.actuator import plot_actuator_fit
+
+        use_headless_backend()
+        ref = (design.actuator.k_a, design.actuator.q) if design is not None else None
+        fig = plot_actuator_fit(
+            data.displacement_m, data.force_n, fit, ref,
+            title=f"actuator fit: {args.data}", reference_label="design law",
+        )
+        save_figure(fig, args.plot)
+    if args.json:
+        out = dict(fit.as_dict(), source=args.data, displacement_unit=data.displacement_unit)
+        print(dump_json(out))
+        return 0
+    c = console
+    c.print(f"[bold]actuator law G = k_a δ^q fitted to {escape(args.data)}[/bold] "
+            f"(n = {fit.n}, displacement column in {data.displacement_unit})")
+    c.print(f"  k_a = {fit.k_a:.4f} ± {fit.k_a_std:.4f} N/m^q   (standard error)")
+    c.print(f"  q   = {fit.q:.5f} ± {fit.q_std:.5f}")
+    c.print(f"  correlation(k_a, q) = {fit.correlation:.3f}")
+    c.print(f"  R² (force) = {fit.r_squared:.5f}, residual std = {fit.residual_std:.4g} N")
+    if any("synthetic" in line.lower() for line in data.comments):
+        c.print("  note: the data file says it is SYNTHETIC (not a measurement)")
+    if args.write_design:
+        c.print(f"  wrote design with the fitted k_a, q to {escape(args.write_design)}")
+    if args.plot:
+        c.print(f"  wrote figure {escape(args.plot)}")
+    return 0

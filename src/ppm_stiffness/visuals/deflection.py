@@ -1,0 +1,103 @@
+"""Deflection-load curves like the paper's Fig. 10, with measurements overlaid."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ppm_stiffness.deflection import DeflectionCurve
+from ppm_stiffness.measurements import Measurements
+
+_NAMES = ("φx", "φy", "φz", "x", "y", "z")
+#: Components drawn for each mode: (orientation indices, position indices).
+_RELEVANT = {
+    "planar-force": ((2,), (3, 4)),
+    "moment": ((2,), (3, 4)),
+    "vertical-force": ((0, 1), (5,)),
+}
+_STYLES = ("-", "--", ":", "-.")
+
+
+def _components(curves: list[DeflectionCurve], meas: list[Measurements]) -> tuple[list[int], ...]:
+    mode = curves[0].mode
+    if mode in _RELEVANT:
+        rot, pos = (list(c) for c in _RELEVANT[mode])
+    else:
+        big = np.max(np.abs(np.vstack([c.twists for c in curves])), axis=0)
+        rot = [i for i in range(3) if big[i] > 1e-9 * max(big[:3].max(), 1e-300)]
+        pos = [i for i in range(3, 6) if big[i] > 1e-9 * max(big[3:].max(), 1e-300)]
+    for m in meas:
+        rot += [i for i in m.components if i < 3 and i not in rot]
+        pos += [i for i in m.components if i >= 3 and i not in pos]
+    return sorted(rot), sorted(pos)
+
+
+def plot_deflection_curves(
+    curves: Sequence[DeflectionCurve] | DeflectionCurve,
+    measurements: Sequence[Measurements | None] | Measurements | None = None,
+) -> Any:
+    """Orientation [deg] and position [mm] of P against the load, one row per mode.
+
+    Parameters
+    ----------
+    curves : DeflectionCurve or sequence of them
+        Curves of the same mode and direction share a row (e.g. the integrated law
+        and the linear model), drawn with different line styles.
+    measurements : Measurements, or a sequence aligned with ``curves``, optional
+        Drawn as markers in the row of their curve.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    cs = [curves] if isinstance(curves, DeflectionCurve) else list(curves)
+    if not cs:
+        raise ValueError("no curves to plot")
+    if measurements is None or isinstance(measurements, Measurements):
+        ms: list[Measurements | None] = [measurements] + [None] * (len(cs) - 1)
+    else:
+        ms = list(measurements) + [None] * (len(cs) - len(measurements))
+    groups: dict[tuple[str, float], list[int]] = {}
+    for k, c in enumerate(cs):
+        key = (c.mode, round(c.alpha, 12) if math.isfinite(c.alpha) else math.nan)
+        groups.setdefault(key, []).append(k)
+    fig = Figure(figsize=(10, 3.4 * len(groups)), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(len(groups), 2, squeeze=False))
+    colours = [f"C{i}" for i in range(10)]
+    for row, ((mode, alpha), idx) in enumerate(groups.items()):
+        meas = [m for k in idx if (m := ms[k]) is not None]
+        rot, pos = _components([cs[k] for k in idx], meas)
+        unit = cs[idx[0]].load_unit
+        for ax, comps, factor, name in (
+            (axes[row, 0], rot, 180 / math.pi, "orientation [deg]"),
+            (axes[row, 1], pos, 1e3, "position [mm]"),
+        ):
+            for j, k in enumerate(idx):
+                c = cs[k]
+                for n, i in enumerate(comps):
+                    ax.plot(
+                        c.loads, c.twists[:, i] * factor, _STYLES[j % len(_STYLES)],
+                        color=colours[n % 10], label=f"{_NAMES[i]} model ({c.method})",
+                    )
+            for m in meas:
+                for n, i in enumerate(comps):
+                    if i in m.components:
+                        ax.plot(
+                            m.loads, m.twists[:, i] * factor, "o", ms=4, mfc="none",
+                            color=colours[n % 10], label=f"{_NAMES[i]} measured",
+                        )
+            ax.set_xlabel(f"load [{unit}]")
+            ax.set_ylabel(name)
+            ax.grid(True, alpha=0.3)
+            if comps:
+                ax.legend(fontsize=7)
+            else:
+                ax.text(0.5, 0.5, "(none)", ha="center", va="center", transform=ax.transAxes)
+        title = mode + (f", α = {math.degrees(alpha):g}°" if math.isfinite(alpha) else "")
+        axes[row, 0].set_title(title, loc="left", fontsize=10)
+    return fig
