@@ -1,0 +1,134 @@
+"""``ppm-stiffness validate``: the virtual-joint K against an independent FE frame model.
+
+Needs the optional extra ``validate`` (PyNite). Compares at the workspace centre and
+at ``--poses`` seeded reachable poses; prints the largest relative difference of the
+planar (phi_z, x, y) and out-of-plane (phi_x, phi_y, z) blocks per pose and the time
+each model takes. Exit code 0 when every block is within the tolerances (planar 2%,
+out-of-plane 5%), 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+from rich.markup import escape
+from rich.progress import Progress
+from rich.table import Table
+
+from ppm_stiffness.cli.common import add_design_argument, console, err_console, load_design_arg
+from ppm_stiffness.design import Design
+from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.validation.compare import (
+    BLOCKS,
+    TOLERANCES,
+    PoseComparison,
+    compare_at_pose,
+    csv_rows,
+    validation_poses,
+)
+from ppm_stiffness.validation.fe_model import require_pynite
+
+HELP = "compare the virtual-joint stiffness with an independent FE frame model (PyNite)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    parser.add_argument(
+        "--poses", type=int, default=5, metavar="N",
+        help="seeded reachable poses besides the workspace centre (default 5)",
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    parser.add_argument(
+        "--radius", type=float, default=10.0, metavar="MM",
+        help="poses drawn within +-MM of the centre in x and y (default 10)",
+    )
+    parser.add_argument(
+        "--angle", type=float, default=5.0, metavar="DEG",
+        help="poses drawn within +-DEG of the centre orientation (default 5)",
+    )
+    parser.add_argument(
+        "--csv", metavar="FILE",
+        help="write pose_x_mm, pose_y_mm, phi_deg, block, max_rel_diff (one row per "
+        "pose and block)",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _check_args(args: argparse.Namespace) -> None:
+    if args.poses < 0:
+        raise InputDataError(f"--poses must be >= 0, got {args.poses}")
+    for name in ("radius", "angle"):
+        value = getattr(args, name)
+        if not math.isfinite(value) or value < 0:
+            raise InputDataError(f"--{name} must be finite and >= 0, got {value}")
+
+
+def _run_poses(
+    design: Design, poses: np.ndarray, args: argparse.Namespace
+) -> list[PoseComparison]:
+    out: list[PoseComparison] = []
+    show = not args.quiet and err_console.is_terminal
+    with Progress(console=err_console, disable=not show, transient=True) as progress:
+        task = progress.add_task("FE model", total=len(poses))
+        for pose in poses:
+            out.append(compare_at_pose(design, pose))
+            progress.advance(task)
+    return out
+
+
+def _table(results: list[PoseComparison]) -> Table:
+    table = Table(title="virtual-joint K vs FE frame model (PyNite): max relative difference")
+    for col in ("pose", "x [mm]", "y [mm]", "phi [deg]", "planar", "out-of-plane",
+                "FE [ms]", "VJ [ms]"):
+        table.add_column(escape(col), justify="right")
+    for i, r in enumerate(results):
+        table.add_row(
+            "centre" if i == 0 else str(i),
+            f"{r.pose[0] * 1e3:.3f}", f"{r.pose[1] * 1e3:.3f}", f"{np.degrees(r.pose[2]):.3f}",
+            f"{r.differences['planar']:.2e}", f"{r.differences['out_of_plane']:.2e}",
+            f"{r.time_fe * 1e3:.1f}", f"{r.time_virtual_joint * 1e3:.2f}",
+        )
+    return table
+
+
+def _write_csv(path: str, results: list[PoseComparison]) -> None:
+    rows = csv_rows(results)
+    try:
+        with Path(path).open("w", newline="", encoding="utf-8") as fh:
+            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+    except OSError as exc:
+        raise InputDataError(f"cannot write {path}: {exc.strerror}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    _check_args(args)
+    require_pynite()
+    design = load_design_arg(args)
+    poses = validation_poses(design, args.poses, args.seed, args.radius * 1e-3,
+                             math.radians(args.angle))
+    results = _run_poses(design, poses, args)
+    console.print(_table(results))
+    ok = True
+    for name in BLOCKS:
+        worst = max(r.differences[name] for r in results)
+        passed = worst <= TOLERANCES[name]
+        ok &= passed
+        console.print(
+            f"{name}: max {worst:.2e} (tolerance {TOLERANCES[name]:.0%}) "
+            f"{'ok' if passed else 'FAILED'}"
+        )
+    t_fe = float(np.mean([r.time_fe for r in results]))
+    t_vj = float(np.mean([r.time_virtual_joint for r in results]))
+    console.print(
+        f"time per pose: FE {t_fe * 1e3:.1f} ms, virtual joints {t_vj * 1e3:.2f} ms "
+        f"(FE / VJ = {t_fe / t_vj:.0f})"
+    )
+    if args.csv:
+        _write_csv(args.csv, results)
+    return 0 if ok else 1

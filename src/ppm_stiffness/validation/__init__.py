@@ -1,0 +1,33 @@
+"""Independent validation of the virtual-joint model by a finite-element frame model.
+
+The manipulator is rebuilt at a pose as a 3D frame in PyNite (``pynitefea``, the
+optional extra ``validate``): links are Euler-Bernoulli frame members, the guide,
+actuator and bearing are spring elements, passive joints are member-end releases or
+missing spring components, and the stiffness at P comes from six unit-load cases.
+Only geometry (:func:`ppm_stiffness.ppr.leg_geometry`) and the design's numbers are
+shared with the virtual-joint model; :mod:`ppm_stiffness.solver` and
+:mod:`ppm_stiffness.beam` are not used to build the FE model.
+
+Modules
+-------
+frame
+    PyNite building blocks: exact lumped springs, unit-load compliance (needs the extra).
+fe_model
+    The manipulator as a PyNite frame at a pose; K at P, one leg's K, a cantilever.
+compare
+    Per-block comparison of the two matrices, seeded reachable poses, timings.
+
+Importing this package does not import PyNite; :func:`frame.require_pynite`
+raises :class:`MissingExtraError` with an installation hint when it is absent.
+"""
+
+from __future__ import annotations
+
+from ppm_stiffness.errors import PPMStiffnessError
+
+
+class MissingExtraError(PPMStiffnessError):
+    """The optional FE library (extra ``validate``) is not installed."""
+
+
+__all__ = ["MissingExtraError"]

@@ -1,0 +1,231 @@
+"""Independent validation: the virtual-joint model against a PyNite frame model.
+
+The FE model (``ppm_stiffness.validation.fe_model``) is built from the geometry and
+the design's numbers only; PyNite assembles and solves it. Tests skip when the extra
+``validate`` (PyNite) is not installed.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip(
+    "Pynite", reason="FE validation needs the extra 'validate' (pip install pynitefea)"
+)
+
+from ppm_stiffness import beam, ppr, solver  # noqa: E402
+from ppm_stiffness.cli import main  # noqa: E402
+from ppm_stiffness.conventions import Z_AXIS, rotation_screw, translation_screw  # noqa: E402
+from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
+from ppm_stiffness.model import (  # noqa: E402
+    leg_stiffnesses_at_pose,
+    stiffness_at_pose,
+    workspace_centre,
+)
+from ppm_stiffness.validation.compare import (  # noqa: E402
+    BLOCKS,
+    TOLERANCES,
+    balanced,
+    block_difference,
+    compare_at_pose,
+    cross_coupling,
+    validation_poses,
+)
+from ppm_stiffness.validation.fe_model import (  # noqa: E402
+    FESettings,
+    fe_cantilever_compliance,
+    fe_leg_stiffness,
+    fe_stiffness_at_pose,
+)
+
+DESIGN = default_design()
+#: Measured agreement (docs/validation.md): planar ~1e-7, out-of-plane ~3e-6, both
+#: from the platform's finite stiffness in the FE model; the bounds leave 10x margin.
+PLANAR_MEASURED = 1e-6
+OUT_OF_PLANE_MEASURED = 3e-5
+
+
+@pytest.fixture(scope="module")
+def comparisons() -> list:
+    """Centre + 5 seeded reachable poses, both models (about 1.5 s)."""
+    poses = validation_poses(DESIGN, 5, seed=0)
+    return [compare_at_pose(DESIGN, p) for p in poses]
+
+
+# --- a single cantilever link: textbook case, eq. (3c) ------------------------------
+
+
+@pytest.mark.parametrize("link", ["proximal", "distal"])
+@pytest.mark.parametrize(("length", "angle_deg"), [(0.02, 0.0), (0.15, 30.0), (0.08, 90.0),
+                                                   (0.2, 217.0)])
+@pytest.mark.parametrize("unit", [1.0, 0.1])
+def test_cantilever_compliance_equals_fe(link: str, length: float, angle_deg: float,
+                                         unit: float) -> None:
+    """One clamped member in PyNite vs eq. (3c): equal to 1e-6 relative per entry,
+    in any in-plane direction and any model length unit."""
+    sec = getattr(DESIGN, link)
+    a = math.radians(angle_deg)
+    root = np.array([0.013, -0.021, 0.0])
+    tip = root + length * np.array([math.cos(a), math.sin(a), 0.0])
+    c_fe = fe_cantilever_compliance(sec, root, tip, FESettings(length_unit=unit))
+    c_vj = beam.cantilever_compliance(sec.section(), length)
+    nz = c_vj != 0
+    assert np.max(np.abs(c_fe - c_vj)[nz] / np.abs(c_vj)[nz]) < 1e-6
+    # the structural zeros of eq. (3c) (no axial-bending or y-z coupling) are zeros
+    assert np.max(np.abs(c_fe[~nz])) < 1e-9 * np.max(np.abs(c_vj))
+
+
+# --- the manipulator ------------------------------------------------------------
+
+
+def test_blocks_agree_at_centre_and_five_poses(comparisons: list) -> None:
+    """Issue 6 acceptance: planar within 2%, out-of-plane within 5% (entries >= 1% of
+    the block's largest); in fact within PLANAR_MEASURED / OUT_OF_PLANE_MEASURED."""
+    assert len(comparisons) == 6
+    for c in comparisons:
+        assert c.within_tolerances()
+        assert c.differences["planar"] < PLANAR_MEASURED, c.pose
+        assert c.differences["out_of_plane"] < OUT_OF_PLANE_MEASURED, c.pose
+
+
+def test_poses_are_distinct_and_reachable(comparisons: list) -> None:
+    poses = np.array([c.pose for c in comparisons])
+    np.testing.assert_allclose(poses[0], workspace_centre(DESIGN))
+    assert len({tuple(np.round(p, 9)) for p in poses}) == 6
+    assert np.all(np.abs(poses[1:, :2]) <= 0.01) and np.all(np.abs(poses[1:, 2]) <= 0.0873)
+
+
+def test_fe_solution_is_reciprocal_and_planar(comparisons: list) -> None:
+    """Maxwell-Betti: the FE compliance is symmetric; a planar mechanism's K has no
+    planar/out-of-plane coupling, in the FE model as in the virtual-joint one."""
+    for c in comparisons:
+        assert c.fe_asymmetry < 1e-8
+        assert c.fe_cross_coupling < 1e-12
+        assert cross_coupling(c.k_virtual_joint) < 1e-12
+
+
+def test_difference_is_the_platform_rigidity() -> None:
+    """The only approximation of the FE model is the finite stiffness of the platform
+    members; making them 10x and 1000x stiffer shrinks the difference in proportion
+    (the cause switched off, the difference vanishes)."""
+    pose = workspace_centre(DESIGN)
+    k_vj = stiffness_at_pose(DESIGN, pose)
+    diffs = []
+    for k_rig in (1e9, 1e10, 1e12):
+        k_fe = fe_stiffness_at_pose(DESIGN, pose, settings=FESettings(rigid_stiffness=k_rig))
+        diffs.append([block_difference(k_vj, k_fe.stiffness, b) for b in BLOCKS.values()])
+    d = np.array(diffs)  # rows: rigidity; columns: planar, out-of-plane
+    np.testing.assert_allclose(d[0] / d[1], 10.0, rtol=0.05)
+    assert np.all(d[0] / d[2] > 300.0)
+    assert d[0, 1] > 1e-4  # soft platform: a clearly visible difference
+
+
+def test_fe_does_not_use_the_virtual_joint_solver(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Independence: the FE route works with the solver's and beam's functions broken."""
+
+    def broken(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the FE model must not call the virtual-joint solver")
+
+    pose = workspace_centre(DESIGN)
+    k_vj = stiffness_at_pose(DESIGN, pose)
+    for mod, name in ((beam, "cantilever_compliance"), (solver, "bordered_stiffness"),
+                      (solver, "leg_compliance_at_platform"), (solver, "cartesian_stiffness"),
+                      (ppr, "leg_springs")):
+        monkeypatch.setattr(mod, name, broken)
+    k_fe = fe_stiffness_at_pose(DESIGN, pose).stiffness
+    assert block_difference(k_vj, k_fe, BLOCKS["planar"]) < PLANAR_MEASURED
+
+
+def _generic_design() -> Design:
+    """The built-in design turned by THETA about the origin (rails and rods off the
+    base axes) with every spring pair that the paper makes equal made different, so
+    that a swapped axis or constant in either model shows."""
+    data = DESIGN.model_dump()
+    c, s = math.cos(THETA), math.sin(THETA)
+    for leg in data["legs"]:
+        bx, by = leg["base_point"]
+        leg["base_point"] = (c * bx - s * by, s * bx + c * by)
+        leg["alpha"] += THETA
+    data["guide"].update(pitch=900.0, yaw=2600.0, lateral=1.7e6)
+    data["bearing"].update(tilt_lateral=1500.0, tilt_vertical=700.0,
+                           radial_lateral=1.2e6, radial_vertical=3.1e6)
+    data["distal"].update(inertia_y=1.5e-10, torsion_constant=3.0e-10)
+    return design_from_dict(data)
+
+
+THETA = 0.37  # rad
+
+
+def test_generic_orientation_and_distinct_springs_agree() -> None:
+    design = _generic_design()
+    pose = np.array([0.0, 0.0, THETA])  # the centre, seen from the turned design
+    c = compare_at_pose(design, pose)
+    assert c.differences["planar"] < PLANAR_MEASURED
+    assert c.differences["out_of_plane"] < OUT_OF_PLANE_MEASURED
+    # and the change is not invisible: K differs from the built-in design's by > 1%
+    k0 = stiffness_at_pose(DESIGN, workspace_centre(DESIGN))
+    assert block_difference(k0, c.k_virtual_joint, BLOCKS["planar"]) > 0.01
+
+
+def test_loaded_actuators_agree() -> None:
+    """With the loaded actuator stiffnesses of the paper's case (eq. 33) the actuator
+    springs of the two models still agree."""
+    k_act = np.array([1.1108e5, 5165.0, 19120.0])
+    c = compare_at_pose(DESIGN, workspace_centre(DESIGN), k_act)
+    assert c.differences["planar"] < PLANAR_MEASURED
+    assert c.differences["out_of_plane"] < OUT_OF_PLANE_MEASURED
+
+
+@pytest.mark.parametrize("leg", [0, 1, 2])
+def test_leg_passive_directions_are_free_and_leg_matches(leg: int) -> None:
+    """One leg alone in the FE model (P held, unit displacements): it resists no twist
+    of its passive joints (cylindrical at C, revolute at D) and equals the leg's
+    virtual-joint stiffness (eq. 1)."""
+    pose = workspace_centre(DESIGN)
+    k_fe = fe_leg_stiffness(DESIGN, leg, pose)
+    k_vj = leg_stiffnesses_at_pose(DESIGN, pose)[leg]
+    g = ppr.leg_geometry(DESIGN.legs[leg], pose)
+    passive = np.stack([rotation_screw(g.w, g.c), translation_screw(g.w),
+                        rotation_screw(Z_AXIS, g.d)], axis=1)
+    scale = np.array([0.1] * 3 + [1.0] * 3)
+    kb = balanced(k_fe)
+    wrench = (k_fe @ passive) / scale[:, None]  # balanced units, N
+    twist = passive * scale[:, None]
+    assert np.max(np.abs(wrench)) < 1e-8 * np.max(np.abs(kb)) * np.max(np.abs(twist))
+    np.testing.assert_allclose(balanced(k_fe), balanced(k_vj), rtol=0,
+                               atol=1e-5 * np.max(np.abs(balanced(k_vj))))
+
+
+# --- CLI -------------------------------------------------------------------------
+
+
+def test_cli_validate_writes_csv(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "v.csv"
+    assert main(["validate", "--poses", "1", "--seed", "3", "--csv", str(out), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "planar" in text and "out_of_plane" in text and "FE / VJ" in text
+    with out.open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["block"] for r in rows] == ["planar", "out_of_plane"] * 2
+    assert list(rows[0]) == ["pose_x_mm", "pose_y_mm", "phi_deg", "block", "max_rel_diff"]
+    assert float(rows[0]["pose_x_mm"]) == 0.0 and float(rows[0]["phi_deg"]) == 0.0
+    for r in rows:
+        assert 0.0 <= float(r["max_rel_diff"]) < TOLERANCES[r["block"]] * 1e-3
+
+
+@pytest.mark.parametrize("argv", [["--poses", "-1"], ["--radius", "nan"], ["--angle", "-2"]])
+def test_cli_validate_bad_input(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["validate", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ppm-stiffness: error:") and len(err.strip().splitlines()) == 1
+
+
+def test_cli_validate_unreachable_region(capsys: pytest.CaptureFixture[str]) -> None:
+    """A sampling box where no pose is reachable is an input error, not a crash."""
+    assert main(["validate", "--poses", "2", "--radius", "5000", "--quiet"]) == 2
+    assert "reachable" in capsys.readouterr().err
