@@ -1,0 +1,175 @@
+"""Benchmark of the stiffness map: batched path against a loop over the single-pose API.
+
+Measured side by side in one run, on the built-in design at phi = 0 with locked actuators:
+
+- poses per second of ``workspace.stiffness_map`` (K, paper decoupling, k_phi, k_x,
+  k_y, reachability and singularity masks) on a 1000 x 1000 grid (``--quick``: 300 x 300),
+  median of three runs;
+- poses per second of a loop of ``model.stiffness_at_pose`` + ``decoupling.decouple``
+  on a subset of the same grid poses (every k-th one; 2000 poses, ``--quick``: 200), and
+  the largest relative difference between the two paths on that subset;
+- for context: the scattered-pose batched path (``batch.evaluate_poses`` on random
+  poses with random phi) and the general 22-spring model batched with numpy
+  (``ppr.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
+  replaces;
+- the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses)
+  map, and of the same process before the map (imports only).
+
+The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N peak_mb_1e7=N``.
+Run: ``.venv/bin/python benchmarks/bench_map.py [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from ppm_stiffness import batch, ppr, solver
+from ppm_stiffness.decoupling import decouple
+from ppm_stiffness.design import default_design
+from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.workspace import StiffnessMap, stiffness_map
+
+# Peak resident memory of the child itself: VmHWM of /proc/self/status (reset by exec);
+# ru_maxrss is not, on Linux it can carry the parent's high-water mark into the child.
+_MEMORY_CHILD = r"""
+import json, resource, sys, time
+from ppm_stiffness.design import default_design
+from ppm_stiffness.workspace import StiffnessMap, stiffness_map
+
+def peak_kb():
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+
+design = default_design()
+before = peak_kb()
+t = time.perf_counter()
+smap = stiffness_map(design, grid=int(sys.argv[1]))
+elapsed = time.perf_counter() - t
+print(json.dumps({"before_kb": before, "peak_kb": peak_kb(), "seconds": elapsed,
+                  "poses": int(smap.reachable.size), "valid": int(smap.reachable.sum())}))
+"""
+
+
+def time_map(grid: int, repeats: int = 3) -> tuple[float, StiffnessMap]:
+    design = default_design()
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        smap = stiffness_map(design, phi=0.0, actuators="max", grid=grid)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), smap
+
+
+def time_loop(smap: StiffnessMap, n_loop: int) -> tuple[float, int, float]:
+    """Seconds for the single-pose loop on ``n_loop`` grid poses, count, max rel diff."""
+    design = default_design()
+    xs, ys = smap.x, smap.y
+    total = xs.size * ys.size
+    step = max(total // n_loop, 1)
+    flat = np.arange(0, total, step)[:n_loop]
+    worst = 0.0
+    results = []
+    t = time.perf_counter()
+    for n in flat:
+        j, i = divmod(int(n), xs.size)
+        k = stiffness_at_pose(design, np.array([xs[i], ys[j], 0.0]))
+        dec = decouple(k, "paper")
+        results.append((j, i, dec.rotational_values[2], *dec.translational_values[:2]))
+    elapsed = time.perf_counter() - t
+    for j, i, *ref in results:
+        got = [smap.k_phi[j, i], smap.k_x[j, i], smap.k_y[j, i]]
+        worst = max(worst, float(np.max(np.abs(np.subtract(got, ref)) / np.abs(ref))))
+    return elapsed, len(flat), worst
+
+
+def time_scattered(n: int) -> float:
+    design = default_design()
+    rng = np.random.default_rng(0)
+    poses = np.stack([rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n),
+                      rng.uniform(-0.2, 0.2, n)], axis=-1)
+    t = time.perf_counter()
+    batch.evaluate_poses(design, poses)
+    return n / (time.perf_counter() - t)
+
+
+def time_general_numpy(n: int) -> float:
+    """The 22-spring model batched with numpy (K only): poses per second, best of two."""
+    design = default_design()
+    rng = np.random.default_rng(1)
+    poses = np.stack([rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n),
+                      np.zeros(n)], axis=-1)
+    best = float("inf")
+    for _ in range(2):  # the first run also pays for fresh memory pages
+        t = time.perf_counter()
+        total = np.zeros((n, 6, 6))
+        for leg in design.legs:
+            geo = ppr.leg_geometry(leg, poses)
+            springs = ppr.leg_springs(design, leg, geo, design.actuator.locked_stiffness)
+            total += solver.leg_stiffness(springs)
+        best = min(best, time.perf_counter() - t)
+    return n / best
+
+
+def peak_memory(grid: int) -> dict[str, float]:
+    env = dict(os.environ)
+    out = subprocess.run(
+        [sys.executable, "-c", _MEMORY_CHILD, str(grid)],
+        check=True, capture_output=True, text=True, env=env,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smaller grid and loop (< 1 min)")
+    args = parser.parse_args(argv)
+    grid, n_loop = (300, 200) if args.quick else (1000, 2000)
+    cores = os.cpu_count()
+    print(f"machine: {cores} cores, numpy {np.__version__}, python {sys.version.split()[0]}")
+
+    seconds, smap = time_map(grid)
+    n_map = grid * grid
+    batched_rate = n_map / seconds
+    print(f"batched map {grid} x {grid} = {n_map} poses: {seconds:.3f} s (median of 3), "
+          f"{batched_rate:,.0f} poses/s, {int(smap.reachable.sum())} in the workspace")
+
+    loop_s, n_done, worst = time_loop(smap, n_loop)
+    loop_rate = n_done / loop_s
+    print(f"single-pose loop (stiffness_at_pose + decouple) on {n_done} of the same poses: "
+          f"{loop_s:.3f} s, {loop_rate:,.0f} poses/s ({1e6 / loop_rate:.0f} us/pose); "
+          f"largest relative difference to the map {worst:.1e}")
+    ratio = batched_rate / loop_rate
+    print(f"ratio batched / loop: {ratio:,.0f}x")
+
+    n_ctx = 20_000 if args.quick else 100_000
+    print(f"context: scattered poses (evaluate_poses, random phi, {n_ctx}): "
+          f"{time_scattered(n_ctx * 5):,.0f} poses/s; general 22-spring model batched "
+          f"with numpy ({n_ctx // 5} poses, K only): {time_general_numpy(n_ctx // 5):,.0f} "
+          "poses/s")
+
+    mem = peak_memory(3163)
+    peak_mb = mem["peak_kb"] / 1024.0
+    print(f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
+          f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
+          f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)")
+    print(f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
+          f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

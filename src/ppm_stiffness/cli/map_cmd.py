@@ -1,0 +1,168 @@
+"""``ppm-stiffness map``: k_phi, k_x, k_y over the workspace (paper Figures 6-7)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+from rich.markup import escape
+from rich.table import Table
+
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    console,
+    err_console,
+    load_design_arg,
+    parse_wrench,
+)
+from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
+
+HELP = "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7)"
+
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+DATA_SUFFIXES = (".csv", ".npz")
+#: Largest grid accepted (points per axis): 10^8 poses.
+MAX_GRID = 10_000
+_UNITS = {"k_phi": "N·m/rad", "k_x": "N/m", "k_y": "N/m"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    parser.add_argument(
+        "--phi", type=float, metavar="DEG",
+        help="platform orientation [deg] (default: the design's workspace phi)",
+    )
+    parser.add_argument(
+        "--actuators", default="max", metavar="max|min|FX,FY,FZ,MX,MY,MZ",
+        help="'max': actuators locked; 'min': tangent stiffness of eq. (21) under "
+        "--reference-force; or a wrench [N, N·m] at P (axes of F_b): the loaded state at "
+        "each pose (default: max); write --actuators=-5,0,... when FX is negative",
+    )
+    parser.add_argument(
+        "--reference-force", type=float, default=DEFAULT_REFERENCE_FORCE, metavar="N",
+        help=f"actuator force that defines 'min' [N] (default {DEFAULT_REFERENCE_FORCE:g})",
+    )
+    parser.add_argument(
+        "--grid", type=int, default=200, metavar="N", help="N x N grid points (default 200)"
+    )
+    parser.add_argument(
+        "--bounds", metavar="XMIN,XMAX,YMIN,YMAX",
+        help="grid extent [mm] (default: the workspace's bounding box at --phi); write "
+        "--bounds=-20,10,-30,30 when the first number is negative",
+    )
+    parser.add_argument("--out", metavar="FIG", help="write the figure (.png, .svg or .pdf)")
+    parser.add_argument("--data", metavar="FILE", help="write the map data (.csv or .npz, SI)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _check_suffix(path: str | None, allowed: tuple[str, ...], option: str) -> None:
+    if path is not None and Path(path).suffix.lower() not in allowed:
+        raise InputDataError(f"{option} must end in one of {', '.join(allowed)}: {path}")
+
+
+def _parse_bounds(text: str | None) -> np.ndarray | None:
+    if text is None:
+        return None
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise InputDataError(
+            f"--bounds must be 4 numbers XMIN,XMAX,YMIN,YMAX, got {text!r}"
+        ) from None
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise InputDataError("--bounds must be 4 finite numbers XMIN,XMAX,YMIN,YMAX [mm]")
+    return np.array(values) * 1e-3
+
+
+def _summary_table(smap: StiffnessMap) -> Table:
+    table = Table(title="principal stiffness over the workspace")
+    for col in ("", "min", "at (x, y) [mm]", "max", "at (x, y) [mm]", "max/min", "unit"):
+        table.add_column(col, justify="left" if col in ("", "unit") else "right")
+    for name, s in smap.summary().items():
+        table.add_row(
+            name,
+            f"{s['min']:.5g}",
+            f"({s['x_at_min'] * 1e3:.2f}, {s['y_at_min'] * 1e3:.2f})",
+            f"{s['max']:.5g}",
+            f"({s['x_at_max'] * 1e3:.2f}, {s['y_at_max'] * 1e3:.2f})",
+            f"{s['ratio']:.4g}",
+            _UNITS[name],
+        )
+    return table
+
+
+def run(args: argparse.Namespace) -> int:
+    design = load_design_arg(args)
+    _check_suffix(args.out, FIGURE_SUFFIXES, "--out")
+    _check_suffix(args.data, DATA_SUFFIXES, "--data")
+    if not 2 <= args.grid <= MAX_GRID:
+        raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
+    phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180
+    if not math.isfinite(phi):
+        raise InputDataError("--phi must be finite")
+    state = args.actuators.strip().lower()
+    wrench = None
+    if state not in ("max", "min"):
+        if "," not in state:
+            raise InputDataError(
+                f"--actuators must be max, min or a wrench FX,FY,FZ,MX,MY,MZ, got {state!r}"
+            )
+        try:
+            wrench = parse_wrench(args.actuators)
+        except InputDataError as exc:
+            raise InputDataError(f"--actuators: {exc}") from None
+        state = "wrench"
+    bounds = _parse_bounds(args.bounds)
+
+    show = not args.quiet and err_console.is_terminal
+    if show:
+        from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+        bar = Progress(
+            TextColumn("map"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
+            TimeRemainingColumn(), console=err_console, transient=True,
+        )
+        task = bar.add_task("map", total=args.grid * args.grid)
+        with bar:
+            smap = stiffness_map(
+                design, phi=phi, actuators=state, grid=args.grid, wrench=wrench,
+                progress=lambda done, total: bar.update(task, completed=done, total=total),
+                bounds=bounds, reference_force=args.reference_force,
+            )
+    else:
+        smap = stiffness_map(
+            design, phi=phi, actuators=state, grid=args.grid, wrench=wrench, bounds=bounds,
+            reference_force=args.reference_force,
+        )
+
+    k_lo, k_hi = smap.actuator_stiffness
+    console.print(
+        f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
+        + (f" (reference force {args.reference_force:g} N)" if state == "min" else "")
+        + f"; actuator stiffness [N/m]: {np.array2string(k_lo, precision=6)}"
+        + ("" if np.allclose(k_lo, k_hi, equal_nan=True)
+           else f" to {np.array2string(k_hi, precision=6)}")
+    )
+    x, y = smap.x * 1e3, smap.y * 1e3
+    console.print(
+        f"grid {x.size} x {y.size}: x in [{x[0]:.3f}, {x[-1]:.3f}] mm, y in "
+        f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
+    )
+    if np.any(smap.reachable):
+        console.print(_summary_table(smap))
+    if args.data:
+        path = Path(args.data)
+        if path.suffix.lower() == ".npz":
+            smap.to_npz(path)
+        else:
+            smap.to_csv(path)
+        console.print(f"data written to {escape(str(path))}")
+    if args.out:
+        from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
+
+        save_map_figure(plot_stiffness_maps(smap), args.out)
+        console.print(f"figure written to {escape(args.out)}")
+    return 0
