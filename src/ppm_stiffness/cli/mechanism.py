@@ -1,0 +1,46 @@
+"""``ppm-stiffness mechanism``: top view of the manipulator at a pose."""
+
+from __future__ import annotations
+
+import argparse
+
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    add_pose_arguments,
+    console,
+    load_design_arg,
+    pose_from_args,
+)
+from ppm_stiffness.cli.springs import add_figure_output, check_figure_path
+
+HELP = "top view of the manipulator at a pose: base points, rails, carriages, links, platform"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    add_pose_arguments(parser)
+    add_figure_output(parser)
+    parser.add_argument(
+        "--allow-unreachable", action="store_true",
+        help="draw a pose outside the strokes or rod-length ranges (flagged in the title) "
+        "instead of refusing it",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    out = check_figure_path(args.out)
+    design = load_design_arg(args)
+    pose = pose_from_args(args, design)
+    from ppm_stiffness.ppr import check_reachable
+
+    if not args.allow_unreachable:
+        check_reachable(design, pose)  # an error, as in every command, unless asked
+
+    from ppm_stiffness.visuals import save_figure, use_headless_backend
+
+    use_headless_backend()
+    from ppm_stiffness.visuals.mechanism import plot_mechanism
+
+    path = save_figure(plot_mechanism(design, pose), out)
+    console.print(f"wrote {path}")
+    return 0

@@ -1,0 +1,77 @@
+"""``ppm-stiffness report``: one self-contained HTML page with every table and figure."""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    add_pose_arguments,
+    add_wrench_argument,
+    console,
+    err_console,
+    load_design_arg,
+    parse_wrench,
+    pose_from_args,
+)
+from ppm_stiffness.errors import InputDataError
+
+HELP = "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, " \
+    "deflection curves and stiffness maps"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    add_pose_arguments(parser)
+    add_wrench_argument(parser)
+    parser.epilog = "Default wrench: the paper's f = [5, 5, 20] N, m_z = 0.1 N·m."
+    parser.add_argument(
+        "--grid", type=int, default=60, metavar="N",
+        help="points per axis of the stiffness maps (default 60)",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--out", metavar="DIR", required=True, help="output directory (gets report.html)"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    if not 2 <= args.grid <= 2000:
+        raise InputDataError(f"--grid must be between 2 and 2000, got {args.grid}")
+    design = load_design_arg(args)
+    pose = pose_from_args(args, design)
+    wrench = parse_wrench(args.wrench)
+    from ppm_stiffness.ppr import check_reachable
+
+    check_reachable(design, pose)
+
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from ppm_stiffness.visuals import use_headless_backend
+
+    use_headless_backend()
+    from ppm_stiffness.visuals.report import write_report
+
+    start = time.perf_counter()
+    show = not args.quiet and err_console.is_terminal
+    with Progress(
+        TextColumn("[bold]report[/bold] {task.description:<34}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeElapsedColumn(),
+        console=err_console,
+        disable=not show,
+        transient=True,
+    ) as bar:
+        task = bar.add_task("starting", total=1.0)
+
+        def progress(description: str, fraction: float) -> None:
+            bar.update(task, description=description, completed=fraction)
+
+        path = write_report(
+            design, args.out, pose, wrench, args.grid, progress, source=args.design
+        )
+    console.print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, "
+                  f"{time.perf_counter() - start:.1f} s)")
+    return 0

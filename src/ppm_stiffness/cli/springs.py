@@ -1,0 +1,79 @@
+"""``ppm-stiffness springs``: picture of the six screw springs (the paper's Fig. 5)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    add_pose_arguments,
+    add_wrench_argument,
+    console,
+    load_design_arg,
+    parse_wrench,
+    pose_from_args,
+)
+from ppm_stiffness.errors import InputDataError
+
+HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
+
+#: File formats a figure can be written in (by suffix).
+FIGURE_FORMATS = (".png", ".svg", ".pdf")
+
+
+def add_figure_output(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--out", metavar="FIG", required=True,
+        help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
+    )
+
+
+def check_figure_path(path: str) -> str:
+    suffix = "." + path.rsplit(".", 1)[-1].lower() if "." in path else ""
+    if suffix not in FIGURE_FORMATS:
+        raise InputDataError(
+            f"--out {path!r}: unknown image format {suffix or '(none)'}; "
+            f"use one of {', '.join(FIGURE_FORMATS)}"
+        )
+    return path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    add_pose_arguments(parser)
+    add_wrench_argument(parser)
+    add_figure_output(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    out = check_figure_path(args.out)
+    design = load_design_arg(args)
+    pose = pose_from_args(args, design)
+    wrench = parse_wrench(args.wrench)
+    from ppm_stiffness.eigenscrews import eigenscrews
+    from ppm_stiffness.loading import loaded_state
+    from ppm_stiffness.model import stiffness_at_pose
+
+    if wrench is None:
+        k = stiffness_at_pose(design, pose)
+        state = "unloaded"
+    else:
+        k = loaded_state(design, wrench, pose).stiffness_matrix
+        f, m = wrench[3:], wrench[:3]
+        state = "f = ({:g}, {:g}, {:g}) N, m = ({:g}, {:g}, {:g}) N·m".format(*f, *m)
+    springs = eigenscrews(k)
+
+    from ppm_stiffness.visuals import save_figure, use_headless_backend
+
+    use_headless_backend()
+    from ppm_stiffness.visuals.springs import plot_screw_springs
+
+    title = (
+        f"Screw springs of K at x = {pose[0] * 1e3:.1f} mm, y = {pose[1] * 1e3:.1f} mm, "
+        f"phi = {np.degrees(pose[2]):.1f} deg ({state})"
+    )
+    path = save_figure(plot_screw_springs(springs, design, pose, title=title), out)
+    console.print(f"wrote {path}")
+    return 0
