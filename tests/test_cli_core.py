@@ -46,7 +46,16 @@ def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> Non
     assert set(data["decoupling"]) >= {"M", "d", "K_rr", "K_tt", "residual_coupling"}
     assert data["decoupling"]["method"] == "paper"
     assert set(data["principal"]) == {"rotational", "translational"}
-    assert np.shape(data["principal"]["rotational"]["directions"]) == (3, 3)
+    # directions[j] is the unit direction of values[j]: an eigenpair of K'_rr / K'_tt
+    for block, key in (("rotational", "K_rr"), ("translational", "K_tt")):
+        values = data["principal"][block]["values"]
+        directions = np.array(data["principal"][block]["directions"])
+        k = np.array(data["decoupling"][key])
+        assert directions.shape == (3, 3)
+        for j in range(3):
+            np.testing.assert_allclose(np.linalg.norm(directions[j]), 1.0, rtol=1e-12)
+            np.testing.assert_allclose(k @ directions[j], values[j] * directions[j],
+                                       atol=1e-9 * np.abs(k).max())
     ref = analyze_design(default_design(), [0.002, -0.003, np.radians(5)])
     np.testing.assert_allclose(data["stiffness_matrix"], ref["stiffness_matrix"], rtol=1e-12)
 
@@ -186,3 +195,40 @@ def test_list_parameters(capsys: pytest.CaptureFixture[str]) -> None:
     assert code == 0
     assert "leg3.guide_offset_w" in out and "guide.yaw" in out and "1700" in out
     assert "--target" in _bad(capsys, "calibrate", "--free", "guide.yaw")
+
+
+DATA = Path(__file__).parents[1] / "src/ppm_stiffness/data"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["fit-actuator", str(DATA / "actuator_synthetic.csv"), "--write-design",
+         "/nonexistent/x.toml"],
+        ["fit-actuator", str(DATA / "actuator_synthetic.csv"), "--plot", "out.xyz"],
+        ["deflect", "--csv", "/nonexistent/x.csv"],
+        ["deflect", "--plot", "/dev/null/x.png"],
+        ["calibrate", "--target", EQ22_CSV, "--free", "guide.yaw", "--out", "/dev/null/x.toml"],
+        ["map", "--grid", "5", "--out", "/dev/null/x.png"],
+        ["map", "--grid", "5", "--data", "/nonexistent/x.csv"],
+        ["springs", "--out", "/nonexistent/s.png"],
+        ["mechanism", "--out", "/dev/null/x.png"],
+        ["analyze", "--matrix", ""],
+        ["analyze", "--design", ""],
+        ["analyze", "--matrix", "/tmp"],
+    ],
+)
+def test_bad_paths_are_one_line_errors(capsys: pytest.CaptureFixture[str],
+                                       args: list[str]) -> None:
+    _bad(capsys, *args)
+    assert not Path("/nonexistent").exists()  # nothing is created on the user's behalf
+
+
+def test_report_into_a_file_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
+    _bad(capsys, "report", "--out", "/dev/null/x", "--quiet", "--grid", "4")
+
+
+def test_non_utf8_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    f = tmp_path / "bin.toml"
+    f.write_bytes(b"\xff\xfe\x00name = 1")
+    assert "UTF-8" in _bad(capsys, "analyze", "--design", str(f))

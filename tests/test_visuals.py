@@ -167,8 +167,8 @@ def test_springs_command_with_wrench_and_pose(tmp_path: Path, capsys) -> None:
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["springs", "--out", "x.jpg"], "unknown image format"),
-        (["mechanism", "--out", "x"], "unknown image format"),
+        (["springs", "--out", "x.jpg"], "unknown format"),
+        (["mechanism", "--out", "x"], "unknown format"),
         (["mechanism", "--x", "30", "--out", "x.png"], "rod free length"),
         (["springs", "--wrench", "1,2,3", "--out", "x.png"], "6 numbers"),
     ],

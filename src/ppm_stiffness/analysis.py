@@ -38,6 +38,7 @@ def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
 
 
 def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
+    """The decoupling as plain data: method, M, d, K_rr, K_tt, residual_coupling (SI)."""
     return {
         "method": dec.method,
         "M": dec.M.tolist(),
@@ -49,14 +50,16 @@ def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
 
 
 def principal_dict(dec: Decoupling) -> dict[str, Any]:
+    """Principal stiffnesses: ``values[j]`` with its unit direction ``directions[j]``
+    (one direction per row; the library's Decoupling holds them as columns)."""
     return {
         "rotational": {
             "values": dec.rotational_values.tolist(),
-            "directions": dec.rotational_directions.tolist(),
+            "directions": dec.rotational_directions.T.tolist(),
         },
         "translational": {
             "values": dec.translational_values.tolist(),
-            "directions": dec.translational_directions.tolist(),
+            "directions": dec.translational_directions.T.tolist(),
         },
     }
 

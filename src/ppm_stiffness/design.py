@@ -214,6 +214,8 @@ def load_design(path: str | Path) -> Design:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise DesignError(f"design file not found: {p}") from None
+    except UnicodeDecodeError:
+        raise DesignError(f"{p}: not a UTF-8 text file") from None
     except OSError as exc:
         raise DesignError(f"cannot read design file {p}: {exc.strerror}") from None
     try:

@@ -205,7 +205,6 @@ class StiffnessMap:
         """Write the map as NPZ: x, y, phi, k_phi, k_x, k_y (NaN outside the workspace),
         reachable, actuators, actuator_stiffness, wrench, reference_force (SI)."""
         p = Path(path)
-        p.parent.mkdir(parents=True, exist_ok=True)
         with p.open("wb") as fh:
             np.savez(
                 fh,
@@ -231,7 +230,6 @@ class StiffnessMap:
         ``x_m, y_m, reachable, k_phi_Nm_per_rad, k_x_N_per_m, k_y_N_per_m``; the k cells
         are empty outside the workspace. ``#`` lines give phi and the actuator state."""
         p = Path(path)
-        p.parent.mkdir(parents=True, exist_ok=True)
         xx, yy = np.meshgrid(self.x, self.y)
         flat = [a.ravel() for a in (xx, yy)]
         values = [v.filled(np.nan).ravel() for v in self.fields().values()]

@@ -62,6 +62,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except PPMStiffnessError as exc:
         print(f"ppm-stiffness: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # a file that cannot be read or written
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"ppm-stiffness: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("ppm-stiffness: interrupted", file=sys.stderr)
         return 130

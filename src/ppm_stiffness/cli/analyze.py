@@ -48,8 +48,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.matrix:
-        if args.design or args.wrench or any(
+    if args.matrix is not None:
+        if args.design is not None or args.wrench is not None or any(
             getattr(args, k) is not None for k in ("x", "y", "phi")
         ):
             raise InputDataError("--matrix cannot be combined with --design, a pose or --wrench")
@@ -161,7 +161,7 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             dirs = np.asarray(pr[block]["directions"])
             for j in range(3):
                 pt.add_row(f"{name} {j + 1}", f"{vals[j]:.5g} {unit}",
-                           _vec(dirs[:, j]))
+                           _vec(dirs[j]))
         c.print(pt)
         if pr is result["principal"]:
             r, tr = pr["rotational"]["values"], pr["translational"]["values"]

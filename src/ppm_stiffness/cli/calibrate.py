@@ -11,6 +11,7 @@ from ppm_stiffness.calibration import calibrate
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
+    check_output_path,
     console,
     load_design_arg,
     pose_from_args,
@@ -69,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.target or not args.free:
         raise InputDataError("calibrate needs --target K.csv and --free NAMES")
     pose = pose_from_args(args, design)
+    check_output_path(args.out, "--out", (".toml",))
     target = read_matrix_csv(args.target)
     names = [n.strip() for n in args.free.split(",") if n.strip()]
     if args.starts < 1:

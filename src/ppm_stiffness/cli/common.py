@@ -21,6 +21,48 @@ console = Console(width=None if sys.stdout.isatty() else 140)
 err_console = Console(stderr=True)
 
 
+#: Image formats every figure option accepts (matplotlib writes them from the suffix).
+FIGURE_FORMATS = (".png", ".svg", ".pdf")
+
+
+def check_output_path(
+    path: str | None, option: str, suffixes: tuple[str, ...] | None = None
+) -> str | None:
+    """Validate an output path before any computation; None passes through.
+
+    Refuses an empty path, an unknown suffix, a directory, and a missing parent
+    directory (nothing is created on the user's behalf).
+    """
+    if path is None:
+        return None
+    if not path.strip():
+        raise InputDataError(f"{option}: empty path")
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise InputDataError(
+            f"{option} {path}: unknown format {p.suffix or '(no suffix)'}; "
+            f"use one of {', '.join(suffixes)}"
+        )
+    if p.is_dir():
+        raise InputDataError(f"{option} {path}: is a directory")
+    parent = p.parent
+    if not parent.is_dir():
+        raise InputDataError(f"{option} {path}: directory {parent} does not exist")
+    return path
+
+
+def check_input_path(path: str, option: str) -> Path:
+    """An existing regular file, or an InputDataError naming the option."""
+    if not path.strip():
+        raise InputDataError(f"{option}: empty path")
+    p = Path(path)
+    if p.is_dir():
+        raise InputDataError(f"{option} {path}: is a directory")
+    if not p.is_file():
+        raise InputDataError(f"{option}: file not found: {path}")
+    return p
+
+
 def add_design_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--design", metavar="FILE", help="TOML design file (default: the built-in 3-PPR)"
@@ -42,7 +84,10 @@ def add_wrench_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def load_design_arg(args: argparse.Namespace) -> Design:
-    return load_design(args.design) if getattr(args, "design", None) else default_design()
+    path = getattr(args, "design", None)
+    if path is None:
+        return default_design()
+    return load_design(check_input_path(path, "--design"))
 
 
 def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
@@ -80,9 +125,7 @@ def parse_wrench(text: str | None) -> np.ndarray | None:
 
 def read_matrix_csv(path: str | Path) -> np.ndarray:
     """A 6x6 matrix from CSV (``#`` comments allowed); raises InputDataError."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputDataError(f"file not found: {p}")
+    p = check_input_path(str(path), "matrix")
     rows: list[list[float]] = []
     try:
         with p.open(newline="", encoding="utf-8") as fh:

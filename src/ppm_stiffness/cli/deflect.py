@@ -12,8 +12,10 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
     add_design_argument,
     add_pose_arguments,
+    check_output_path,
     console,
     dump_json,
     load_design_arg,
@@ -209,6 +211,8 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_output_path(args.csv, "--csv", (".csv",))
+    check_output_path(args.plot, "--plot", FIGURE_FORMATS)
     curve, meas = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
     if args.csv:

@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
 from rich.markup import escape
 
 from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
-from ppm_stiffness.cli.common import console, dump_json, load_design_arg
+from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
+    check_output_path,
+    console,
+    dump_json,
+    load_design_arg,
+)
 from ppm_stiffness.design import save_design
-from ppm_stiffness.errors import DesignError
+from ppm_stiffness.errors import InputDataError
 
 HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
 
@@ -33,16 +40,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_output_path(args.plot, "--plot", FIGURE_FORMATS)
+    check_output_path(args.write_design, "--write-design", (".toml",))
     data = read_force_displacement(args.data)
     fit = fit_power_law(data.displacement_m, data.force_n)
-    design = load_design_arg(args) if (args.design or args.write_design) else None
+    if not (0.0 < fit.q <= 1.0 and fit.k_a > 0.0):
+        raise InputDataError(
+            f"the fit gives k_a = {fit.k_a:.4g} N/m^q, q = {fit.q:.4g}: q outside (0, 1] or "
+            "k_a <= 0, so the data do not follow a softening power law G = k_a delta^q"
+        )
+    if not (np.isfinite(fit.k_a_std) and np.isfinite(fit.q_std) and fit.q_std < fit.q):
+        raise InputDataError(
+            f"the fit is undetermined (q = {fit.q:.4g} +- {fit.q_std:.3g}): too few points "
+            "or too little spread in displacement"
+        )
+    use_design = args.design is not None or args.write_design is not None
+    design = load_design_arg(args) if use_design else None
     if args.write_design:
         assert design is not None
-        if not 0.0 < fit.q <= 1.0:
-            raise DesignError(
-                f"fitted q = {fit.q:.4g} is outside (0, 1]: not a softening actuator law, "
-                "not written to a design"
-            )
         new = design.with_parameters({"actuator.k_a": fit.k_a, "actuator.q": fit.q})
         save_design(new, args.write_design)
     if args.plot:

@@ -12,6 +12,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
+    check_output_path,
     console,
     err_console,
     load_design_arg,
@@ -98,6 +99,8 @@ def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
     _check_suffix(args.out, FIGURE_SUFFIXES, "--out")
     _check_suffix(args.data, DATA_SUFFIXES, "--data")
+    check_output_path(args.out, "--out")
+    check_output_path(args.data, "--data")
     if not 2 <= args.grid <= MAX_GRID:
         raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
     phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180

@@ -7,20 +7,20 @@ import argparse
 import numpy as np
 
 from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
     add_design_argument,
     add_pose_arguments,
     add_wrench_argument,
+    check_output_path,
     console,
     load_design_arg,
     parse_wrench,
     pose_from_args,
 )
-from ppm_stiffness.errors import InputDataError
 
 HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
 
 #: File formats a figure can be written in (by suffix).
-FIGURE_FORMATS = (".png", ".svg", ".pdf")
 
 
 def add_figure_output(parser: argparse.ArgumentParser) -> None:
@@ -31,13 +31,10 @@ def add_figure_output(parser: argparse.ArgumentParser) -> None:
 
 
 def check_figure_path(path: str) -> str:
-    suffix = "." + path.rsplit(".", 1)[-1].lower() if "." in path else ""
-    if suffix not in FIGURE_FORMATS:
-        raise InputDataError(
-            f"--out {path!r}: unknown image format {suffix or '(none)'}; "
-            f"use one of {', '.join(FIGURE_FORMATS)}"
-        )
-    return path
+    """The --out figure path, checked before any computation."""
+    checked = check_output_path(path, "--out", FIGURE_FORMATS)
+    assert checked is not None
+    return checked
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -19,7 +19,13 @@ from rich.markup import escape
 from rich.progress import Progress
 from rich.table import Table
 
-from ppm_stiffness.cli.common import add_design_argument, console, err_console, load_design_arg
+from ppm_stiffness.cli.common import (
+    add_design_argument,
+    check_output_path,
+    console,
+    err_console,
+    load_design_arg,
+)
 from ppm_stiffness.design import Design
 from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.validation.compare import (
@@ -108,6 +114,7 @@ def _write_csv(path: str, results: list[PoseComparison]) -> None:
 
 def run(args: argparse.Namespace) -> int:
     _check_args(args)
+    check_output_path(args.csv, "--csv", (".csv",))
     require_pynite()
     design = load_design_arg(args)
     poses = validation_poses(design, args.poses, args.seed, args.radius * 1e-3,

@@ -15,7 +15,6 @@ def save_figure(fig: Any, path: str | Path, dpi: int = 150) -> Path:
     import matplotlib.pyplot as plt
 
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(p, dpi=dpi, bbox_inches="tight")
     plt.close(fig)
     return p

@@ -107,6 +107,5 @@ def save_map_figure(fig: Any, path: str | Path, dpi: int = DPI) -> Path:
     """Save ``fig`` (format from the suffix: .png, .svg, .pdf) at exactly its figure size
     (``figsize * dpi`` pixels for PNG) and release it."""
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(p, dpi=dpi)
     return p

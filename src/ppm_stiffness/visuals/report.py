@@ -198,8 +198,8 @@ def _decoupling_section(result: dict[str, Any], key: str) -> str:
             vals, dirs = pr[blk]["values"], np.asarray(pr[blk]["directions"])
             for j in range(3):
                 p = f"{key}/{pkey}/{blk}"
-                cells = [_cell(dirs[i, j], f"{p}/directions/{i}/{j}", sig=4,
-                               ref=float(np.max(np.abs(dirs[:, j])))) for i in range(3)]
+                cells = [_cell(dirs[j, i], f"{p}/directions/{j}/{i}", sig=4,
+                               ref=float(np.max(np.abs(dirs[j])))) for i in range(3)]
                 rows.append([f"{blk} {j + 1}", _cell(vals[j], f"{p}/values/{j}"), unit, *cells])
         block.append(_table(["principal", "stiffness", "unit", "dir x", "dir y", "dir z"], rows,
                             caption="Principal stiffnesses (eigenvalues of K′<sub>rr</sub>, "
