@@ -180,3 +180,21 @@ def test_deflect_bad_design_and_measurement_files(
     bad = tmp_path / "m.csv"
     bad.write_text("load,phi_z_deg\n1,abc\n")
     run_bad(["deflect", "--measurements", str(bad)], capsys, "not numeric")
+
+
+def test_deflect_linear_actuator_from_the_cli(capsys) -> None:  # type: ignore[no-untyped-def]
+    # --q 1 --threshold 0: a linear actuator of stiffness k_a, so the deflection is C w
+    import json
+
+    import numpy as np
+
+    from ppm_stiffness.design import default_design
+    from ppm_stiffness.model import stiffness_at_pose
+
+    assert main(["deflect", "--mode", "moment", "--max", "0.2", "--step", "0.1", "--q", "1",
+                 "--k-a", "1e5", "--threshold", "0", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    k = stiffness_at_pose(default_design(), None, 1e5)
+    expected = np.linalg.solve(k, [0, 0, 0.2, 0, 0, 0])
+    twists = np.array(data["twists"])
+    np.testing.assert_allclose(twists[-1], expected, rtol=1e-6, atol=1e-12)

@@ -232,3 +232,22 @@ def test_non_utf8_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> 
     f = tmp_path / "bin.toml"
     f.write_bytes(b"\xff\xfe\x00name = 1")
     assert "UTF-8" in _bad(capsys, "analyze", "--design", str(f))
+
+
+def test_not_positive_definite_matrix(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    k = EQ22.copy()
+    k[0, 0] = -750.0
+    f = tmp_path / "neg.csv"
+    np.savetxt(f, k, delimiter=",")
+    assert "not positive definite" in _bad(capsys, "analyze", "--matrix", str(f))
+    assert "not positive definite" in _bad(capsys, "calibrate", "--target", str(f),
+                                           "--free", "guide.yaw")
+
+
+def test_loads_beyond_the_model_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    # a 1e9 N load would push the actuators far past their stroke: refuse, naming it
+    err = _bad(capsys, "analyze", "--wrench", "1e9,0,0,0,0,0")
+    assert "load too large" in err and "stroke" in err
+    assert "load too large" in _bad(capsys, "deflect", "--max", "1e6", "--step", "1e5")
+    assert "load too large" in _bad(capsys, "deflect", "--mode", "moment", "--max", "100",
+                                    "--step", "10")

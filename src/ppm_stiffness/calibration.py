@@ -26,7 +26,7 @@ from scipy.optimize import least_squares
 from ppm_stiffness.conventions import FloatArray
 from ppm_stiffness.design import Design
 from ppm_stiffness.errors import InputDataError, PPMStiffnessError
-from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.model import check_nonsingular, stiffness_at_pose
 
 #: A singular value below this fraction of the largest marks a flat direction.
 FLAT_RATIO = 1e-6
@@ -173,6 +173,10 @@ def calibrate(
     CalibrationResult
     """
     t = validate_stiffness_matrix(target, "target")
+    try:
+        check_nonsingular(t, " (target)")
+    except PPMStiffnessError as exc:
+        raise InputDataError(str(exc)) from None
     names = list(free)
     if not names:
         raise InputDataError("no free parameters given")

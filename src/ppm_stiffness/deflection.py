@@ -44,7 +44,7 @@ from ppm_stiffness import actuator as act
 from ppm_stiffness.conventions import FloatArray
 from ppm_stiffness.design import ActuatorModel, Design
 from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.loading import actuator_forces, validate_wrench
+from ppm_stiffness.loading import actuator_forces, check_actuator_travel, validate_wrench
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     check_nonsingular,
@@ -326,6 +326,7 @@ def deflection_path(
     lin = linear_structure(design, p)
     g_unit = lin.force_influence @ w_hat
     forces = x[:, None] * g_unit[None, :]
+    check_actuator_travel(design, actuator_displacement(law, forces[-1:]))
     if method == "integrate":
         twists = _integrate(_TangentModel(design, p), law, w_hat, g_unit, x, INTEGRATION_RTOL)
     elif method == "closed-form":

@@ -39,6 +39,28 @@ def validate_wrench(wrench: ArrayLike) -> FloatArray:
     return w
 
 
+def check_actuator_travel(design: Design, displacements: ArrayLike) -> None:
+    """Refuse loads under which an actuator would travel beyond its stroke.
+
+    The model is one of small displacements about a fixed geometry; an actuator
+    displaced by more than its whole stroke (``stroke[1] - stroke[0]`` of its leg) is
+    far outside it, and its stiffness from eq. (21) is meaningless.
+
+    Parameters
+    ----------
+    displacements : array_like, shape (..., n_legs)
+        Actuator displacement magnitudes [m].
+    """
+    d = np.abs(np.asarray(displacements, dtype=float)).reshape(-1, len(design.legs))
+    spans = np.array([leg.stroke[1] - leg.stroke[0] for leg in design.legs])
+    worst = d.max(axis=0)
+    for i in np.flatnonzero(~(worst <= spans)):
+        raise InputDataError(
+            f"load too large: actuator {i + 1} would move {worst[i] * 1e3:.4g} mm, more than "
+            f"its whole stroke of {spans[i] * 1e3:.4g} mm (the model is for small deflections)"
+        )
+
+
 def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:
     """Share of ``wrench`` carried by each leg, shape (n_legs, 6): ``K_i K^{-1} w``."""
     total = np.sum(leg_stiffnesses, axis=0)
@@ -102,6 +124,7 @@ def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = Non
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
     forces = actuator_forces(design, w, p)
     delta = act.displacement_from_force(design.actuator, forces)
+    check_actuator_travel(design, delta)
     k_act = act.stiffness_from_displacement(design.actuator, delta)
     k = stiffness_at_pose(design, p, k_act)
     return LoadedState(p, w, forces, delta, k_act, k)

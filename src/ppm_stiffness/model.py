@@ -61,6 +61,11 @@ def check_nonsingular(stiffness: FloatArray, where: str = "") -> None:
     scale = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])  # rotations balanced at 0.1 m
     ks = stiffness / scale[:, None] / scale[None, :]
     eig = np.linalg.eigvalsh(ks)
+    if eig[-1] <= 0 or eig[0] < -SINGULARITY_TOLERANCE * eig[-1]:
+        raise SingularConfigurationError(
+            f"stiffness matrix is not positive definite{where}: smallest eigenvalue "
+            f"{eig[0]:.3g} (length-balanced units)"
+        )
     if eig[0] <= SINGULARITY_TOLERANCE * eig[-1]:
         raise SingularConfigurationError(
             f"singular configuration{where}: stiffness eigenvalue ratio "

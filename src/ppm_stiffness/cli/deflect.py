@@ -72,6 +72,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "or 'linear': the unloaded K (actuators locked) for every load",
     )
     parser.add_argument("--k-a", type=float, metavar="N/m^q", help="override actuator k_a")
+    parser.add_argument(
+        "--threshold", type=float, metavar="MM",
+        help="override the locked-branch threshold of eq. (21) [mm]; 0 with --q 1 makes a "
+        "linear actuator of stiffness k_a",
+    )
     parser.add_argument("--q", type=float, help="override actuator exponent q, in (0, 1]")
     parser.add_argument("--csv", metavar="FILE", help="write load and the six twist components")
     parser.add_argument("--plot", metavar="FIG", help="write a Fig. 10-like figure")
@@ -99,7 +104,12 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     design = load_design_arg(args)
     overrides = {
         name: value
-        for name, value in (("actuator.k_a", args.k_a), ("actuator.q", args.q))
+        for name, value in (
+            ("actuator.k_a", args.k_a),
+            ("actuator.q", args.q),
+            ("actuator.threshold_displacement",
+             None if args.threshold is None else args.threshold * 1e-3),
+        )
         if value is not None
     }
     if overrides:
