@@ -88,7 +88,8 @@ def test_loaded_eigenforces_and_pitches_eq34(loaded) -> None:  # type: ignore[no
     s = eigenscrews(loaded.stiffness_matrix)
     np.testing.assert_allclose(s.eigenforces[:3], [6871.4, 2939.4, 1117.7], rtol=0.01)
     np.testing.assert_allclose(s.eigenforces[3:], [-6871.4, -2939.4, -1117.7], rtol=0.01)
-    # pitches printed to 4 decimals: 1 % or the half-unit, whichever is larger
+    # pitches printed to 4 decimals: 1 %, which exceeds the printing half-unit
+    # (5e-5 m/rad) for every printed pitch, the smallest being 0.0097
     printed = np.array([0.1227, 0.2145, 0.0097])
     np.testing.assert_allclose(s.pitches[:3], printed, atol=0, rtol=0.01)
     np.testing.assert_allclose(s.pitches[3:], -printed, rtol=0.01)
@@ -120,7 +121,7 @@ def test_loaded_table5(loaded) -> None:  # type: ignore[no-untyped-def]
     # The prediction inherits the rounding of (22); the tolerance of each printed axis
     # and position component is the spread it has over the matrices that round to (22),
     # carried to the loaded state by the model-free route (tests/paper.py), plus half a
-    # printed unit, plus the model's own distance from that route.
+    # printed unit. Both the paper's numbers and the model's must lie in that range.
     signs = np.sign(np.einsum("ij,ij->i", s.axes, axes))
     model_axes = (signs[:, None] * s.axes).ravel()
     model_pos = s.positions.ravel()

@@ -41,6 +41,10 @@ from ppm_stiffness.validation.fe_model import require_pynite
 HELP = "compare the virtual-joint stiffness with an independent FE frame model (PyNite)"
 
 
+#: Upper bound of --poses: about 3 to 4 minutes of FE solves on the reference machine.
+MAX_POSES = 1000
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     parser.add_argument(
@@ -65,8 +69,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _check_args(args: argparse.Namespace) -> None:
-    if args.poses < 0:
-        raise InputDataError(f"--poses must be >= 0, got {args.poses}")
+    if not 0 <= args.poses <= MAX_POSES:
+        raise InputDataError(
+            f"--poses must be between 0 and {MAX_POSES} (about 0.2 s of FE solve each), "
+            f"got {args.poses}"
+        )
     for name in ("radius", "angle"):
         value = getattr(args, name)
         if not math.isfinite(value) or value < 0:
