@@ -11,9 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from helpers import wide_design
 from ppm_stiffness import batch
 from ppm_stiffness.decoupling import decouple
-from ppm_stiffness.design import Design, default_design, design_from_dict
+from ppm_stiffness.design import Design, default_design
 from ppm_stiffness.errors import (
     InputDataError,
     SingularConfigurationError,
@@ -24,15 +25,6 @@ from ppm_stiffness.model import stiffness_at_pose
 
 DESIGN = default_design()
 RTOL = 1e-10
-
-
-def wide_design(design: Design = DESIGN) -> Design:
-    """Strokes and rod ranges opened, so that random poses far from the centre count."""
-    data = design.model_dump()
-    for leg in data["legs"]:
-        leg["stroke"] = (-1.0, 1.0)
-        leg["rod_length_range"] = (1e-4, 1.0)
-    return design_from_dict(data)
 
 
 def single(design: Design, pose: np.ndarray, k_act: np.ndarray | None = None) -> np.ndarray:

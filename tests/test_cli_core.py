@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import wide_design
 from paper import EQ22
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.cli import main
 from ppm_stiffness.design import default_design, dump_design, save_design
-from test_properties import wide_design
 
 EQ22_CSV = str(Path(__file__).parents[1] / "src/ppm_stiffness/data/paper_eq22.csv")
 
@@ -251,3 +251,8 @@ def test_loads_beyond_the_model_are_refused(capsys: pytest.CaptureFixture[str]) 
     assert "load too large" in _bad(capsys, "deflect", "--max", "1e6", "--step", "1e5")
     assert "load too large" in _bad(capsys, "deflect", "--mode", "moment", "--max", "100",
                                     "--step", "10")
+
+
+def test_map_with_no_reachable_point(capsys: pytest.CaptureFixture[str]) -> None:
+    assert "no grid point" in _bad(capsys, "map", "--bounds=-1000,-900,-1000,-900",
+                                   "--grid", "10")

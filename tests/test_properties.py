@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers import wide_design
 from ppm_stiffness import ppr
 from ppm_stiffness.beam import cantilever_compliance
 from ppm_stiffness.conventions import (
@@ -29,15 +30,6 @@ from ppm_stiffness.solver import (
 )
 
 DESIGN = default_design()
-
-
-def wide_design(design: Design = DESIGN) -> Design:
-    """The design with strokes and rod ranges opened, for poses far from the centre."""
-    data = design.model_dump()
-    for leg in data["legs"]:
-        leg["stroke"] = (-1.0, 1.0)
-        leg["rod_length_range"] = (1e-4, 1.0)
-    return design_from_dict(data)
 
 
 def random_poses(n: int, seed: int) -> np.ndarray:

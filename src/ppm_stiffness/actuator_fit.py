@@ -23,7 +23,6 @@ column is ``force_N``. Other columns are ignored.
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +31,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
 from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.csvio import read_commented_csv
 from ppm_stiffness.errors import InputDataError
 
 #: Displacement column names and their factor to metres.
@@ -197,20 +197,7 @@ class ForceDisplacementData:
 def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     """Read an actuator force-displacement CSV (format in the module docstring)."""
     p = Path(path)
-    if not p.is_file():
-        raise InputDataError(f"file not found: {p}")
-    comments: list[str] = []
-    rows: list[list[str]] = []
-    try:
-        with p.open(newline="", encoding="utf-8") as fh:
-            for line in fh:
-                s = line.strip()
-                if s.startswith("#"):
-                    comments.append(s[1:].strip())
-                elif s:
-                    rows.append(next(csv.reader([s])))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputDataError(f"cannot read {p}: {exc}") from None
+    comments, rows = read_commented_csv(p)
     if not rows:
         raise InputDataError(f"{p}: no header row and no data")
     header = [c.strip() for c in rows[0]]

@@ -28,7 +28,6 @@ each component is reported too.
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.csvio import read_commented_csv
 from ppm_stiffness.deflection import DeflectionCurve
 from ppm_stiffness.errors import InputDataError
 
@@ -87,22 +87,12 @@ def read_measurements(path: str | Path) -> Measurements:
         the wrong length, a non-numeric or non-finite value, no data.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputDataError(f"file not found: {p}")
+    comments, rows = read_commented_csv(p)
     metadata: dict[str, str] = {}
-    rows: list[list[str]] = []
-    try:
-        with p.open(newline="", encoding="utf-8") as fh:
-            for line in fh:
-                s = line.strip()
-                if s.startswith("#"):
-                    key, sep, value = s[1:].partition(":")
-                    if sep and key.strip() and " " not in key.strip():
-                        metadata[key.strip()] = value.strip()
-                elif s:
-                    rows.append(next(csv.reader([s])))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputDataError(f"cannot read {p}: {exc}") from None
+    for comment in comments:
+        key, sep, value = comment.partition(":")
+        if sep and key.strip() and " " not in key.strip():
+            metadata[key.strip()] = value.strip()
     if len(rows) < 2:
         raise InputDataError(f"{p}: needs a header row and at least one data row")
     header = [c.strip() for c in rows[0]]

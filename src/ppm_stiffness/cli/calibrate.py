@@ -41,7 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "matrix printed to 0.0001e5); default 1%% of sqrt(|T_ii T_jj|)")
     parser.add_argument("--starts", type=int, default=1,
                         help="number of starting points (first = the design's values)")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=int, default=0,
+                        help="seed of the random starting points (default 0)")
     parser.add_argument("--out", metavar="FILE.toml", help="write the calibrated design here")
 
 

@@ -102,23 +102,26 @@ def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
     return pose
 
 
+def parse_floats(text: str, count: int, option: str, spec: str) -> list[float]:
+    """``count`` comma-separated finite numbers, or an InputDataError that says
+    ``option must be <count> numbers <spec>``."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise InputDataError(f"{option} must be {count} numbers {spec}, got {text!r}") from None
+    if len(values) != count:
+        raise InputDataError(f"{option} must be {count} numbers {spec}, got {len(values)}")
+    if not all(math.isfinite(v) for v in values):
+        raise InputDataError(f"{option} components must be finite")
+    return values
+
+
 def parse_wrench(text: str | None) -> np.ndarray | None:
     """The CLI's wrench ``FX,FY,FZ,MX,MY,MZ`` [N, N·m] as the library's
     ``(m_x, m_y, m_z, f_x, f_y, f_z)``."""
     if text is None:
         return None
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise InputDataError(
-            f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {text!r}"
-        ) from None
-    if len(values) != 6:
-        raise InputDataError(
-            f"--wrench must be 6 numbers FX,FY,FZ,MX,MY,MZ, got {len(values)}"
-        )
-    if not all(math.isfinite(v) for v in values):
-        raise InputDataError("--wrench components must be finite")
+    values = parse_floats(text, 6, "--wrench", "FX,FY,FZ,MX,MY,MZ")
     f, m = values[:3], values[3:]
     return np.array(m + f)
 

@@ -16,9 +16,10 @@ from ppm_stiffness.cli.common import (
     console,
     err_console,
     load_design_arg,
+    parse_floats,
     parse_wrench,
 )
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
 
 HELP = "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7)"
@@ -67,15 +68,7 @@ def _check_suffix(path: str | None, allowed: tuple[str, ...], option: str) -> No
 def _parse_bounds(text: str | None) -> np.ndarray | None:
     if text is None:
         return None
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise InputDataError(
-            f"--bounds must be 4 numbers XMIN,XMAX,YMIN,YMAX, got {text!r}"
-        ) from None
-    if len(values) != 4 or not all(math.isfinite(v) for v in values):
-        raise InputDataError("--bounds must be 4 finite numbers XMIN,XMAX,YMIN,YMAX [mm]")
-    return np.array(values) * 1e-3
+    return np.array(parse_floats(text, 4, "--bounds", "XMIN,XMAX,YMIN,YMAX [mm]")) * 1e-3
 
 
 def _summary_table(smap: StiffnessMap) -> Table:
@@ -141,6 +134,11 @@ def run(args: argparse.Namespace) -> int:
             reference_force=args.reference_force,
         )
 
+    if not np.any(smap.reachable):
+        raise UnreachablePoseError(
+            f"no grid point of the map is in the workspace at phi = "
+            f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
+        )
     k_lo, k_hi = smap.actuator_stiffness
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
@@ -154,8 +152,7 @@ def run(args: argparse.Namespace) -> int:
         f"grid {x.size} x {y.size}: x in [{x[0]:.3f}, {x[-1]:.3f}] mm, y in "
         f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
     )
-    if np.any(smap.reachable):
-        console.print(_summary_table(smap))
+    console.print(_summary_table(smap))
     if args.data:
         path = Path(args.data)
         if path.suffix.lower() == ".npz":
