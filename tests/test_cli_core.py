@@ -224,8 +224,12 @@ def test_bad_paths_are_one_line_errors(capsys: pytest.CaptureFixture[str],
     assert not Path("/nonexistent").exists()  # nothing is created on the user's behalf
 
 
-def test_report_into_a_file_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
+def test_report_output_is_checked_first(capsys: pytest.CaptureFixture[str],
+                                       tmp_path: Path) -> None:
     _bad(capsys, "report", "--out", "/dev/null/x", "--quiet", "--grid", "4")
+    _bad(capsys, "report", "--out", "/nonexistent/deep/r", "--quiet", "--grid", "4")
+    assert "empty" in _bad(capsys, "report", "--out", "", "--quiet", "--grid", "4")
+    assert not Path("/nonexistent").exists()
 
 
 def test_non_utf8_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -256,3 +260,12 @@ def test_loads_beyond_the_model_are_refused(capsys: pytest.CaptureFixture[str]) 
 def test_map_with_no_reachable_point(capsys: pytest.CaptureFixture[str]) -> None:
     assert "no grid point" in _bad(capsys, "map", "--bounds=-1000,-900,-1000,-900",
                                    "--grid", "10")
+
+
+def test_small_displacement_limits(capsys: pytest.CaptureFixture[str]) -> None:
+    # 1.1 N·m would rotate the platform by about 80 deg: outside the linearised model
+    err = _bad(capsys, "deflect", "--mode", "moment", "--max", "1.1", "--step", "0.1")
+    assert "rotate" in err
+    # a map under a load that drives an actuator past its stroke is refused like analyze
+    assert "stroke" in _bad(capsys, "map", "--grid", "5", "--actuators=50,0,0,0,0,0")
+    assert "empty" in _bad(capsys, "deflect", "--measurements", "")

@@ -44,7 +44,12 @@ from ppm_stiffness import actuator as act
 from ppm_stiffness.conventions import FloatArray
 from ppm_stiffness.design import ActuatorModel, Design
 from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.loading import actuator_forces, check_actuator_travel, validate_wrench
+from ppm_stiffness.loading import (
+    actuator_forces,
+    check_actuator_travel,
+    check_small_rotation,
+    validate_wrench,
+)
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     check_nonsingular,
@@ -339,6 +344,7 @@ def deflection_path(
         b = lin.force_influence
         c0 = lin.structural_compliance + b.T @ np.diag(1 / k0) @ b
         twists = x[:, None] * (c0 @ w_hat)[None, :]
+    check_small_rotation(twists)
     if method == "linear":
         k_act = np.broadcast_to(actuator_stiffness_vector(design, None), forces.shape).copy()
         disp = forces / k_act

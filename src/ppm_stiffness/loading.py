@@ -53,11 +53,33 @@ def check_actuator_travel(design: Design, displacements: ArrayLike) -> None:
     """
     d = np.abs(np.asarray(displacements, dtype=float)).reshape(-1, len(design.legs))
     spans = np.array([leg.stroke[1] - leg.stroke[0] for leg in design.legs])
-    worst = d.max(axis=0)
+    worst = np.where(np.isfinite(d), d, 0.0).max(axis=0)
     for i in np.flatnonzero(~(worst <= spans)):
         raise InputDataError(
             f"load too large: actuator {i + 1} would move {worst[i] * 1e3:.4g} mm, more than "
             f"its whole stroke of {spans[i] * 1e3:.4g} mm (the model is for small deflections)"
+        )
+
+
+#: Largest platform rotation [rad] a deflection may reach: the model linearises the
+#: geometry about the unloaded pose (small displacements).
+MAX_ROTATION = 0.1
+
+
+def check_small_rotation(twists: ArrayLike) -> None:
+    """Refuse deflections whose rotation exceeds :data:`MAX_ROTATION` (5.7 deg).
+
+    Parameters
+    ----------
+    twists : array_like, shape (..., 6)
+        Platform twists (rotation first) [rad, m].
+    """
+    t = np.asarray(twists, dtype=float).reshape(-1, 6)
+    rotation = float(np.max(np.linalg.norm(t[:, :3], axis=1))) if len(t) else 0.0
+    if not rotation <= MAX_ROTATION:
+        raise InputDataError(
+            f"load too large: the platform would rotate {np.degrees(rotation):.3g} deg, "
+            f"beyond the {np.degrees(MAX_ROTATION):.2g} deg a small-displacement model covers"
         )
 
 

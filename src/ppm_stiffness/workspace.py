@@ -323,7 +323,7 @@ def stiffness_map(
     UnreachablePoseError
         No reachable position at this orientation (and no ``bounds`` given).
     """
-    from ppm_stiffness.loading import validate_wrench
+    from ppm_stiffness.loading import check_actuator_travel, validate_wrench
 
     if actuators not in ACTUATOR_STATES:
         raise InputDataError(f"actuators must be one of {ACTUATOR_STATES}, got {actuators!r}")
@@ -361,6 +361,7 @@ def stiffness_map(
                 forces = batch.actuator_forces_batch(
                     legs, xr, yc, phi, w, law.locked_stiffness
                 )
+                check_actuator_travel(design, act.displacement_from_force(law, forces))
                 k_act = act.stiffness_from_force(law, forces)
             else:
                 k_act = k_const

@@ -38,7 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     parser.add_argument("--sigma", type=float, metavar="S",
                         help="uncertainty of every target entry in its SI unit (e.g. 5 for a "
-                        "matrix printed to 0.0001e5); default 1%% of sqrt(|T_ii T_jj|)")
+                        "matrix printed to 0.0001e5); default 1%% of sqrt(|T_ii T_jj|), which "
+                        "over-weights entries printed with few digits: for a printed matrix "
+                        "give half its last digit")
     parser.add_argument("--starts", type=int, default=1,
                         help="number of starting points (first = the design's values)")
     parser.add_argument("--seed", type=int, default=0,
@@ -72,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputDataError("calibrate needs --target K.csv and --free NAMES")
     pose = pose_from_args(args, design)
     check_output_path(args.out, "--out", (".toml",))
-    target = read_matrix_csv(args.target)
+    target = read_matrix_csv(args.target, "--target")
     names = [n.strip() for n in args.free.split(",") if n.strip()]
     if args.starts < 1:
         raise InputDataError("--starts must be >= 1")

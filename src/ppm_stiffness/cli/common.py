@@ -46,6 +46,8 @@ def check_output_path(
     if p.is_dir():
         raise InputDataError(f"{option} {path}: is a directory")
     parent = p.parent
+    if parent.exists() and not parent.is_dir():
+        raise InputDataError(f"{option} {path}: {parent} is not a directory")
     if not parent.is_dir():
         raise InputDataError(f"{option} {path}: directory {parent} does not exist")
     return path
@@ -126,9 +128,9 @@ def parse_wrench(text: str | None) -> np.ndarray | None:
     return np.array(m + f)
 
 
-def read_matrix_csv(path: str | Path) -> np.ndarray:
+def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
     """A 6x6 matrix from CSV (``#`` comments allowed); raises InputDataError."""
-    p = check_input_path(str(path), "matrix")
+    p = check_input_path(str(path), option)
     rows: list[list[float]] = []
     try:
         with p.open(newline="", encoding="utf-8") as fh:

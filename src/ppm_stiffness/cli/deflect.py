@@ -15,6 +15,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_pose_arguments,
+    check_input_path,
     check_output_path,
     console,
     dump_json,
@@ -115,7 +116,9 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     if overrides:
         design = design.with_parameters(overrides)
     pose = pose_from_args(args, design)
-    meas = read_measurements(args.measurements) if args.measurements else None
+    meas = None
+    if args.measurements is not None:
+        meas = read_measurements(check_input_path(args.measurements, "--measurements"))
     mode = args.mode or (meas.mode if meas is not None and meas.mode else "planar-force")
     if mode not in MODES + ("wrench",):
         raise InputDataError(f"unknown loading mode {mode!r}")

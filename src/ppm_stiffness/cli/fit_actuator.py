@@ -10,6 +10,7 @@ from rich.markup import escape
 from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    check_input_path,
     check_output_path,
     console,
     dump_json,
@@ -42,12 +43,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.plot, "--plot", FIGURE_FORMATS)
     check_output_path(args.write_design, "--write-design", (".toml",))
-    data = read_force_displacement(args.data)
+    data = read_force_displacement(check_input_path(args.data, "DATA.csv"))
     fit = fit_power_law(data.displacement_m, data.force_n)
-    if not (0.0 < fit.q <= 1.0 and fit.k_a > 0.0):
+    if not (1e-6 < fit.q <= 1.0 and fit.k_a > 0.0):
         raise InputDataError(
             f"the fit gives k_a = {fit.k_a:.4g} N/m^q, q = {fit.q:.4g}: q outside (0, 1] or "
-            "k_a <= 0, so the data do not follow a softening power law G = k_a delta^q"
+            "k_a <= 0, so the data do not follow a softening power law G = k_a delta^q "
+            "(force must grow with displacement)"
         )
     if not (np.isfinite(fit.k_a_std) and np.isfinite(fit.q_std) and fit.q_std < fit.q):
         raise InputDataError(

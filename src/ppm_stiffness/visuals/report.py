@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.design import Design, dump_design
 from ppm_stiffness.eigenscrews import eigenscrews
-from ppm_stiffness.errors import UnreachablePoseError
+from ppm_stiffness.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.model import workspace_centre
 from ppm_stiffness.visuals.html import (
     CSS as _CSS,
@@ -450,9 +450,15 @@ def write_report(
     source: str | None = None,
 ) -> Path:
     """Write ``out_dir/report.html`` (see :func:`build_report`); returns its path."""
-    page = build_report(design, pose, wrench, grid, progress, source)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    if not str(out_dir).strip():
+        raise InputDataError("--out: empty path")
+    if out.exists() and not out.is_dir():
+        raise InputDataError(f"--out {out}: exists and is not a directory")
+    if not out.parent.is_dir():
+        raise InputDataError(f"--out {out}: directory {out.parent} does not exist")
+    page = build_report(design, pose, wrench, grid, progress, source)
+    out.mkdir(exist_ok=True)
     path = out / "report.html"
     path.write_text(page, encoding="utf-8")
     return path
