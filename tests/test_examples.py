@@ -1,0 +1,64 @@
+"""The shipped example designs and the README's Python snippet, pinned."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ppm_stiffness.batch import evaluate_poses
+from ppm_stiffness.conventions import rotation_z, stiffness_b_from_stiffness_a
+from ppm_stiffness.decoupling import decouple
+from ppm_stiffness.design import load_design
+from ppm_stiffness.errors import PPMStiffnessError
+from ppm_stiffness.model import stiffness_at_pose
+
+ROOT = Path(__file__).parents[1]
+EXAMPLES = {"symmetric_3ppr.toml": 3, "redundant_4ppr.toml": 4}
+
+
+@pytest.mark.parametrize(("name", "n"), EXAMPLES.items())
+def test_example_is_n_fold_symmetric(name: str, n: int) -> None:
+    design = load_design(ROOT / "examples" / name)
+    assert len(design.legs) == n
+    k = stiffness_at_pose(design, [0.0, 0.0, 0.0])
+    # the machine maps onto itself under a rotation by 360/n deg: so does K
+    rotated = stiffness_b_from_stiffness_a(k, rotation_z(2 * np.pi / n), np.zeros(3))
+    np.testing.assert_allclose(rotated, k, atol=1e-9 * np.abs(k).max())
+    assert k[3, 3] == pytest.approx(k[4, 4], rel=1e-12)  # isotropic in the plane
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_fast_batched_path_serves_other_designs(name: str) -> None:
+    # the reduced form of batch.py is derived per design: it must equal the general
+    # single-pose path on designs whose rails are not along x and y
+    design = load_design(ROOT / "examples" / name)
+    rng = np.random.default_rng(11)
+    poses = np.column_stack([rng.uniform(-0.02, 0.02, 30), rng.uniform(-0.02, 0.02, 30),
+                             rng.uniform(-0.3, 0.3, 30)])
+    result = evaluate_poses(design, poses)
+    checked = 0
+    for i, pose in enumerate(poses):
+        try:
+            dec = decouple(stiffness_at_pose(design, pose))
+        except PPMStiffnessError:
+            assert not result.valid[i]
+            continue
+        assert result.valid[i]
+        expected = [dec.rotational_values[2], *dec.translational_values[:2]]
+        got = [result.k_phi[i], result.k_x[i], result.k_y[i]]
+        np.testing.assert_allclose(got, expected, rtol=1e-10)
+        checked += 1
+    assert checked >= 20
+
+
+def test_readme_python_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert blocks, "README has a python block"
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), {})
+    out = capsys.readouterr().out
+    assert "193.5" in out  # k_phi of the built-in design, as eq. (32): 193.5 N·m/rad
