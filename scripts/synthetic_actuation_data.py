@@ -5,7 +5,7 @@ deflections) are not published. These files are made from the model plus Gaussia
 noise, with fixed seeds, so that the fitting and comparison tools have something to
 run on. They are not measurements.
 
-    .venv/bin/python benchmarks/synthetic_actuation_data.py
+    .venv/bin/python scripts/synthetic_actuation_data.py
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ def actuator_data() -> str:
         f"# G = k_a * delta^q with k_a = {K_A} N/m^q, q = {Q}, delta in metres,",
         "# at 30 displacements log-spaced from 0.01 mm to 1 mm, plus Gaussian noise",
         f"# on the force, sigma = {FORCE_SIGMA} N, numpy default_rng(seed={ACTUATOR_SEED}).",
-        "# Regenerate: benchmarks/synthetic_actuation_data.py",
+        "# Regenerate: scripts/synthetic_actuation_data.py",
         "displacement_mm,force_N",
     ]
     lines += [f"{d:.6f},{g:.5f}" for d, g in zip(d_mm, force, strict=True)]
@@ -66,7 +66,7 @@ def measurement_data(key: str) -> str:
         "# actuator law), plus Gaussian noise: sigma = "
         f"{ORIENTATION_SIGMA_DEG} deg per orientation column, {POSITION_SIGMA_MM} mm per",
         f"# position column, numpy default_rng(seed={seed}). Load in {unit}.",
-        "# Regenerate: benchmarks/synthetic_actuation_data.py",
+        "# Regenerate: scripts/synthetic_actuation_data.py",
         f"# mode: {mode}",
     ]
     if mode == "planar-force":
