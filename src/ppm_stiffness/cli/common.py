@@ -53,6 +53,21 @@ def check_output_path(
     return path
 
 
+def add_figure_output(parser: argparse.ArgumentParser) -> None:
+    """A required ``--out FIG`` option for commands whose product is a figure."""
+    parser.add_argument(
+        "--out", metavar="FIG", required=True,
+        help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
+    )
+
+
+def check_figure_path(path: str) -> str:
+    """The --out figure path, checked before any computation."""
+    checked = check_output_path(path, "--out", FIGURE_FORMATS)
+    assert checked is not None
+    return checked
+
+
 def check_input_path(path: str, option: str) -> Path:
     """An existing regular file, or an InputDataError naming the option."""
     if not path.strip():

@@ -11,6 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
     add_design_argument,
     check_output_path,
     console,
@@ -24,7 +25,6 @@ from ppm_stiffness.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiff
 
 HELP = "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7)"
 
-FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
 MAX_GRID = 10_000
@@ -60,11 +60,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _check_suffix(path: str | None, allowed: tuple[str, ...], option: str) -> None:
-    if path is not None and Path(path).suffix.lower() not in allowed:
-        raise InputDataError(f"{option} must end in one of {', '.join(allowed)}: {path}")
-
-
 def _parse_bounds(text: str | None) -> np.ndarray | None:
     if text is None:
         return None
@@ -90,10 +85,8 @@ def _summary_table(smap: StiffnessMap) -> Table:
 
 def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
-    _check_suffix(args.out, FIGURE_SUFFIXES, "--out")
-    _check_suffix(args.data, DATA_SUFFIXES, "--data")
-    check_output_path(args.out, "--out")
-    check_output_path(args.data, "--data")
+    check_output_path(args.out, "--out", FIGURE_FORMATS)
+    check_output_path(args.data, "--data", DATA_SUFFIXES)
     if not 2 <= args.grid <= MAX_GRID:
         raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
     phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180

@@ -6,12 +6,13 @@ import argparse
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
+    add_figure_output,
     add_pose_arguments,
+    check_figure_path,
     console,
     load_design_arg,
     pose_from_args,
 )
-from ppm_stiffness.cli.springs import add_figure_output, check_figure_path
 
 HELP = "top view of the manipulator at a pose: base points, rails, carriages, links, platform"
 

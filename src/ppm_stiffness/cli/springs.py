@@ -7,11 +7,11 @@ import argparse
 import numpy as np
 
 from ppm_stiffness.cli.common import (
-    FIGURE_FORMATS,
     add_design_argument,
+    add_figure_output,
     add_pose_arguments,
     add_wrench_argument,
-    check_output_path,
+    check_figure_path,
     console,
     load_design_arg,
     parse_wrench,
@@ -19,23 +19,6 @@ from ppm_stiffness.cli.common import (
 )
 
 HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
-
-#: File formats a figure can be written in (by suffix).
-
-
-def add_figure_output(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--out", metavar="FIG", required=True,
-        help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
-    )
-
-
-def check_figure_path(path: str) -> str:
-    """The --out figure path, checked before any computation."""
-    checked = check_output_path(path, "--out", FIGURE_FORMATS)
-    assert checked is not None
-    return checked
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
