@@ -9,14 +9,13 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import analyze_design, analyze_matrix
+from ppm_stiffness.analysis import analyze_design, analyze_matrix, dump_json
 from ppm_stiffness.calibration import validate_stiffness_matrix
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
     add_wrench_argument,
     console,
-    dump_json,
     load_design_arg,
     parse_wrench,
     pose_from_args,

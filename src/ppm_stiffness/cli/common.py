@@ -11,7 +11,6 @@ from pathlib import Path
 import numpy as np
 from rich.console import Console
 
-from ppm_stiffness.analysis import dump_json, to_jsonable
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.model import workspace_centre
@@ -159,5 +158,3 @@ def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
         shape = f"{len(rows)} rows of {sorted({len(r) for r in rows})} columns"
         raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
     return np.array(rows)
-
-__all__ = ["dump_json", "to_jsonable"]  # re-exported for the commands

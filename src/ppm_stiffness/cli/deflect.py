@@ -11,6 +11,7 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
+from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
@@ -18,7 +19,6 @@ from ppm_stiffness.cli.common import (
     check_input_path,
     check_output_path,
     console,
-    dump_json,
     load_design_arg,
     parse_wrench,
     pose_from_args,

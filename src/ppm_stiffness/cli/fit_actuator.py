@@ -8,12 +8,12 @@ import numpy as np
 from rich.markup import escape
 
 from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
+from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     check_input_path,
     check_output_path,
     console,
-    dump_json,
     load_design_arg,
 )
 from ppm_stiffness.design import save_design
