@@ -31,18 +31,20 @@ import time
 
 import numpy as np
 
-from ppm_stiffness import batch, ppr, solver
-from ppm_stiffness.decoupling import decouple
+from ppm_stiffness.core import solver
+from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.design import default_design
+from ppm_stiffness.legs import ppr
+from ppm_stiffness.maps import batch
+from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map
 from ppm_stiffness.model import stiffness_at_pose
-from ppm_stiffness.workspace import StiffnessMap, stiffness_map
 
 # Peak resident memory of the child itself: VmHWM of /proc/self/status (reset by exec);
 # ru_maxrss is not, on Linux it can carry the parent's high-water mark into the child.
 _MEMORY_CHILD = r"""
 import json, resource, sys, time
 from ppm_stiffness.design import default_design
-from ppm_stiffness.workspace import StiffnessMap, stiffness_map
+from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map
 
 def peak_kb():
     try:

@@ -21,10 +21,10 @@ from functools import partial
 
 import numpy as np
 
-from ppm_stiffness import ppr
+from ppm_stiffness.core.solver import cartesian_stiffness
 from ppm_stiffness.design import default_design
+from ppm_stiffness.legs import ppr
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
-from ppm_stiffness.solver import cartesian_stiffness
 from ppm_stiffness.validation.compare import BLOCKS, block_difference, validation_poses
 from ppm_stiffness.validation.fe_model import fe_stiffness_at_pose, require_pynite
 

@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ppm_stiffness.actuator_fit import power_law_force
-from ppm_stiffness.deflection import deflection_curve
 from ppm_stiffness.design import default_design
+from ppm_stiffness.statics.actuator_fit import power_law_force
+from ppm_stiffness.statics.deflection import deflection_curve
 
 DATA = Path(__file__).parents[1] / "src/ppm_stiffness/data"
 
@@ -62,7 +62,7 @@ def measurement_data(key: str) -> str:
     lines = [
         "# SYNTHETIC deflection measurements -- NOT a measurement.",
         "# The paper's Fig. 10 data are not published. Generated from the built-in design",
-        "# at its workspace centre, ppm_stiffness.deflection.deflection_curve (integrated",
+        "# at its workspace centre, ppm_stiffness.statics.deflection.deflection_curve (integrated",
         "# actuator law), plus Gaussian noise: sigma = "
         f"{ORIENTATION_SIGMA_DEG} deg per orientation column, {POSITION_SIGMA_MM} mm per",
         f"# position column, numpy default_rng(seed={seed}). Load in {unit}.",

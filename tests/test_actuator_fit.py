@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from ppm_stiffness.actuator_fit import (
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.statics.actuator_fit import (
     fit_power_law,
     power_law_force,
     read_force_displacement,
 )
-from ppm_stiffness.errors import InputDataError
 
 #: The paper's law (eq. 20 text): the values the shipped synthetic file was made from.
 K_A, Q = 44.75, 0.225

@@ -1,4 +1,4 @@
-"""The batched path (ppm_stiffness.batch) against the general single-pose path.
+"""The batched path (ppm_stiffness.maps.batch) against the general single-pose path.
 
 The batched path evaluates the same virtual-spring model through an exact reduced form
 (see the batch module docstring); every number must equal the single-pose path
@@ -12,16 +12,16 @@ import numpy as np
 import pytest
 
 from helpers import wide_design
-from ppm_stiffness import batch
-from ppm_stiffness.decoupling import decouple
-from ppm_stiffness.design import Design, default_design
-from ppm_stiffness.errors import (
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.errors import (
     InputDataError,
     SingularConfigurationError,
     UnreachablePoseError,
 )
-from ppm_stiffness.loading import actuator_forces
+from ppm_stiffness.design import Design, default_design
+from ppm_stiffness.maps import batch
 from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.statics.loading import actuator_forces
 
 DESIGN = default_design()
 RTOL = 1e-10

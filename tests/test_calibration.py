@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ppm_stiffness.calibration import calibrate, default_sigma
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import default_design
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.fit.calibration import calibrate, default_sigma
 from ppm_stiffness.model import stiffness_at_pose
 
 DESIGN = default_design()
@@ -69,7 +69,7 @@ def test_bad_calibration_input() -> None:
         calibrate(DESIGN, k, [])
     with pytest.raises(InputDataError):
         calibrate(DESIGN, k, ["leg1.bearing_offset"], bounds={"leg1.bearing_offset": (1, 0)})
-    from ppm_stiffness.errors import DesignError
+    from ppm_stiffness.core.errors import DesignError
 
     with pytest.raises(DesignError, match="unknown design parameter"):
         calibrate(DESIGN, k, ["leg9.bearing_offset"])

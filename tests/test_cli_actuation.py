@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from paper import PAPER_WRENCH
-from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
 from ppm_stiffness.cli import main
-from ppm_stiffness.deflection import closed_form_twist, deflection_curve
 from ppm_stiffness.design import default_design, dump_design, load_design
-from ppm_stiffness.measurements import read_measurements, rms_differences
+from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
+from ppm_stiffness.statics.deflection import closed_form_twist, deflection_curve
+from ppm_stiffness.statics.measurements import read_measurements, rms_differences
 
 
 def data(name: str) -> str:

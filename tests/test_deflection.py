@@ -12,8 +12,12 @@ import pytest
 from scipy import stats
 
 from paper import PAPER_WRENCH
-from ppm_stiffness import actuator as act
-from ppm_stiffness.deflection import (
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.solver import LegSprings
+from ppm_stiffness.design import Design, default_design
+from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose, workspace_centre
+from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.deflection import (
     MODES,
     actuator_displacement,
     closed_form_twist,
@@ -22,12 +26,8 @@ from ppm_stiffness.deflection import (
     linear_structure,
     threshold_force,
 )
-from ppm_stiffness.design import Design, default_design
-from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.loading import loaded_state
-from ppm_stiffness.measurements import Measurements, read_measurements, rms_differences
-from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose, workspace_centre
-from ppm_stiffness.solver import LegSprings
+from ppm_stiffness.statics.loading import loaded_state
+from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
 
 DESIGN = default_design()
 LAW = DESIGN.actuator

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ppm_stiffness.batch import evaluate_poses
-from ppm_stiffness.conventions import rotation_z, stiffness_b_from_stiffness_a
-from ppm_stiffness.decoupling import decouple
+from ppm_stiffness.core.conventions import rotation_z, stiffness_b_from_stiffness_a
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.errors import PPMStiffnessError
 from ppm_stiffness.design import load_design
-from ppm_stiffness.errors import PPMStiffnessError
+from ppm_stiffness.maps.batch import evaluate_poses
 from ppm_stiffness.model import stiffness_at_pose
 
 ROOT = Path(__file__).parents[1]

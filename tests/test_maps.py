@@ -8,19 +8,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ppm_stiffness import ppr, workspace
-from ppm_stiffness.actuator import stiffness_from_force
 from ppm_stiffness.cli import main
-from ppm_stiffness.decoupling import decouple
-from ppm_stiffness.design import default_design
-from ppm_stiffness.errors import (
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.errors import (
     InputDataError,
     SingularConfigurationError,
     UnreachablePoseError,
 )
-from ppm_stiffness.loading import loaded_state
+from ppm_stiffness.design import default_design
+from ppm_stiffness.legs import ppr
+from ppm_stiffness.maps import workspace
+from ppm_stiffness.maps.workspace import StiffnessMap, load_npz, stiffness_map
 from ppm_stiffness.model import stiffness_at_pose
-from ppm_stiffness.workspace import StiffnessMap, load_npz, stiffness_map
+from ppm_stiffness.statics.actuator import stiffness_from_force
+from ppm_stiffness.statics.loading import loaded_state
 
 DESIGN = default_design()
 PHI30 = np.radians(30.0)

@@ -20,11 +20,11 @@ from paper import (
     loaded_from_unloaded,
     rounding_range,
 )
-from ppm_stiffness.decoupling import decouple
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.design import default_design
-from ppm_stiffness.eigenscrews import eigenscrews
-from ppm_stiffness.loading import actuator_forces, loaded_state
 from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.statics.loading import actuator_forces, loaded_state
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +61,7 @@ def test_actuator_forces_satisfy_equilibrium(design) -> None:  # type: ignore[no
     forces = actuator_forces(design, PAPER_WRENCH)
     # NOTES.md: about 2.3, 7.3 and 5 N; check statics directly: the legs' in-plane
     # forces along u_i through D_i balance f_x, f_y, m_z.
-    from ppm_stiffness.ppr import leg_directions, platform_point
+    from ppm_stiffness.legs.ppr import leg_directions, platform_point
 
     total = np.zeros(3)
     for leg, g in zip(design.legs, forces, strict=True):

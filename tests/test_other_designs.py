@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ppm_stiffness.conventions import rotation_z, stiffness_b_from_stiffness_a
+from ppm_stiffness.core.conventions import rotation_z, stiffness_b_from_stiffness_a
+from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.design import Design, default_design, design_from_dict
-from ppm_stiffness.eigenscrews import eigenscrews
-from ppm_stiffness.loading import leg_wrenches
 from ppm_stiffness.model import leg_stiffnesses_at_pose, stiffness_at_pose
+from ppm_stiffness.statics.loading import leg_wrenches
 
 
 def symmetric_design(n_legs: int) -> Design:

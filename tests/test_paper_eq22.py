@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from paper import EQ22, assert_in_rounding_range
-from ppm_stiffness.decoupling import decouple
-from ppm_stiffness.eigenscrews import eigenscrews
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.eigenscrews import eigenscrews
 
 
 def test_eigenvalues_eq23() -> None:
@@ -93,7 +93,7 @@ def test_decoupled_blocks_eq31() -> None:
     # = diag(0.3457, 0.6595, ...)e5 of (22): the printed values are 10-20 N/m apart.
     # K_tt is invariant under a shift of the reference point: the full eq. (16)
     # congruence at the paper's d leaves it equal to (22)'s block
-    from ppm_stiffness.conventions import stiffness_b_from_stiffness_a
+    from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
 
     shifted = stiffness_b_from_stiffness_a(EQ22, np.eye(3), decouple(EQ22).d)
     np.testing.assert_allclose(shifted[3:, 3:], EQ22[3:, 3:], rtol=1e-12)
@@ -130,7 +130,7 @@ def test_least_squares_shift_minimises_the_coupling() -> None:
     paper = decouple(EQ22, "paper")
     assert best.residual_coupling < paper.residual_coupling
     # no other shift does better: probe a neighbourhood of the optimum
-    from ppm_stiffness.decoupling import shift_blocks
+    from ppm_stiffness.core.decoupling import shift_blocks
 
     rng = np.random.default_rng(3)
     base = np.linalg.norm(shift_blocks(EQ22, best.d)[1])

@@ -8,9 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from helpers import wide_design
-from ppm_stiffness import ppr
-from ppm_stiffness.beam import cantilever_compliance
-from ppm_stiffness.conventions import (
+from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.conventions import (
     GAMMA,
     hat,
     rotation_z,
@@ -19,15 +18,16 @@ from ppm_stiffness.conventions import (
     vect,
     wrench_b_from_wrench_a,
 )
-from ppm_stiffness.decoupling import Method, decouple, shift_blocks
-from ppm_stiffness.design import Design, default_design, design_from_dict
-from ppm_stiffness.eigenscrews import eigenscrews, stiffness_from_screw_springs
-from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose
-from ppm_stiffness.solver import (
+from ppm_stiffness.core.decoupling import Method, decouple, shift_blocks
+from ppm_stiffness.core.eigenscrews import eigenscrews, stiffness_from_screw_springs
+from ppm_stiffness.core.solver import (
     leg_compliance_at_platform,
     leg_stiffness,
     transmitted_wrench_basis,
 )
+from ppm_stiffness.design import Design, default_design, design_from_dict
+from ppm_stiffness.legs import ppr
+from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose
 
 DESIGN = default_design()
 

@@ -18,10 +18,11 @@ pytest.importorskip(
     "Pynite", reason="FE validation needs the extra 'validate' (pip install pynitefea)"
 )
 
-from ppm_stiffness import beam, ppr, solver  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
-from ppm_stiffness.conventions import Z_AXIS, rotation_screw, translation_screw  # noqa: E402
+from ppm_stiffness.core import beam, solver  # noqa: E402
+from ppm_stiffness.core.conventions import Z_AXIS, rotation_screw, translation_screw  # noqa: E402
 from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
+from ppm_stiffness.legs import ppr  # noqa: E402
 from ppm_stiffness.model import (  # noqa: E402
     leg_stiffnesses_at_pose,
     stiffness_at_pose,

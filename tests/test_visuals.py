@@ -21,10 +21,10 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from ppm_stiffness.cli import main  # noqa: E402
+from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import default_design  # noqa: E402
-from ppm_stiffness.eigenscrews import eigenscrews  # noqa: E402
-from ppm_stiffness.loading import loaded_state  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose  # noqa: E402
+from ppm_stiffness.statics.loading import loaded_state  # noqa: E402
 from ppm_stiffness.visuals.mechanism import mechanism_points, plot_mechanism  # noqa: E402
 from ppm_stiffness.visuals.springs import (  # noqa: E402
     AXIS_GID,

@@ -14,12 +14,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.decoupling import Decoupling, Method, decouple
+from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
+from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.eigenscrews import ScrewSprings, eigenscrews
-from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.loading import loaded_state
 from ppm_stiffness.model import actuator_stiffness_vector, stiffness_at_pose, workspace_centre
+from ppm_stiffness.statics.loading import loaded_state
 
 
 def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.core.errors import InputDataError
 
 
 def read_commented_csv(path: str | Path) -> tuple[list[str], list[list[str]]]:

@@ -1,8 +1,8 @@
 """The Cartesian stiffness of a design at a pose: the single-pose API.
 
-Joins a design's geometry module (today :mod:`ppm_stiffness.ppr`) and the generic
+Joins a design's geometry module (today :mod:`ppm_stiffness.legs.ppr`) and the generic
 solver. Poses are ``(x, y, phi)`` in F_b [m, m, rad]; matrices are at P with the axes
-of F_b (see :mod:`ppm_stiffness.conventions`).
+of F_b (see :mod:`ppm_stiffness.core.conventions`).
 """
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness import ppr
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.solver import LegSprings, cartesian_stiffness, leg_stiffness
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import DesignError, SingularConfigurationError
-from ppm_stiffness.solver import LegSprings, cartesian_stiffness, leg_stiffness
+from ppm_stiffness.legs import ppr
 
 #: Smallest admissible ratio of the smallest to the largest eigenvalue of the
 #: length-balanced stiffness matrix; below it the configuration is called singular.

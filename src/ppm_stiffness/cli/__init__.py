@@ -14,7 +14,7 @@ import importlib.util
 import sys
 from collections.abc import Sequence
 
-from ppm_stiffness.errors import PPMStiffnessError
+from ppm_stiffness.core.errors import PPMStiffnessError
 
 #: command name -> module (imported only when the command runs)
 COMMANDS: dict[str, str] = {

@@ -10,7 +10,6 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.analysis import analyze_design, analyze_matrix, dump_json
-from ppm_stiffness.calibration import validate_stiffness_matrix
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
@@ -21,8 +20,9 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
     read_matrix_csv,
 )
-from ppm_stiffness.conventions import TWIST_COMPONENTS
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.fit.calibration import validate_stiffness_matrix
 from ppm_stiffness.model import check_nonsingular
 
 HELP = "stiffness matrix, screw springs, decoupling and principal stiffnesses at a pose"

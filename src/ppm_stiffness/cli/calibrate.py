@@ -7,7 +7,6 @@ import argparse
 import numpy as np
 from rich.table import Table
 
-from ppm_stiffness.calibration import calibrate
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
@@ -17,9 +16,10 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
     read_matrix_csv,
 )
-from ppm_stiffness.conventions import TWIST_COMPONENTS
+from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.fit.calibration import calibrate
 
 HELP = "identify design parameters from a target 6x6 stiffness matrix (bounded least squares)"
 

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 from rich.console import Console
 
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design, default_design, load_design
-from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.model import workspace_centre
 
 #: Tables go to stdout; piped output gets a fixed width wide enough for 6x6 matrices.

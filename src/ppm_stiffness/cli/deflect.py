@@ -23,8 +23,9 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     pose_from_args,
 )
-from ppm_stiffness.conventions import TWIST_COMPONENTS
-from ppm_stiffness.deflection import (
+from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.statics.deflection import (
     LOAD_UNITS,
     METHODS,
     MODES,
@@ -32,8 +33,7 @@ from ppm_stiffness.deflection import (
     deflection_curve,
     deflection_path,
 )
-from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.measurements import Measurements, read_measurements, rms_differences
+from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
 
 HELP = "deflection of the platform under a load growing from zero (actuator law in the loop)"
 

@@ -7,7 +7,6 @@ import argparse
 import numpy as np
 from rich.markup import escape
 
-from ppm_stiffness.actuator_fit import fit_power_law, read_force_displacement
 from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
@@ -16,8 +15,9 @@ from ppm_stiffness.cli.common import (
     console,
     load_design_arg,
 )
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
 
 HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
 

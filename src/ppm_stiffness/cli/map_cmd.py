@@ -20,8 +20,8 @@ from ppm_stiffness.cli.common import (
     parse_floats,
     parse_wrench,
 )
-from ppm_stiffness.errors import InputDataError, UnreachablePoseError
-from ppm_stiffness.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
 
 HELP = "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7)"
 

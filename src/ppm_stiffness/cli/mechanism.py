@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
     out = check_figure_path(args.out)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
-    from ppm_stiffness.ppr import check_reachable
+    from ppm_stiffness.legs.ppr import check_reachable
 
     if not args.allow_unreachable:
         check_reachable(design, pose)  # an error, as in every command, unless asked

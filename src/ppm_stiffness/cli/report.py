@@ -15,7 +15,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     pose_from_args,
 )
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.core.errors import InputDataError
 
 HELP = "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, " \
     "deflection curves and stiffness maps"
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)
-    from ppm_stiffness.ppr import check_reachable
+    from ppm_stiffness.legs.ppr import check_reachable
 
     check_reachable(design, pose)
 

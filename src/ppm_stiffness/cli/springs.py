@@ -32,9 +32,9 @@ def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)
-    from ppm_stiffness.eigenscrews import eigenscrews
-    from ppm_stiffness.loading import loaded_state
+    from ppm_stiffness.core.eigenscrews import eigenscrews
     from ppm_stiffness.model import stiffness_at_pose
+    from ppm_stiffness.statics.loading import loaded_state
 
     if wrench is None:
         k = stiffness_at_pose(design, pose)

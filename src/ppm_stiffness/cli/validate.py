@@ -26,8 +26,8 @@ from ppm_stiffness.cli.common import (
     err_console,
     load_design_arg,
 )
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import InputDataError
 from ppm_stiffness.validation.compare import (
     BLOCKS,
     TOLERANCES,

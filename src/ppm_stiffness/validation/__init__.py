@@ -4,9 +4,9 @@ The manipulator is rebuilt at a pose as a 3D frame in PyNite (``pynitefea``, the
 optional extra ``validate``): links are Euler-Bernoulli frame members, the guide,
 actuator and bearing are spring elements, passive joints are member-end releases or
 missing spring components, and the stiffness at P comes from six unit-load cases.
-Only geometry (:func:`ppm_stiffness.ppr.leg_geometry`) and the design's numbers are
-shared with the virtual-joint model; :mod:`ppm_stiffness.solver` and
-:mod:`ppm_stiffness.beam` are not used to build the FE model.
+Only geometry (:func:`ppm_stiffness.legs.ppr.leg_geometry`) and the design's numbers are
+shared with the virtual-joint model; :mod:`ppm_stiffness.core.solver` and
+:mod:`ppm_stiffness.core.beam` are not used to build the FE model.
 
 Modules
 -------
@@ -23,7 +23,7 @@ raises :class:`MissingExtraError` with an installation hint when it is absent.
 
 from __future__ import annotations
 
-from ppm_stiffness.errors import PPMStiffnessError
+from ppm_stiffness.core.errors import PPMStiffnessError
 
 
 class MissingExtraError(PPMStiffnessError):

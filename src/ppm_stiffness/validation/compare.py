@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import PPMStiffnessError, UnreachablePoseError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import PPMStiffnessError, UnreachablePoseError
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
 from ppm_stiffness.validation.fe_model import FESettings, fe_stiffness_at_pose
 

@@ -43,10 +43,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness import ppr
-from ppm_stiffness.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.legs import ppr
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
     REACTIONS,

@@ -29,9 +29,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.errors import SingularConfigurationError
 from ppm_stiffness.design import SectionModel
-from ppm_stiffness.errors import SingularConfigurationError
 from ppm_stiffness.validation import MissingExtraError
 
 #: Load case names at P, in the library's wrench order (m_x, m_y, m_z, f_x, f_y, f_z).

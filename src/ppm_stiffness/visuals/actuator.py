@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.actuator_fit import PowerLawFit, power_law_force
+from ppm_stiffness.statics.actuator_fit import PowerLawFit, power_law_force
 
 
 def plot_actuator_fit(

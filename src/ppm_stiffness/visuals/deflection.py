@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from ppm_stiffness.deflection import DeflectionCurve
-from ppm_stiffness.measurements import Measurements
+from ppm_stiffness.statics.deflection import DeflectionCurve
+from ppm_stiffness.statics.measurements import Measurements
 
 _NAMES = ("φx", "φy", "φz", "x", "y", "z")
 #: Components drawn for each mode: (orientation indices, position indices).

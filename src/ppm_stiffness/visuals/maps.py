@@ -1,6 +1,6 @@
 """Contour maps of the principal stiffnesses over the workspace (paper Figures 6-7).
 
-One row of three panels (k_phi, k_x, k_y) per :class:`~ppm_stiffness.workspace.StiffnessMap`,
+One row of three panels (k_phi, k_x, k_y) per :class:`~ppm_stiffness.maps.workspace.StiffnessMap`,
 positions in mm, colour bars in N·m/rad and N/m. Poses outside the workspace (masked)
 are left blank.
 """
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ppm_stiffness.workspace import StiffnessMap
+from ppm_stiffness.maps.workspace import StiffnessMap
 
 #: (field, symbol, unit) of the three panels.
 PANELS = (

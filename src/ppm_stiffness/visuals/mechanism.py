@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs.ppr import PPRLegGeometry, inverse_kinematics
 from ppm_stiffness.model import workspace_centre
-from ppm_stiffness.ppr import PPRLegGeometry, inverse_kinematics
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure

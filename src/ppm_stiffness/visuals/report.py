@@ -27,9 +27,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.analysis import analyze_design
+from ppm_stiffness.core.eigenscrews import eigenscrews
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, dump_design
-from ppm_stiffness.eigenscrews import eigenscrews
-from ppm_stiffness.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.model import workspace_centre
 from ppm_stiffness.visuals.html import (
     CSS as _CSS,
@@ -266,12 +266,12 @@ def build_report(
     str
         The complete HTML page.
     """
-    from ppm_stiffness.deflection import deflection_curve
+    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.statics.deflection import deflection_curve
     from ppm_stiffness.visuals.deflection import plot_deflection_curves
     from ppm_stiffness.visuals.maps import plot_stiffness_maps
     from ppm_stiffness.visuals.mechanism import plot_mechanism
     from ppm_stiffness.visuals.springs import plot_screw_springs
-    from ppm_stiffness.workspace import stiffness_map
 
     total = sum(w for _, w in _STEPS)
     done = 0.0

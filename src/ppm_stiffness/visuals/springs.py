@@ -1,6 +1,6 @@
 """The six screw springs of a stiffness matrix in 3D (the paper's Figure 5).
 
-Each screw spring ``s_i`` (:mod:`ppm_stiffness.eigenscrews`) is drawn as
+Each screw spring ``s_i`` (:mod:`ppm_stiffness.core.eigenscrews`) is drawn as
 
 - a straight segment along its axis ``e_i`` centred on its position ``p_i`` (the
   point of the axis nearest P), the *spring axis*;
@@ -24,11 +24,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.eigenscrews import ScrewSprings
 from ppm_stiffness.design import Design
-from ppm_stiffness.eigenscrews import ScrewSprings
+from ppm_stiffness.legs.ppr import inverse_kinematics
 from ppm_stiffness.model import workspace_centre
-from ppm_stiffness.ppr import inverse_kinematics
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -178,7 +178,7 @@ def plot_screw_springs(
     Parameters
     ----------
     springs : ScrewSprings
-        From :func:`ppm_stiffness.eigenscrews.eigenscrews` of a matrix at P (F_b).
+        From :func:`ppm_stiffness.core.eigenscrews.eigenscrews` of a matrix at P (F_b).
     design : Design, optional
         Draws its platform and legs at ``pose`` in the plane z = 0; the legs are
         clipped to the box around the springs (the guide blocks may lie outside).

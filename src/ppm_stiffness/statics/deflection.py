@@ -7,7 +7,7 @@ N·m, ``w_hat`` the wrench of a unit load). The platform twist follows from
 
 where ``K`` is the model's stiffness (:mod:`ppm_stiffness.model`, geometry fixed at the
 unloaded pose) with each actuator at its tangent stiffness (eq. 21) under its current
-force ``G_i(L) = L * (B w_hat)_i`` (:func:`ppm_stiffness.loading.actuator_forces`; the
+force ``G_i(L) = L * (B w_hat)_i`` (:func:`ppm_stiffness.statics.loading.actuator_forces`; the
 3-PPR's in-plane statics are determinate, so ``B`` does not depend on the stiffnesses).
 The right-hand side jumps where an actuator leaves its locked branch; the load axis is
 cut there and each piece is integrated with an adaptive 8th-order Runge-Kutta scheme
@@ -40,23 +40,23 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
-from ppm_stiffness import actuator as act
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import ActuatorModel, Design
-from ppm_stiffness.errors import InputDataError
-from ppm_stiffness.loading import (
-    actuator_forces,
-    check_actuator_travel,
-    check_small_rotation,
-    validate_wrench,
-)
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     check_nonsingular,
     leg_springs_at_pose,
     workspace_centre,
 )
-from ppm_stiffness.solver import bordered_stiffness, leg_compliance_at_platform
+from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.loading import (
+    actuator_forces,
+    check_actuator_travel,
+    check_small_rotation,
+    validate_wrench,
+)
 
 #: The loading modes of the paper's Fig. 9, plus an arbitrary proportional wrench.
 MODES = ("planar-force", "moment", "vertical-force")

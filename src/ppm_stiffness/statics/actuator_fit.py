@@ -30,9 +30,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.csvio import read_commented_csv
-from ppm_stiffness.errors import InputDataError
 
 #: Displacement column names and their factor to metres.
 DISPLACEMENT_COLUMNS = {"displacement_mm": 1e-3, "displacement_m": 1.0}

@@ -19,12 +19,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness import actuator as act
-from ppm_stiffness import ppr
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.legs import ppr
 from ppm_stiffness.model import leg_stiffnesses_at_pose, stiffness_at_pose, workspace_centre
+from ppm_stiffness.statics import actuator as act
 
 
 def validate_wrench(wrench: ArrayLike) -> FloatArray:

@@ -23,9 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.model import check_nonsingular, stiffness_at_pose
 
 #: A singular value below this fraction of the largest marks a flat direction.

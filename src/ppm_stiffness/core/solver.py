@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ppm_stiffness.conventions import FloatArray
-from ppm_stiffness.errors import SingularConfigurationError
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import SingularConfigurationError
 
 #: Length [m] used to balance rotational and translational coordinates before the
 #: bordered inverse; it changes the conditioning, not the result.

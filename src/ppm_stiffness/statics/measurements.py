@@ -36,10 +36,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.csvio import read_commented_csv
-from ppm_stiffness.deflection import DeflectionCurve
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.statics.deflection import DeflectionCurve
 
 #: Column name of each twist component in a measurement file, and its factor to SI.
 COMPONENT_COLUMNS = ("phi_x_deg", "phi_y_deg", "phi_z_deg", "x_mm", "y_mm", "z_mm")

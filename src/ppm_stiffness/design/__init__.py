@@ -2,7 +2,7 @@
 
 A design file is SI throughout (m, rad, Pa, N/m, N·m/rad). It names its
 architecture; the geometry module of that architecture turns the design and a pose
-into virtual springs for :mod:`ppm_stiffness.solver`. Every scalar parameter has a
+into virtual springs for :mod:`ppm_stiffness.core.solver`. Every scalar parameter has a
 dotted name (``leg2.bearing_offset``, ``guide.yaw``, ``workspace.centre_x``) used by
 calibration and the CLI; legs are numbered from 1.
 """
@@ -17,8 +17,8 @@ from typing import Annotated, Any, Literal
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from ppm_stiffness.beam import BeamSection
-from ppm_stiffness.errors import DesignError
+from ppm_stiffness.core.beam import BeamSection
+from ppm_stiffness.core.errors import DesignError
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]

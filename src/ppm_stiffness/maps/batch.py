@@ -6,7 +6,7 @@ when batched with numpy, dominated by building the (..., 6, 22) screws and the
 (..., 22, 22) compliances. This module evaluates the *same* model from a reduced form
 that is exact for P-P-R legs:
 
-The reduced form of a leg lives in :mod:`ppm_stiffness.reduced_leg`:
+The reduced form of a leg lives in :mod:`ppm_stiffness.maps.reduced_leg`:
 
 1. Everything in a leg is rigidly attached to its rod, seen from the platform point D:
    the bearing C sits at ``-L w`` from D (L the rod free length), the guide block and
@@ -26,18 +26,18 @@ The reduced form of a leg lives in :mod:`ppm_stiffness.reduced_leg`:
    division and a 2x2 adjugate.
 
 The polynomial coefficients are computed once per design *from the general model
-itself* (:func:`ppm_stiffness.ppr.leg_springs` at two rod lengths, the rod block of
-:func:`ppm_stiffness.beam.cantilever_compliance` interpolated at four lengths), so the
+itself* (:func:`ppm_stiffness.legs.ppr.leg_springs` at two rod lengths, the rod block of
+:func:`ppm_stiffness.core.beam.cantilever_compliance` interpolated at four lengths), so the
 two paths cannot drift apart silently; tests compare them to 1e-10 relative.
 
-Decoupling and principal stiffnesses follow :func:`ppm_stiffness.decoupling.decouple`
+Decoupling and principal stiffnesses follow :func:`ppm_stiffness.core.decoupling.decouple`
 with ``method="paper"`` in closed form for the planar block structure: ``d_z = 0``,
 ``k_phi = K'_rr[2, 2]`` and ``(k_x, k_y)`` the eigenvalues of the in-plane 2x2 block of
 K_tt, each assigned to the axis its eigenvector is closest to (as
-:func:`~ppm_stiffness.decoupling.principal_axes`).
+:func:`~ppm_stiffness.core.decoupling.principal_axes`).
 
 Poses are arrays (..., 3) = (x [m], y [m], phi [rad]); matrices are at P with the axes
-of F_b in the order of :mod:`ppm_stiffness.conventions`.
+of F_b in the order of :mod:`ppm_stiffness.core.conventions`.
 """
 
 from __future__ import annotations
@@ -48,17 +48,17 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import DesignError, InputDataError
-from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
-from ppm_stiffness.reduced_leg import (
+from ppm_stiffness.maps.reduced_leg import (
     IN_PLANE,
     OUT_OF_PLANE,
     ReducedLeg,
     reduce_design,
     reduce_leg,
 )
+from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 
 __all__ = ["IN_PLANE", "OUT_OF_PLANE", "ReducedLeg", "reduce_design", "reduce_leg"]
 
@@ -69,7 +69,7 @@ _SING_SCALE = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])
 class PlanarEntries(NamedTuple):
     """The 12 structurally nonzero entries of K (upper triangle), arrays of one shape.
 
-    ``k_ij`` is ``K[i, j]`` in the order of :mod:`ppm_stiffness.conventions`:
+    ``k_ij`` is ``K[i, j]`` in the order of :mod:`ppm_stiffness.core.conventions`:
     in-plane (2, 3, 4) and out-of-plane (0, 1, 5) blocks; all others are zero.
     """
 
@@ -105,7 +105,7 @@ def leg_kinematics(
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Platform point ``d = D - P`` (x, y parts), actuator coordinate and rod length.
 
-    Same expressions as :func:`ppm_stiffness.ppr.leg_geometry`; arrays broadcast.
+    Same expressions as :func:`ppm_stiffness.legs.ppr.leg_geometry`; arrays broadcast.
     """
     ang = leg.psi + np.asarray(phi, dtype=float)
     dx = -leg.radius * np.cos(ang)
@@ -212,7 +212,7 @@ class Principal(NamedTuple):
 
 
 def principal_from_entries(e: PlanarEntries) -> Principal:
-    """Closed-form :func:`ppm_stiffness.decoupling.decouple` (paper) for planar K.
+    """Closed-form :func:`ppm_stiffness.core.decoupling.decouple` (paper) for planar K.
 
     ``M = (tr(K_tt) 1 - K_tt) / 2`` is block diagonal, so ``d = M^{-1} vect(K_rt)`` has
     ``d_z = 0`` and ``K'_rr[2, 2] = K_rr[2, 2] - 2 (K_rt[2,0] d_y - K_rt[2,1] d_x)
@@ -300,7 +300,7 @@ def actuator_forces_batch(
 ) -> FloatArray:
     """Actuator forces [N] under ``wrench`` (m_x..f_z at P, F_b), shape (..., n_legs).
 
-    :func:`ppm_stiffness.loading.actuator_forces` batched: the wrench is shared in
+    :func:`ppm_stiffness.statics.loading.actuator_forces` batched: the wrench is shared in
     proportion to the locked leg stiffnesses, ``w_i = K_i K^{-1} w``; the actuator
     carries ``u_i . f_i``. Only the in-plane part of each leg's wrench has a force
     along u, so a 3x3 in-plane solve per pose suffices.
@@ -389,7 +389,7 @@ def evaluate_poses(
     -------
     BatchResult
         Same numbers as :func:`ppm_stiffness.model.stiffness_at_pose` and
-        :func:`ppm_stiffness.decoupling.decouple` (to rounding), masked where the
+        :func:`ppm_stiffness.core.decoupling.decouple` (to rounding), masked where the
         single-pose path raises.
     """
     p = np.asarray(poses, dtype=float)
@@ -444,7 +444,7 @@ def evaluate_poses(
 
 
 def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The paper's decoupling (eq. 19, as :func:`~ppm_stiffness.decoupling.decouple`)
+    """The paper's decoupling (eq. 19, as :func:`~ppm_stiffness.core.decoupling.decouple`)
     of matrices (..., 6, 6), general (not only planar).
 
     Returns

@@ -18,7 +18,7 @@ Actuator states of a map (``actuators``):
     does not state its minimum; see docs/maps.md.
 ``"wrench"``
     the loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z at P, F_b) at each
-    pose, as :func:`ppm_stiffness.loading.loaded_state`: actuator forces from the
+    pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
     statics of the locked manipulator, then eq. (20)-(21).
 """
 
@@ -32,11 +32,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness import actuator as act
-from ppm_stiffness import batch
-from ppm_stiffness.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.maps import batch
+from ppm_stiffness.statics import actuator as act
 
 #: Reference actuator force [N] that defines the "min" actuator state.
 DEFAULT_REFERENCE_FORCE = 10.0
@@ -69,7 +69,7 @@ def workspace_bounds(
 ) -> FloatArray:
     """Bounding box (x_min, x_max, y_min, y_max) [m] of the joint-limit workspace at phi.
 
-    ``legs`` (from :func:`ppm_stiffness.batch.reduce_design`) saves recomputing them.
+    ``legs`` (from :func:`ppm_stiffness.maps.batch.reduce_design`) saves recomputing them.
 
     Raises
     ------
@@ -323,7 +323,7 @@ def stiffness_map(
     UnreachablePoseError
         No reachable position at this orientation (and no ``bounds`` given).
     """
-    from ppm_stiffness.loading import check_actuator_travel, validate_wrench
+    from ppm_stiffness.statics.loading import check_actuator_travel, validate_wrench
 
     if actuators not in ACTUATOR_STATES:
         raise InputDataError(f"actuators must be one of {ACTUATOR_STATES}, got {actuators!r}")

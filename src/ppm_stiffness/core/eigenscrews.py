@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import GAMMA, FloatArray
-from ppm_stiffness.errors import SingularConfigurationError
+from ppm_stiffness.core.conventions import GAMMA, FloatArray
+from ppm_stiffness.core.errors import SingularConfigurationError
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 This is the only module that knows a leg is P-P-R (actuated prismatic on a linear
 guide, passive prismatic rod sliding in a bearing, revolute at the platform). It
 turns a :class:`~ppm_stiffness.design.Design` and poses into
-:class:`~ppm_stiffness.solver.LegSprings`. Functions take poses as arrays of shape
+:class:`~ppm_stiffness.core.solver.LegSprings`. Functions take poses as arrays of shape
 (..., 3) = (x [m], y [m], phi [rad]) in F_b, so one call serves one pose or a map.
 
 Spring order in each leg (columns of ``screws``), following the paper's appendix:
@@ -21,11 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.beam import cantilever_compliance
-from ppm_stiffness.conventions import Z_AXIS, FloatArray, rotation_screw, translation_screw
+from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray, rotation_screw, translation_screw
+from ppm_stiffness.core.errors import UnreachablePoseError
+from ppm_stiffness.core.solver import LegSprings
 from ppm_stiffness.design import Design, PPRLegModel
-from ppm_stiffness.errors import UnreachablePoseError
-from ppm_stiffness.solver import LegSprings
 
 N_SPRINGS = 22
 

@@ -7,8 +7,8 @@ of F_b) the leg's spring compliance is a cubic polynomial in L plus the actuator
 and the passive joints (hence the wrenches the leg transmits) do not depend on the pose.
 For a planar design the transmitted wrenches split into one in-plane wrench and two
 out-of-plane ones. :func:`reduce_leg` extracts these from the general model
-(:func:`ppm_stiffness.ppr.leg_springs`, :func:`ppm_stiffness.beam.cantilever_compliance`)
-once per design; :mod:`ppm_stiffness.batch` evaluates them for many poses.
+(:func:`ppm_stiffness.legs.ppr.leg_springs`, :func:`ppm_stiffness.core.beam.cantilever_compliance`)
+once per design; :mod:`ppm_stiffness.maps.batch` evaluates them for many poses.
 """
 
 from __future__ import annotations
@@ -17,17 +17,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ppm_stiffness import ppr
-from ppm_stiffness.beam import cantilever_compliance
-from ppm_stiffness.conventions import FloatArray, hat
+from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.conventions import FloatArray, hat
+from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
-from ppm_stiffness.errors import DesignError
+from ppm_stiffness.legs import ppr
 
 #: Twist / wrench components of the in-plane motion (phi_z, x, y) and out-of-plane
-#: motion (phi_x, phi_y, z), in the order of :mod:`ppm_stiffness.conventions`.
+#: motion (phi_x, phi_y, z), in the order of :mod:`ppm_stiffness.core.conventions`.
 IN_PLANE = (2, 3, 4)
 OUT_OF_PLANE = (0, 1, 5)
-#: Columns of the distal rod cantilever in :func:`ppm_stiffness.ppr.leg_springs`.
+#: Columns of the distal rod cantilever in :func:`ppm_stiffness.legs.ppr.leg_springs`.
 _ROD = slice(16, 22)
 
 

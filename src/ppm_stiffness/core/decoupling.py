@@ -31,8 +31,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.conventions import FloatArray, hat, vect
-from ppm_stiffness.errors import InputDataError
+from ppm_stiffness.core.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.errors import InputDataError
 
 Method = Literal["paper", "least-squares"]
 
