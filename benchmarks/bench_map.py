@@ -10,7 +10,7 @@ Measured side by side in one run, on the built-in design at phi = 0 with locked 
   the largest relative difference between the two paths on that subset;
 - for context: the scattered-pose batched path (``batch.evaluate_poses`` on random
   poses with random phi) and the general 22-spring model batched with numpy
-  (``ppr.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
+  (``chain.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
   replaces;
 - the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses)
   map, and of the same process before the map (imports only).
@@ -34,7 +34,7 @@ import numpy as np
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.design import default_design
-from ppm_stiffness.legs import ppr
+from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map
 from ppm_stiffness.model import stiffness_at_pose
@@ -119,8 +119,7 @@ def time_general_numpy(n: int) -> float:
         t = time.perf_counter()
         total = np.zeros((n, 6, 6))
         for leg in design.legs:
-            geo = ppr.leg_geometry(leg, poses)
-            springs = ppr.leg_springs(design, leg, geo, design.actuator.locked_stiffness)
+            springs = leg_springs(leg.chain(leg.solve(poses)), leg.actuator.locked_stiffness)
             total += solver.leg_stiffness(springs)
         best = min(best, time.perf_counter() - t)
     return n / best

@@ -23,7 +23,7 @@ import numpy as np
 
 from ppm_stiffness.core.solver import cartesian_stiffness
 from ppm_stiffness.design import default_design
-from ppm_stiffness.legs import ppr
+from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
 from ppm_stiffness.validation.compare import BLOCKS, block_difference, validation_poses
 from ppm_stiffness.validation.fe_model import fe_stiffness_at_pose, require_pynite
@@ -43,10 +43,8 @@ def batched_vj_time_per_pose(n: int = 1000) -> float:
     design = default_design()
     rng = np.random.default_rng(0)
     poses = workspace_centre(design) + rng.uniform(-1, 1, (n, 3)) * [0.005, 0.005, 0.05]
-    k_act = design.actuator.locked_stiffness
-
     def run() -> None:
-        legs = [ppr.leg_springs(design, leg, ppr.leg_geometry(leg, poses), k_act)
+        legs = [leg_springs(leg.chain(leg.solve(poses)), leg.actuator.locked_stiffness)
                 for leg in design.legs]
         cartesian_stiffness(legs)
 

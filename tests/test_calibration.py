@@ -51,12 +51,12 @@ def test_reports_flat_direction_for_springs_in_series() -> None:
     # The guide's vertical spring and the bearing's vertical radial spring are pure
     # translations along z in series in every leg: only 1/k_g + 1/k_b is visible.
     target = stiffness_at_pose(DESIGN)
-    names = ["guide.vertical", "bearing.radial_vertical"]
+    names = ["leg*.guide.vertical", "leg*.bearing.radial_vertical"]
     result = calibrate(DESIGN, target, names)
     flat = result.flat_directions()
     assert len(flat) == 1
-    assert abs(flat[0]["guide.vertical"]) > 0.1
-    assert abs(flat[0]["bearing.radial_vertical"]) > 0.1
+    assert abs(flat[0]["leg*.guide.vertical"]) > 0.1
+    assert abs(flat[0]["leg*.bearing.radial_vertical"]) > 0.1
     assert np.all(np.isinf(result.standard_deviations))
     assert result.singular_values[1] < 1e-6 * result.singular_values[0]
 

@@ -149,8 +149,8 @@ def test_design_not_toml_and_missing(capsys: pytest.CaptureFixture[str], tmp_pat
     f.write_text("this is = = not toml")
     assert "not valid TOML" in _bad(capsys, "analyze", "--design", str(f))
     assert "not found" in _bad(capsys, "analyze", "--design", str(tmp_path / "none.toml"))
-    f.write_text('name = "x"\n')
-    assert "actuator" in _bad(capsys, "analyze", "--design", str(f))
+    f.write_text('schema = 2\nname = "x"\n')
+    assert "key 'legs'" in _bad(capsys, "analyze", "--design", str(f))
 
 
 @pytest.mark.parametrize(

@@ -16,10 +16,9 @@ from ppm_stiffness.core.errors import (
     UnreachablePoseError,
 )
 from ppm_stiffness.design import default_design
-from ppm_stiffness.legs import ppr
 from ppm_stiffness.maps import workspace
 from ppm_stiffness.maps.workspace import StiffnessMap, load_npz, stiffness_map
-from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.model import solve_legs, stiffness_at_pose
 from ppm_stiffness.statics.actuator import stiffness_from_force
 from ppm_stiffness.statics.loading import loaded_state
 
@@ -49,10 +48,10 @@ def test_workspace_bounds_follow_the_joint_limits(phi: float) -> None:
     """Legs 1-2 rails run along y, rods along +-x; leg 3 the other way round. So the
     workspace is a rectangle: x from the rod limits of legs 1-2 and the stroke of leg 3,
     y from the strokes of legs 1-2 and the rod limits of leg 3 (each affine, slope +-1)."""
-    geo = [ppr.leg_geometry(leg, np.array([0.0, 0.0, phi])) for leg in DESIGN.legs]
+    geo = [leg.solve(np.array([0.0, 0.0, phi])) for leg in DESIGN.legs]
     legs = DESIGN.legs
-    rho = [float(g.actuator_coordinate) for g in geo]
-    rod = [float(g.rod_length) for g in geo]
+    rho = [float(g.coordinates["rho"]) for g in geo]
+    rod = [float(g.coordinates["rod"]) for g in geo]
     # rod_1 = rod_1(0) + x, rod_2 = rod_2(0) - x, rho_3 = rho_3(0) + x
     x_lo = max(legs[0].rod_length_range[0] - rod[0], rod[1] - legs[1].rod_length_range[1],
                legs[2].stroke[0] - rho[2])
@@ -69,12 +68,12 @@ def test_workspace_bounds_follow_the_joint_limits(phi: float) -> None:
     eps = 1e-7
     for x in (box[0] + eps, box[1] - eps):
         for y in (box[2] + eps, box[3] - eps):
-            ppr.check_reachable(DESIGN, [x, y, phi])
+            solve_legs(DESIGN, [x, y, phi])
     centre = [(box[0] + box[1]) / 2, (box[2] + box[3]) / 2]
     for x, y in ((box[0] - eps, centre[1]), (box[1] + eps, centre[1]),
                  (centre[0], box[2] - eps), (centre[0], box[3] + eps)):
         with pytest.raises(UnreachablePoseError):
-            ppr.check_reachable(DESIGN, [x, y, phi])
+            solve_legs(DESIGN, [x, y, phi])
 
 
 def test_reconstructed_limits_of_the_built_in_design() -> None:

@@ -61,12 +61,10 @@ def test_actuator_forces_satisfy_equilibrium(design) -> None:  # type: ignore[no
     forces = actuator_forces(design, PAPER_WRENCH)
     # NOTES.md: about 2.3, 7.3 and 5 N; check statics directly: the legs' in-plane
     # forces along u_i through D_i balance f_x, f_y, m_z.
-    from ppm_stiffness.legs.ppr import leg_directions, platform_point
-
     total = np.zeros(3)
     for leg, g in zip(design.legs, forces, strict=True):
-        u = leg_directions(leg)[0]
-        d = platform_point(leg, 0.0)
+        u = leg.directions()[0]
+        d = leg.platform_point(0.0)
         total += g * np.array([d[0] * u[1] - d[1] * u[0], u[0], u[1]])
     applied = PAPER_WRENCH[[2, 3, 4]]
     np.testing.assert_allclose(total, applied, rtol=1e-9, atol=1e-9 * np.abs(applied).max())

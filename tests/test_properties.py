@@ -26,7 +26,6 @@ from ppm_stiffness.core.solver import (
     transmitted_wrench_basis,
 )
 from ppm_stiffness.design import Design, default_design, design_from_dict
-from ppm_stiffness.legs import ppr
 from ppm_stiffness.model import leg_springs_at_pose, stiffness_at_pose
 
 DESIGN = default_design()
@@ -40,8 +39,7 @@ def random_poses(n: int, seed: int) -> np.ndarray:
         pose = np.array(
             [rng.uniform(-0.015, 0.010), rng.uniform(-0.03, 0.03), rng.uniform(-0.5, 0.5)]
         )
-        geoms = ppr.inverse_kinematics(DESIGN, pose)
-        if all(bool(g.reachable) for g in geoms):
+        if all(bool(leg.reachable(leg.solve(pose))) for leg in DESIGN.legs):
             out.append(pose)
     return np.array(out)
 
@@ -166,7 +164,7 @@ def test_shift_blocks_equal_eq16() -> None:
 
 def test_cantilever_compliance_textbook() -> None:
     # Tip deflection F L^3 / 3EI and tip rotation F L^2 / 2EI of a cantilever.
-    section = DESIGN.distal.section()
+    section = DESIGN.legs[0].distal.section()
     length = 0.1
     c = cantilever_compliance(section, length)
     ei = section.young_modulus * section.inertia_z

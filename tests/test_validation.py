@@ -22,7 +22,7 @@ from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core import beam, solver  # noqa: E402
 from ppm_stiffness.core.conventions import Z_AXIS, rotation_screw, translation_screw  # noqa: E402
 from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
-from ppm_stiffness.legs import ppr  # noqa: E402
+from ppm_stiffness.legs import chain  # noqa: E402
 from ppm_stiffness.model import (  # noqa: E402
     leg_stiffnesses_at_pose,
     stiffness_at_pose,
@@ -69,7 +69,7 @@ def test_cantilever_compliance_equals_fe(link: str, length: float, angle_deg: fl
                                          unit: float) -> None:
     """One clamped member in PyNite vs eq. (3c): equal to 1e-6 relative per entry,
     in any in-plane direction and any model length unit."""
-    sec = getattr(DESIGN, link)
+    sec = getattr(DESIGN.legs[0], link)
     a = math.radians(angle_deg)
     root = np.array([0.013, -0.021, 0.0])
     tip = root + length * np.array([math.cos(a), math.sin(a), 0.0])
@@ -136,7 +136,7 @@ def test_fe_does_not_use_the_virtual_joint_solver(monkeypatch: pytest.MonkeyPatc
     k_vj = stiffness_at_pose(DESIGN, pose)
     for mod, name in ((beam, "cantilever_compliance"), (solver, "bordered_stiffness"),
                       (solver, "leg_compliance_at_platform"), (solver, "cartesian_stiffness"),
-                      (ppr, "leg_springs")):
+                      (chain, "leg_springs")):
         monkeypatch.setattr(mod, name, broken)
     k_fe = fe_stiffness_at_pose(DESIGN, pose).stiffness
     assert block_difference(k_vj, k_fe, BLOCKS["planar"]) < PLANAR_MEASURED
@@ -152,10 +152,10 @@ def _generic_design() -> Design:
         bx, by = leg["base_point"]
         leg["base_point"] = (c * bx - s * by, s * bx + c * by)
         leg["alpha"] += THETA
-    data["guide"].update(pitch=900.0, yaw=2600.0, lateral=1.7e6)
-    data["bearing"].update(tilt_lateral=1500.0, tilt_vertical=700.0,
-                           radial_lateral=1.2e6, radial_vertical=3.1e6)
-    data["distal"].update(inertia_y=1.5e-10, torsion_constant=3.0e-10)
+        leg["guide"].update(pitch=900.0, yaw=2600.0, lateral=1.7e6)
+        leg["bearing"].update(tilt_lateral=1500.0, tilt_vertical=700.0,
+                              radial_lateral=1.2e6, radial_vertical=3.1e6)
+        leg["distal"].update(inertia_y=1.5e-10, torsion_constant=3.0e-10)
     return design_from_dict(data)
 
 
@@ -190,9 +190,10 @@ def test_leg_passive_directions_are_free_and_leg_matches(leg: int) -> None:
     pose = workspace_centre(DESIGN)
     k_fe = fe_leg_stiffness(DESIGN, leg, pose)
     k_vj = leg_stiffnesses_at_pose(DESIGN, pose)[leg]
-    g = ppr.leg_geometry(DESIGN.legs[leg], pose)
-    passive = np.stack([rotation_screw(g.w, g.c), translation_screw(g.w),
-                        rotation_screw(Z_AXIS, g.d)], axis=1)
+    g = DESIGN.legs[leg].solve(pose)
+    w = DESIGN.legs[leg].directions()[1]
+    passive = np.stack([rotation_screw(w, g.points["C"]), translation_screw(w),
+                        rotation_screw(Z_AXIS, g.points["D"])], axis=1)
     scale = np.array([0.1] * 3 + [1.0] * 3)
     kb = balanced(k_fe)
     wrench = (k_fe @ passive) / scale[:, None]  # balanced units, N

@@ -1,8 +1,9 @@
 """The Cartesian stiffness of a design at a pose: the single-pose API.
 
-Joins a design's geometry module (today :mod:`ppm_stiffness.legs.ppr`) and the generic
-solver. Poses are ``(x, y, phi)`` in F_b [m, m, rad]; matrices are at P with the axes
-of F_b (see :mod:`ppm_stiffness.core.conventions`).
+Joins each leg's inverse kinematics and joint chain (:mod:`ppm_stiffness.legs`) and
+the generic solver (:mod:`ppm_stiffness.core.solver`). Poses are ``(x, y, phi)`` in
+F_b [m, m, rad]; matrices are at P with the axes of F_b (see
+:mod:`ppm_stiffness.core.conventions`) unless a function says "at the tool point".
 """
 
 from __future__ import annotations
@@ -10,15 +11,23 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import (
+    FloatArray,
+    length_balanced,
+    rotation_z,
+    stiffness_b_from_stiffness_a,
+)
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.core.solver import LegSprings, cartesian_stiffness, leg_stiffness
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs import ppr
+from ppm_stiffness.design.schema import leg_label
+from ppm_stiffness.legs.base import LegPose
+from ppm_stiffness.legs.chain import leg_springs
 
 #: Smallest admissible ratio of the smallest to the largest eigenvalue of the
-#: length-balanced stiffness matrix; below it the configuration is called singular.
-SINGULARITY_TOLERANCE = 1e-9
+#: length-balanced stiffness matrix (conventions.length_balanced): below it the
+#: configuration is called singular (a condition number above 1e6).
+SINGULARITY_TOLERANCE = 1e-6
 
 
 def workspace_centre(design: Design) -> FloatArray:
@@ -27,19 +36,35 @@ def workspace_centre(design: Design) -> FloatArray:
     return np.array([ws.centre_x, ws.centre_y, ws.phi])
 
 
+def locked_actuator_stiffness(design: Design) -> FloatArray:
+    """Each leg's locked actuator stiffness (n_legs,) [N/m or N·m/rad]."""
+    return np.array([leg.actuator.locked_stiffness for leg in design.legs])
+
+
 def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | None) -> FloatArray:
-    """Per-leg actuator stiffness [N/m]; the locked value when None is given."""
+    """Per-leg actuator stiffness (n_legs,); the locked values when None is given."""
     n = len(design.legs)
     if actuator_stiffness is None:
-        return np.full(n, design.actuator.locked_stiffness)
+        return locked_actuator_stiffness(design)
     k = np.asarray(actuator_stiffness, dtype=float)
     if k.shape == ():
         k = np.full(n, float(k))
     if k.shape[-1] != n:
         raise DesignError(f"expected {n} actuator stiffnesses, got {k.shape[-1]}")
     if not np.all(np.isfinite(k)) or np.any(k <= 0):
-        raise DesignError("actuator stiffness must be finite and > 0 N/m")
+        raise DesignError("actuator stiffness must be finite and > 0")
     return k
+
+
+def solve_legs(design: Design, pose: ArrayLike) -> list[LegPose]:
+    """Inverse kinematics of every leg at one pose, raising if it is unreachable."""
+    p = np.asarray(pose, dtype=float)
+    out = []
+    for i, leg in enumerate(design.legs):
+        lp = leg.solve(p)
+        leg.check(lp, leg_label(i))
+        out.append(lp)
+    return out
 
 
 def leg_springs_at_pose(
@@ -47,20 +72,31 @@ def leg_springs_at_pose(
 ) -> list[LegSprings]:
     """Virtual springs of every leg at one reachable pose (raises if unreachable)."""
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
-    geoms = ppr.check_reachable(design, pose)
     return [
-        ppr.leg_springs(design, leg, g, k_act[i])
-        for i, (leg, g) in enumerate(zip(design.legs, geoms, strict=True))
+        leg_springs(leg.chain(lp), k_act[i])
+        for i, (leg, lp) in enumerate(zip(design.legs, solve_legs(design, pose), strict=True))
     ]
+
+
+def actuator_screws_at_pose(design: Design, pose: ArrayLike) -> FloatArray:
+    """Unit twist of each leg's actuated joint at P (n_legs, 6): ``G_i = a_i . w_i``."""
+    return np.array([
+        leg.actuator_screw(lp)
+        for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True)
+    ])
+
+
+def eigenvalue_ratio(stiffness: ArrayLike) -> FloatArray:
+    """Smallest over largest eigenvalue of the length-balanced K, shape (...)."""
+    eig = np.linalg.eigvalsh(length_balanced(stiffness))
+    return np.asarray(eig[..., 0] / eig[..., -1])
 
 
 def check_nonsingular(stiffness: FloatArray, where: str = "") -> None:
     """Raise :class:`SingularConfigurationError` if K is not finite or nearly singular."""
     if not np.all(np.isfinite(stiffness)):
         raise SingularConfigurationError(f"stiffness matrix is not finite{where}")
-    scale = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])  # rotations balanced at 0.1 m
-    ks = stiffness / scale[:, None] / scale[None, :]
-    eig = np.linalg.eigvalsh(ks)
+    eig = np.linalg.eigvalsh(length_balanced(stiffness))
     if eig[-1] <= 0 or eig[0] < -SINGULARITY_TOLERANCE * eig[-1]:
         raise SingularConfigurationError(
             f"stiffness matrix is not positive definite{where}: smallest eigenvalue "
@@ -73,10 +109,16 @@ def check_nonsingular(stiffness: FloatArray, where: str = "") -> None:
         )
 
 
+def pose_label(pose: ArrayLike) -> str:
+    """`` at pose (x mm, y mm, phi deg)`` for messages."""
+    p = np.asarray(pose, dtype=float)
+    return f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, {np.degrees(p[2]):.2f} deg)"
+
+
 def stiffness_at_pose(
     design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
 ) -> FloatArray:
-    """Cartesian stiffness matrix of the platform, shape (6, 6).
+    """Cartesian stiffness matrix of the platform at P, shape (6, 6).
 
     Parameters
     ----------
@@ -84,7 +126,7 @@ def stiffness_at_pose(
     pose : array_like, shape (3,), optional
         (x [m], y [m], phi [rad]) of P in F_b; the workspace centre if None.
     actuator_stiffness : array_like, shape (n_legs,) or scalar, optional
-        [N/m]; the locked (unloaded) value if None.
+        [N/m, or N·m/rad for a rotary actuator]; the locked values if None.
 
     Returns
     -------
@@ -98,8 +140,7 @@ def stiffness_at_pose(
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
     legs = leg_springs_at_pose(design, p, actuator_stiffness)
     k = cartesian_stiffness(legs)
-    check_nonsingular(k, f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, "
-                         f"{np.degrees(p[2]):.2f} deg)")
+    check_nonsingular(k, pose_label(p))
     return k
 
 
@@ -109,3 +150,26 @@ def leg_stiffnesses_at_pose(
     """Each leg's 6x6 stiffness at P (their sum is :func:`stiffness_at_pose`)."""
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
     return [leg_stiffness(leg) for leg in leg_springs_at_pose(design, p, actuator_stiffness)]
+
+
+def tool_offset(pose: ArrayLike, tool_point: ArrayLike) -> FloatArray:
+    """Tool point relative to P in F_b components [m]: ``R_z(phi) @ tool_point``."""
+    p = np.asarray(pose, dtype=float)
+    return np.asarray(rotation_z(p[2]) @ np.asarray(tool_point, dtype=float))
+
+
+def stiffness_at_tool_point(
+    stiffness_p: ArrayLike, pose: ArrayLike, tool_point: ArrayLike
+) -> FloatArray:
+    """K expressed at the tool point (axes of F_b) from K at P (eq. 16).
+
+    Parameters
+    ----------
+    stiffness_p : array_like (6, 6), at P, axes of F_b.
+    pose : array_like (3,) [m, m, rad]
+    tool_point : array_like (3,)
+        In the platform frame F_p [m].
+    """
+    # Frame A: at P; frame B: at the tool point T, same axes. A's origin seen from B
+    # is P - T.
+    return stiffness_b_from_stiffness_a(stiffness_p, np.eye(3), -tool_offset(pose, tool_point))

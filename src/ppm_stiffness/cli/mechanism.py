@@ -32,10 +32,10 @@ def run(args: argparse.Namespace) -> int:
     out = check_figure_path(args.out)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
-    from ppm_stiffness.legs.ppr import check_reachable
+    from ppm_stiffness.model import solve_legs
 
     if not args.allow_unreachable:
-        check_reachable(design, pose)  # an error, as in every command, unless asked
+        solve_legs(design, pose)  # an error, as in every command, unless asked
 
     from ppm_stiffness.visuals import save_figure, use_headless_backend
 

@@ -42,9 +42,9 @@ def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)
-    from ppm_stiffness.legs.ppr import check_reachable
+    from ppm_stiffness.model import solve_legs
 
-    check_reachable(design, pose)
+    solve_legs(design, pose)
 
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 

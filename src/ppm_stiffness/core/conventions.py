@@ -25,6 +25,13 @@ Twists and wrenches (paper eq. 12, 22)
 A unit screw of a rotation about an axis ``a`` through a point ``c`` (relative to
 the reference point) is ``(a, c x a)``; of a translation along ``a`` it is ``(0, a)``.
 
+Length balancing
+    Rotations and translations are compared through one length, ``LENGTH_SCALE``
+    L = 0.1 m: the length-balanced stiffness is ``S K S`` with
+    ``S = diag(1/L, 1/L, 1/L, 1, 1, 1)`` (K_rr / L^2, K_rt / L, K_tt: every entry in
+    N/m), the length-balanced compliance ``S^-1 C S^-1``. Condition numbers, the
+    singularity test and relative matrix differences use it.
+
 Change of frame (paper eq. 13-16)
     Frame B sees frame A rotated by ``R_ba`` (A components -> B components), and the
     origin of A sits at ``p`` from the origin of B (in B components). Then twists map
@@ -47,12 +54,29 @@ GAMMA: FloatArray = np.block(
 #: The unit vector of the z axis, normal to the plane of motion.
 Z_AXIS: FloatArray = np.array([0.0, 0.0, 1.0])
 
+#: Length [m] that balances rotational against translational coordinates (above).
+LENGTH_SCALE = 0.1
+#: The diagonal of ``S``: the balanced stiffness is ``S K S`` (module doc).
+BALANCE: FloatArray = np.array([1 / LENGTH_SCALE] * 3 + [1.0] * 3)
+
 #: Names of the six twist / wrench components, in order.
 TWIST_COMPONENTS = ("phi_x", "phi_y", "phi_z", "x", "y", "z")
 #: SI unit of each twist component.
 TWIST_UNITS = ("rad", "rad", "rad", "m", "m", "m")
 #: SI unit of each wrench component.
 WRENCH_UNITS = ("N·m", "N·m", "N·m", "N", "N", "N")
+
+
+def length_balanced(stiffness: ArrayLike) -> FloatArray:
+    """Length-balanced stiffness ``S K S`` (K_rr / L^2, K_rt / L, K_tt), shape (..., 6, 6)."""
+    k = np.asarray(stiffness, dtype=float)
+    return np.asarray(k * BALANCE[:, None] * BALANCE[None, :])
+
+
+def length_balanced_compliance(compliance: ArrayLike) -> FloatArray:
+    """Length-balanced compliance ``S^-1 C S^-1`` (the inverse of :func:`length_balanced`)."""
+    c = np.asarray(compliance, dtype=float)
+    return np.asarray(c / BALANCE[:, None] / BALANCE[None, :])
 
 
 def hat(vector: ArrayLike) -> FloatArray:

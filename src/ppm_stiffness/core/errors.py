@@ -21,3 +21,7 @@ class SingularConfigurationError(PPMStiffnessError):
 
 class InputDataError(PPMStiffnessError):
     """A matrix, wrench, CSV file or other numeric input is malformed."""
+
+
+class DesignFormatWarning(FutureWarning):
+    """A design file in an old format was read (it still loads; re-save it)."""

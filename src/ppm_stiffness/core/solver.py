@@ -25,12 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import BALANCE, FloatArray
 from ppm_stiffness.core.errors import SingularConfigurationError
-
-#: Length [m] used to balance rotational and translational coordinates before the
-#: bordered inverse; it changes the conditioning, not the result.
-_LENGTH_SCALE = 0.1
 
 
 @dataclass(frozen=True)
@@ -78,8 +74,10 @@ def bordered_stiffness(compliance6: FloatArray, passive: FloatArray) -> FloatArr
         If the bordered matrix is singular (dependent passive joints, or a leg whose
         springs leave a transmitted wrench without compliance).
     """
-    scale = np.array([1.0, 1.0, 1.0, 1 / _LENGTH_SCALE, 1 / _LENGTH_SCALE, 1 / _LENGTH_SCALE])
-    # Twists in scaled units: t_s = S t with S = diag(1, 1/L); wrenches w_s = S^-1 w.
+    # Balanced units (conventions.LENGTH_SCALE): the compliance S^-1 C S^-1 and the
+    # passive twists S^-1 J_q; the bordered inverse then gives S K S. This changes the
+    # conditioning of the inverse, not the result.
+    scale = 1.0 / BALANCE
     c = compliance6 * scale[:, None] * scale[None, :]
     q = passive * scale[:, None]
     p = q.shape[-1]
@@ -95,7 +93,7 @@ def bordered_stiffness(compliance6: FloatArray, passive: FloatArray) -> FloatArr
         raise SingularConfigurationError(
             "a leg's passive joints are dependent or its springs leave a wrench uncompliant"
         ) from exc
-    k = inv[..., :6, :6] * scale[:, None] * scale[None, :]
+    k = inv[..., :6, :6] * scale[:, None] * scale[None, :]  # S^-1 (S K S) S^-1
     return np.asarray(0.5 * (k + np.swapaxes(k, -1, -2)))
 
 

@@ -48,7 +48,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.conventions import (
+    LENGTH_SCALE,
+    FloatArray,
+    hat,
+    length_balanced,
+    vect,
+)
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.reduced_leg import (
@@ -63,7 +69,6 @@ from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 __all__ = ["IN_PLANE", "OUT_OF_PLANE", "ReducedLeg", "reduce_design", "reduce_leg"]
 
 #: Rotations are balanced at 0.1 m in the singularity test, as in model.check_nonsingular.
-_SING_SCALE = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])
 
 
 class PlanarEntries(NamedTuple):
@@ -105,15 +110,17 @@ def leg_kinematics(
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Platform point ``d = D - P`` (x, y parts), actuator coordinate and rod length.
 
-    Same expressions as :func:`ppm_stiffness.legs.ppr.leg_geometry`; arrays broadcast.
+    Same expressions as :meth:`ppm_stiffness.legs.types.ppr.PPRLeg.solve` (the 2x2
+    solve ``D - A = rho u + (bearing_offset + rod) w``); arrays broadcast.
     """
     ang = leg.psi + np.asarray(phi, dtype=float)
     dx = -leg.radius * np.cos(ang)
     dy = -leg.radius * np.sin(ang)
     px = (np.asarray(x, dtype=float) + dx) - leg.base_point[0]
     py = (np.asarray(y, dtype=float) + dy) - leg.base_point[1]
-    rho = px * leg.u[0] + py * leg.u[1]
-    rod = px * leg.w[0] + py * leg.w[1] - leg.bearing_offset
+    det = leg.u[0] * leg.w[1] - leg.u[1] * leg.w[0]
+    rho = (px * leg.w[1] - py * leg.w[0]) / det
+    rod = (leg.u[0] * py - leg.u[1] * px) / det - leg.bearing_offset
     return dx, dy, np.asarray(rho), np.asarray(rod)
 
 
@@ -266,7 +273,8 @@ def nonsingular_from_entries(e: PlanarEntries) -> FloatArray:
     ``lambda_max <= max trace``) accepts most poses; the others get the exact test
     (eigenvalues of the length-balanced 6x6 matrix, same tolerance).
     """
-    s2, s1 = 100.0, 10.0  # rotations balanced at 0.1 m (scale 10 per rotational index)
+    s1 = LENGTH_SCALE  # length balancing (conventions): K_rr / L^2, K_rt / L
+    s2 = s1 * s1
     lb_in, tr_in = _block_lower_bound(
         e.k22 / s2, e.k23 / s1, e.k24 / s1, e.k33, e.k34, e.k44
     )
@@ -284,7 +292,7 @@ def nonsingular_from_entries(e: PlanarEntries) -> FloatArray:
     unsure = finite & ~sure
     if np.any(unsure):
         k = assemble(PlanarEntries(*(np.asarray(v)[unsure] for v in e)))
-        ks = k / _SING_SCALE[:, None] / _SING_SCALE[None, :]
+        ks = length_balanced(k)
         eig = np.linalg.eigvalsh(ks)
         result[unsure] = eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1]
     return result

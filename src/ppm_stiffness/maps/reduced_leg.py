@@ -7,7 +7,8 @@ of F_b) the leg's spring compliance is a cubic polynomial in L plus the actuator
 and the passive joints (hence the wrenches the leg transmits) do not depend on the pose.
 For a planar design the transmitted wrenches split into one in-plane wrench and two
 out-of-plane ones. :func:`reduce_leg` extracts these from the general model
-(:func:`ppm_stiffness.legs.ppr.leg_springs`, :func:`ppm_stiffness.core.beam.cantilever_compliance`)
+(:func:`ppm_stiffness.legs.chain.leg_springs` on the P-P-R chain,
+:func:`ppm_stiffness.core.beam.cantilever_compliance`)
 once per design; :mod:`ppm_stiffness.maps.batch` evaluates them for many poses.
 """
 
@@ -21,13 +22,13 @@ from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import FloatArray, hat
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs import ppr
+from ppm_stiffness.legs.chain import leg_springs
 
 #: Twist / wrench components of the in-plane motion (phi_z, x, y) and out-of-plane
 #: motion (phi_x, phi_y, z), in the order of :mod:`ppm_stiffness.core.conventions`.
 IN_PLANE = (2, 3, 4)
 OUT_OF_PLANE = (0, 1, 5)
-#: Columns of the distal rod cantilever in :func:`ppm_stiffness.legs.ppr.leg_springs`.
+#: Columns of the distal rod cantilever in the P-P-R chain's springs.
 _ROD = slice(16, 22)
 
 
@@ -91,13 +92,16 @@ def _null_basis(rows: FloatArray, dim: int) -> FloatArray:
 def reduce_leg(design: Design, index: int) -> ReducedLeg:
     """Reduced form of leg ``index`` (0-based) of ``design``, from the general model."""
     leg = design.legs[index]
-    u3, w3 = ppr.leg_directions(leg)
+    u3, w3 = leg.directions()
     delta = 0.1  # [m] rod length step between the two evaluations (exactly linear)
     poses = np.array([[0.0, 0.0, 0.0], [delta * w3[0], delta * w3[1], 0.0]])
-    geo = [ppr.leg_geometry(leg, p) for p in poses]
-    springs = [ppr.leg_springs(design, leg, g, 1.0) for g in geo]
-    lengths = [float(g.rod_length) for g in geo]
-    jd = [_shift_twists_to(g.d, s.screws) for g, s in zip(geo, springs, strict=True)]
+    geo = [leg.solve(p) for p in poses]
+    springs = [leg_springs(leg.chain(g), 1.0) for g in geo]
+    if springs[0].screws.shape[-1] != _ROD.stop:
+        raise DesignError("the reduced P-P-R form needs a rigid platform revolute")
+    lengths = [float(g.coordinates["rod"]) for g in geo]
+    d_points = [g.points["D"] for g in geo]
+    jd = [_shift_twists_to(d, s.screws) for d, s in zip(d_points, springs, strict=True)]
     j1 = (jd[1] - jd[0]) / (lengths[1] - lengths[0])
     j0 = jd[0] - lengths[0] * j1
     act = springs[0].actuator_index
@@ -110,12 +114,12 @@ def reduce_leg(design: Design, index: int) -> ReducedLeg:
     c_other[_ROD, :] = 0.0
     c_other[:, _ROD] = 0.0
     if not np.allclose(c_other, c_fix, rtol=1e-12, atol=0.0):  # the layout assumed here
-        raise RuntimeError("ppr.leg_springs: springs other than the rod depend on the pose")
+        raise RuntimeError("P-P-R chain: springs other than the rod depend on the pose")
     e = j0[:, act]
     j_rod = j0[:, _ROD]
     # exact cubic of the cantilever compliance: interpolate at L = 0, 1, 2, 3 m
     nodes = np.arange(4.0)
-    samples = cantilever_compliance(design.distal.section(), nodes).reshape(4, 36)
+    samples = cantilever_compliance(leg.distal.section(), nodes).reshape(4, 36)
     vander = np.vander(nodes, 4, increasing=True)
     rod_poly = np.linalg.solve(vander, samples).reshape(4, 6, 6)
     poly = np.empty((4, 6, 6))
@@ -125,7 +129,7 @@ def reduce_leg(design: Design, index: int) -> ReducedLeg:
     poly[3] = 0.0
     poly += np.einsum("ia,kab,jb->kij", j_rod, rod_poly, j_rod)
 
-    passive = _shift_twists_to(geo[0].d, springs[0].passive)
+    passive = _shift_twists_to(d_points[0], springs[0].passive)
     inp, outp = list(IN_PLANE), list(OUT_OF_PLANE)
     q_in = passive[inp]
     q_out = passive[outp]

@@ -22,8 +22,12 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs import ppr
-from ppm_stiffness.model import leg_stiffnesses_at_pose, stiffness_at_pose, workspace_centre
+from ppm_stiffness.model import (
+    actuator_screws_at_pose,
+    leg_stiffnesses_at_pose,
+    stiffness_at_pose,
+    workspace_centre,
+)
 from ppm_stiffness.statics import actuator as act
 
 
@@ -104,8 +108,8 @@ def actuator_forces(
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
     legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)
     shares = leg_wrenches(legs, w)
-    u = np.array([ppr.leg_directions(leg)[0] for leg in design.legs])
-    return np.einsum("ij,ij->i", shares[:, 3:], u)
+    screws = actuator_screws_at_pose(design, p)
+    return np.einsum("ij,ij->i", shares, screws)
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
 from ppm_stiffness.core.errors import PPMStiffnessError, UnreachablePoseError
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
@@ -29,8 +29,6 @@ from ppm_stiffness.validation.fe_model import FESettings, fe_stiffness_at_pose
 BLOCKS: dict[str, tuple[int, int, int]] = {"planar": (2, 3, 4), "out_of_plane": (0, 1, 5)}
 #: Entries below this fraction of the block's largest (balanced) entry are not compared.
 ENTRY_THRESHOLD = 0.01
-#: Length [m] balancing rotational against translational entries (as in model.py).
-LENGTH_SCALE = 0.1
 #: Acceptance limits of the issue: planar 2%, out-of-plane 5%.
 TOLERANCES: dict[str, float] = {"planar": 0.02, "out_of_plane": 0.05}
 

@@ -39,14 +39,15 @@ the displacements are the compliance columns, ``K = inv(C)``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray, length_balanced_compliance
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs import ppr
+from ppm_stiffness.model import locked_actuator_stiffness, solve_legs
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
     REACTIONS,
@@ -103,14 +104,17 @@ def _away_from(axis: FloatArray, other: FloatArray) -> FloatArray:
 
 def _leg_points(design: Design, pose: FloatArray) -> list[dict[str, FloatArray]]:
     """B, C, D, u, w of every leg relative to P (F_b axes); raises if unreachable."""
-    geoms = ppr.check_reachable(design, pose)
-    return [
-        {"b": g.b, "c": g.c, "d": g.d, "u": unit_vector(g.u), "w": unit_vector(g.w)} for g in geoms
-    ]
+    out = []
+    for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
+        u, w = leg.directions()
+        pts = lp.points
+        out.append({"b": pts["B"], "c": pts["C"], "d": pts["D"],
+                    "u": unit_vector(u), "w": unit_vector(w)})
+    return out
 
 
 def _add_leg(
-    fb: FrameBuilder, design: Design, pts: dict[str, FloatArray], k_act: float,
+    fb: FrameBuilder, leg: Any, pts: dict[str, FloatArray], k_act: float,
     platform_node: str | None, tag: str,
 ) -> str:
     """Add one leg; returns the name of its node D (rod tip)."""
@@ -123,7 +127,7 @@ def _add_leg(
     nb = fb.node(b, f"B{tag}_")
     u_out = _away_from(u, c - b)
     y_out = _away_from(unit_vector(np.cross(z, u)), c - b)
-    g = design.guide
+    g = leg.guide
     fb.grounded_rotation(nb, b, u_out, g.roll, s)
     fb.grounded_rotation(nb, b, y_out, g.pitch, s)
     fb.grounded_rotation(nb, b, -z, g.yaw, s)
@@ -132,18 +136,18 @@ def _add_leg(
     fb.grounded_translation(nb, b, -z, g.vertical, 2 * s)
     # proximal link B -C, built from C (see link_rotation on why members start at C)
     ncp = fb.node(c, f"Cp{tag}_")
-    fb.beam(ncp, nb, design.proximal)
+    fb.beam(ncp, nb, leg.proximal)
     # bearing at C: Cp -> Cr, axes (w, y_D, z); nothing along/about w (cylindrical)
     ncr = fb.node(c, f"Cr{tag}_")
     lat = _away_from(unit_vector(np.cross(z, w)), b - c)
-    br = design.bearing
+    br = leg.bearing
     fb.link_rotation(ncp, ncr, c, lat, br.tilt_lateral, s, (w, z))
     fb.link_rotation(ncp, ncr, c, z, br.tilt_vertical, s, (w, -lat))
     fb.link_translation(ncp, ncr, c, lat, br.radial_lateral, 2 * s, (w, z))
     fb.link_translation(ncp, ncr, c, z, br.radial_vertical, 2 * s, (w, -lat))
     # rod C -> D
     nd = fb.node(d, f"D{tag}_")
-    fb.beam(ncr, nd, design.distal)
+    fb.beam(ncr, nd, leg.distal)
     if platform_node is not None:
         _platform_member(fb, platform_node, nd, float(np.linalg.norm(d)))
     return nd
@@ -161,7 +165,7 @@ def _platform_member(fb: FrameBuilder, p_node: str, d_node: str, length: float) 
 def _actuator_stiffness(design: Design, actuator_stiffness: ArrayLike | None) -> FloatArray:
     n = len(design.legs)
     if actuator_stiffness is None:
-        return np.full(n, design.actuator.locked_stiffness)
+        return locked_actuator_stiffness(design)
     k = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n,))
     if not np.all(np.isfinite(k)) or np.any(k <= 0):
         raise DesignError("actuator stiffness must be finite and > 0 N/m")
@@ -198,13 +202,12 @@ def build_model(
     points = _leg_points(design, p)
     chosen = range(len(design.legs)) if legs is None else legs
     for i in chosen:
-        _add_leg(fb, design, points[i], float(k_act[i]), p_node, f"{i + 1}")
+        _add_leg(fb, design.legs[i], points[i], float(k_act[i]), p_node, f"{i + 1}")
     return fb, p_node
 
 
 def _balanced_asymmetry(c: FloatArray) -> float:
-    scale = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])  # rotations over 0.1 m
-    cb = c * scale[:, None] * scale[None, :]
+    cb = length_balanced_compliance(c)
     return float(np.max(np.abs(cb - cb.T)) / np.max(np.abs(cb)))
 
 

@@ -25,7 +25,6 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.ppr import PPRLegGeometry, inverse_kinematics
 from ppm_stiffness.model import workspace_centre
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -45,24 +44,24 @@ def mechanism_points(design: Design, pose: ArrayLike) -> dict[str, FloatArray]:
         arrays (n_legs, 2); ``P``: (2,); ``rho`` and ``rod``: (n_legs,) [m].
     """
     p = np.asarray(pose, dtype=float)
-    geoms: list[PPRLegGeometry] = inverse_kinematics(design, p)
+    geoms = [leg.solve(p) for leg in design.legs]
     pos = p[:2]
     a = np.array([leg.base_point for leg in design.legs], dtype=float)
-    u = np.array([g.u[:2] for g in geoms])
-    w = np.array([g.w[:2] for g in geoms])
-    rho = np.array([float(g.actuator_coordinate) for g in geoms])
+    u = np.array([leg.directions()[0][:2] for leg in design.legs])
+    w = np.array([leg.directions()[1][:2] for leg in design.legs])
+    rho = np.array([float(g.coordinates["rho"]) for g in geoms])
     gu = np.array([leg.guide_offset_u for leg in design.legs])
     return {
         "A": a,
-        "B": np.array([g.b[:2] for g in geoms]) + pos,
-        "C": np.array([g.c[:2] for g in geoms]) + pos,
-        "D": np.array([g.d[:2] for g in geoms]) + pos,
+        "B": np.array([g.points["B"][:2] for g in geoms]) + pos,
+        "C": np.array([g.points["C"][:2] for g in geoms]) + pos,
+        "D": np.array([g.points["D"][:2] for g in geoms]) + pos,
         "R": a + (rho + gu)[:, None] * u,
         "u": u,
         "w": w,
         "P": pos.copy(),
         "rho": rho,
-        "rod": np.array([float(g.rod_length) for g in geoms]),
+        "rod": np.array([float(g.coordinates["rod"]) for g in geoms]),
     }
 
 

@@ -30,6 +30,7 @@ from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, dump_design
+from ppm_stiffness.design.schema import leg_parameter_rows
 from ppm_stiffness.model import workspace_centre
 from ppm_stiffness.visuals.html import (
     CSS as _CSS,
@@ -80,26 +81,20 @@ Progress = Callable[[str, float], None]
 
 
 # ----------------------------------------------------------------------------- sections
-_PARAM_UNITS: dict[str, tuple[str, float]] = {
-    "centre_x": ("mm", 1e3), "centre_y": ("mm", 1e3), "phi": ("deg", 180 / math.pi),
-    "locked_stiffness": ("N/m", 1.0), "k_a": ("N/m^q", 1.0), "q": ("–", 1.0),
-    "threshold_displacement": ("µm", 1e6),
-    "roll": ("N·m/rad", 1.0), "pitch": ("N·m/rad", 1.0), "yaw": ("N·m/rad", 1.0),
-    "lateral": ("N/m", 1.0), "vertical": ("N/m", 1.0),
-    "tilt_lateral": ("N·m/rad", 1.0), "tilt_vertical": ("N·m/rad", 1.0),
-    "radial_lateral": ("N/m", 1.0), "radial_vertical": ("N/m", 1.0),
-    "young_modulus": ("GPa", 1e-9), "shear_modulus": ("GPa", 1e-9), "area": ("m²", 1.0),
-    "torsion_constant": ("m⁴", 1.0), "inertia_y": ("m⁴", 1.0), "inertia_z": ("m⁴", 1.0),
-    "base_point": ("mm", 1e3), "alpha": ("deg", 180 / math.pi),
-    "beta": ("deg", 180 / math.pi), "psi": ("deg", 180 / math.pi),
-    "platform_radius": ("mm", 1e3), "bearing_offset": ("mm", 1e3),
-    "guide_offset_u": ("mm", 1e3), "guide_offset_w": ("mm", 1e3),
-    "stroke": ("mm", 1e3), "rod_length_range": ("mm", 1e3),
+#: How an SI unit is shown in the report: unit -> (shown unit, scale).
+_DISPLAY_UNITS: dict[str, tuple[str, float]] = {
+    "m": ("mm", 1e3), "rad": ("deg", 180 / math.pi), "Pa": ("GPa", 1e-9),
+    "m^2": ("m²", 1.0), "m^4": ("m⁴", 1.0), "1": ("–", 1.0),
 }
 
 
-def _param_text(key: str, value: Any) -> tuple[str, str]:
-    unit, scale = _PARAM_UNITS.get(key, ("SI", 1.0))
+def _param_text(key: str, value: Any, si_unit: str | None = None) -> tuple[str, str]:
+    si = si_unit if si_unit is not None else ("m" if key in ("centre_x", "centre_y", "tool_point")
+                                             else "rad" if key == "phi" else "")
+    if key.endswith("threshold_displacement") and si == "m":
+        unit, scale = "µm", 1e6
+    else:
+        unit, scale = _DISPLAY_UNITS.get(si, (si or "SI", 1.0))
     if isinstance(value, (list, tuple)):
         text = "(" + ", ".join(f"{float(x) * scale:.6g}" for x in value) + ")"
     elif isinstance(value, (int, float)):
@@ -111,19 +106,20 @@ def _param_text(key: str, value: Any) -> tuple[str, str]:
 
 def _design_section(design: Design) -> str:
     parts = []
-    groups = ("workspace", "actuator", "guide", "bearing", "proximal", "distal")
     rows = []
-    for group in groups:
-        for key, value in getattr(design, group):
-            text, unit = _param_text(key, value)
-            rows.append([f"{group}.{key}", f'<td class="num">{text}</td>', unit])
+    for key, value in design.workspace:
+        text, unit = _param_text(key, value)
+        rows.append([f"workspace.{key}", f'<td class="num">{text}</td>', unit])
+    text, unit = _param_text("tool_point", design.tool_point)
+    rows.append(["tool_point", f'<td class="num">{text}</td>', unit])
+    rows.append(["architecture", f"<td>{_esc(design.architecture)}</td>", ""])
     parts.append(_table(["parameter", "value", "unit"], rows, cls="params"))
-    legs = design.legs
-    keys = list(type(legs[0]).model_fields)
     leg_rows = []
-    for key in keys:
-        texts = [_param_text(key, getattr(leg, key)) for leg in legs]
-        leg_rows.append([key] + [f'<td class="num">{t}</td>' for t, _ in texts] + [texts[0][1]])
+    for key, values, si_unit in leg_parameter_rows(design):
+        texts = [("–", "") if v is None else _param_text(key, v, si_unit) for v in values]
+        unit = next((u for t, u in texts if t != "–"), "")
+        leg_rows.append([key] + [f'<td class="num">{t}</td>' for t, _ in texts] + [unit])
+    legs = design.legs
     parts.append(_table(["leg parameter"] + [f"leg {i + 1}" for i in range(len(legs))]
                         + ["unit"], leg_rows, cls="params"))
     toml = _esc(dump_design(design))

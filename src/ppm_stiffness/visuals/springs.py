@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.eigenscrews import ScrewSprings
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.ppr import inverse_kinematics
+from ppm_stiffness.legs.chain import Joint, Link
 from ppm_stiffness.model import workspace_centre
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -38,6 +38,10 @@ MM = 1e3  # drawing unit: millimetre per metre
 AXIS_GID = "spring-axis-"
 #: gid prefix of the drawn helices
 HELIX_GID = "spring-helix-"
+
+
+#: Marker of each joint kind in the pictures (revolute, prismatic, cylindrical).
+_MARKERS = {"R": "o", "P": "s", "C": "D"}
 
 
 def spring_axis_segments(springs: ScrewSprings, length: float) -> FloatArray:
@@ -133,34 +137,35 @@ def _draw_mechanism_plane(
     ax: Any, design: Design, pose: FloatArray, lo: FloatArray, hi: FloatArray, legs: bool
 ) -> None:
     """Platform triangle and legs (B, C, D relative to P, z = 0, mm) clipped to the box."""
-    geoms = inverse_kinematics(design, pose)
-    d = np.array([g.d for g in geoms]) * MM
+    geoms = [leg.solve(pose) for leg in design.legs]
+    d = np.array([g.points["D"] for g in geoms]) * MM
     tri = np.vstack([d, d[:1]])
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     ax.add_collection3d(Poly3DCollection([d], facecolor="0.8", alpha=0.35, edgecolor="none"))
     ax.plot(tri[:, 0], tri[:, 1], np.zeros(len(tri)), color="0.2", lw=2.0,
-            label="platform D1-D2-D3")
-    for i, g in enumerate(geoms, start=1):
-        dd = g.d * MM
+            label=f"platform D1-...-D{len(d)}" if len(d) > 3 else "platform D1-D2-D3")
+    styles = ({"color": "tab:blue", "lw": 2.5, "alpha": 0.6},
+              {"color": "0.45", "lw": 1.5, "alpha": 0.9})
+    labelled: set[str] = set()
+    for i, (leg, g) in enumerate(zip(design.legs, geoms, strict=True), start=1):
+        dd = g.points["D"] * MM
         ax.text(dd[0], dd[1], 0.0, f" D{i}", fontsize=7, color="0.2")
         if not legs:
             continue
-        b, c = g.b * MM, g.c * MM
-        for (p0, p1), style in (
-            ((b, c), {"color": "tab:blue", "lw": 2.5, "alpha": 0.6}),
-            ((c, dd), {"color": "0.45", "lw": 1.5, "alpha": 0.9}),
-        ):
+        links = [e for e in leg.chain(g) if isinstance(e, Link)]
+        for j, link in enumerate(links):
+            p0, p1 = np.asarray(link.start) * MM, np.asarray(link.end) * MM
             seg = _clip_segment(p0, p1, lo, hi)
             if seg is not None:
-                label = None
-                if i == 1:
-                    label = "proximal link B-C" if p0 is b else "rod C-D"
-                ax.plot(*seg.T, label=label, **style)
-        for point, name, marker in ((b, "B", "s"), (c, "C", "D")):
-            if np.all(point >= lo) and np.all(point <= hi):
-                ax.scatter(*point, marker=marker, s=20, color="0.3")
-                ax.text(*point, f" {name}{i}", fontsize=7, color="0.3")
+                label = None if link.name in labelled else f"{link.name} link"
+                labelled.add(link.name)
+                ax.plot(*seg.T, label=label, **styles[min(j, 1)])
+        for joint in leg.chain(g):
+            if isinstance(joint, Joint) and joint.name != "platform_revolute":
+                point = np.asarray(joint.point) * MM
+                if np.all(point >= lo) and np.all(point <= hi):
+                    ax.scatter(*point, marker=_MARKERS[joint.kind], s=20, color="0.3")
     ax.scatter([0.0], [0.0], [0.0], marker="+", s=60, color="k")
     ax.text(0.0, 0.0, 0.0, " P", fontsize=8)
 
@@ -214,10 +219,10 @@ def plot_screw_springs(
     p0 = np.zeros(3)
     if design is not None:
         p0 = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-        geoms = inverse_kinematics(design, p0)
-        pts += [np.array([g.d for g in geoms]) * MM]
+        geoms = [leg.solve(p0) for leg in design.legs]
+        pts += [np.array([g.points["D"] for g in geoms]) * MM]
         if show_legs:
-            pts += [np.array([g.c for g in geoms]) * MM]
+            pts += [np.array([g.points["C"] for g in geoms]) * MM]
     allp = np.vstack(pts)
     margin = r_max + 0.1 * length * MM
     lo, hi = allp.min(axis=0) - margin, allp.max(axis=0) + margin

@@ -1,0 +1,235 @@
+"""The design schema (v2): a manipulator as a list of legs, each its own joint chain
+and parts, plus the workspace centre and an optional tool point. SI throughout.
+
+Every scalar has a dotted parameter name: ``leg2.platform_radius``,
+``leg1.guide.lateral``, ``workspace.centre_x``; legs are numbered from 1. A glob such
+as ``leg*.guide.lateral`` names the same part in every leg that has it
+(:meth:`Design.expand`). The leg types come from :mod:`ppm_stiffness.legs.registry`;
+this module knows none of them by name.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections import Counter
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, Field
+
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.legs.base import LegModel
+from ppm_stiffness.legs.parts import Finite, PartModel
+from ppm_stiffness.legs.registry import leg_types
+
+#: The schema version this module reads and writes.
+SCHEMA_VERSION = 2
+
+
+class WorkspaceModel(PartModel):
+    """The workspace centre [m, m, rad] in F_b (the default pose of the CLI)."""
+
+    centre_x: Finite = 0.0
+    centre_y: Finite = 0.0
+    phi: Finite = 0.0
+
+
+_LEG_UNION: Any = Annotated[
+    Union[tuple(leg_types().values())],  # noqa: UP007 - built from the registry
+    Field(discriminator="type"),
+]
+
+
+class Design(PartModel):
+    """A planar parallel manipulator: legs (any registered type, any number >= 3)
+    joining the base to a platform.
+
+    Attributes
+    ----------
+    schema_version : int
+        2 (the file's ``schema`` key).
+    tool_point : (x, y, z) [m]
+        A point fixed to the platform, in the platform frame F_p. Results that are
+        "at the tool point" (``analyze``, ``map``, ``deflect``) are expressed there;
+        the model itself works at P.
+    """
+
+    schema_version: Literal[2] = Field(default=2, alias="schema")
+    name: str = "unnamed design"
+    workspace: WorkspaceModel = WorkspaceModel()
+    tool_point: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    legs: Annotated[list[_LEG_UNION], Field(min_length=3)]
+
+    model_config = {**PartModel.model_config, "populate_by_name": True}
+
+    @property
+    def architecture(self) -> str:
+        """E.g. ``"3-PPR"``, ``"4-PPR"``, or ``"2-PRR+1-RPR"`` for mixed legs."""
+        counts = Counter(leg.type for leg in self.legs)
+        return "+".join(f"{n}-{t}" for t, n in counts.items())
+
+    @property
+    def actuator(self) -> Any:
+        """The actuator law shared by every leg (for code that assumes one law).
+
+        Raises
+        ------
+        DesignError
+            If the legs have different laws.
+        """
+        law = self.legs[0].actuator
+        if any(leg.actuator != law for leg in self.legs[1:]):
+            raise DesignError("the legs have different actuator laws; use each leg's own")
+        return law
+
+    def parameter(self, name: str) -> float:
+        """Value of the scalar parameter ``name`` (dotted, legs from 1).
+
+        A glob (``leg*.guide.yaw``) is one value for all its matches: they must be equal.
+        """
+        values = []
+        for match in self.expand(name):
+            obj, key = _resolve(self, match)
+            value = getattr(obj, key)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise DesignError(f"parameter {match!r} is not a scalar")
+            values.append(float(value))
+        if any(v != values[0] for v in values[1:]):
+            raise DesignError(
+                f"parameter {name!r}: its matches differ ({min(values):g} to "
+                f"{max(values):g}); a glob ties parameters that are equal"
+            )
+        return values[0]
+
+    def expand(self, pattern: str) -> list[str]:
+        """Parameter names matching ``pattern`` (a name, or a glob like ``leg*.guide.yaw``).
+
+        A name that starts with neither ``legN.`` nor ``workspace.`` (``guide.yaw``)
+        means that part in every leg, as ``leg*.guide.yaw`` (the v1 names).
+
+        Raises
+        ------
+        DesignError
+            If nothing matches.
+        """
+        names = self.scalar_parameter_names()
+        hits = _matches(names, pattern)
+        if not hits and not pattern.startswith(("leg", "workspace.")):
+            hits = _matches(names, f"leg*.{pattern}")  # a part of every leg
+        if not hits:
+            raise DesignError(
+                f"unknown design parameter {pattern!r} "
+                "(`ppm-stiffness calibrate --list-parameters` lists them)"
+            )
+        return hits
+
+    def with_parameters(self, values: dict[str, float]) -> Design:
+        """A copy with the named (or globbed) scalar parameters replaced, validated again."""
+        data = self.model_dump(by_alias=True)
+        for pattern, value in values.items():
+            for name in self.expand(pattern):
+                parts = _split(name)
+                target: Any = data
+                for part in parts[:-1]:
+                    target = target[part]
+                target[parts[-1]] = float(value)
+        from ppm_stiffness.design.io import design_from_dict
+
+        return design_from_dict(data, source="parameters")
+
+    def scalar_parameter_names(self) -> list[str]:
+        """Every scalar parameter name of this design, in file order."""
+        names = [f"workspace.{k}" for k, v in self.workspace if _is_scalar(v)]
+        for i, leg in enumerate(self.legs, start=1):
+            names += _scalar_names(leg, f"leg{i}")
+        return names
+
+
+def _matches(names: list[str], pattern: str) -> list[str]:
+    if any(ch in pattern for ch in "*?["):
+        return [n for n in names if fnmatch.fnmatchcase(n, pattern)]
+    return [pattern] if pattern in names else []
+
+
+def _is_scalar(value: Any) -> bool:
+    return isinstance(value, float) or (isinstance(value, int) and not isinstance(value, bool))
+
+
+def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
+    names: list[str] = []
+    for key, value in model:
+        if key == "branch":  # a working mode, not a continuous parameter
+            continue
+        if _is_scalar(value):
+            names.append(f"{prefix}.{key}")
+        elif isinstance(value, BaseModel):
+            names += _scalar_names(value, f"{prefix}.{key}")
+    return names
+
+
+def _split(name: str) -> list[Any]:
+    parts: list[Any] = []
+    for part in name.split("."):
+        if part.startswith("leg") and part[3:].isdigit():
+            parts += ["legs", int(part[3:]) - 1]
+        else:
+            parts.append(part)
+    return parts
+
+
+def _resolve(design: Design, name: str) -> tuple[Any, str]:
+    parts = _split(name)
+    obj: Any = design
+    try:
+        for part in parts[:-1]:
+            obj = obj[part] if isinstance(part, int) else getattr(obj, part)
+        if not isinstance(parts[-1], str) or parts[-1] not in type(obj).model_fields:
+            raise KeyError(name)
+    except (AttributeError, IndexError, KeyError, TypeError) as exc:
+        raise DesignError(
+            f"unknown design parameter {name!r} "
+            "(`ppm-stiffness calibrate --list-parameters` lists them)"
+        ) from exc
+    return obj, parts[-1]
+
+
+def leg_label(index: int) -> str:
+    """``"leg 1"`` for index 0: how messages name a leg."""
+    return f"leg {index + 1}"
+
+
+__all__ = ["SCHEMA_VERSION", "Design", "LegModel", "WorkspaceModel", "leg_label"]
+
+
+def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
+    """The legs' parameters side by side, for tables and reports.
+
+    Returns
+    -------
+    list of (name, values, unit)
+        ``name`` dotted within a leg (``guide.lateral``, ``base_point``); ``values`` one
+        per leg (None where that leg has no such parameter; tuples stay tuples); the
+        SI unit.
+    """
+    from ppm_stiffness.legs.parts import part_units
+
+    table: dict[str, list[Any]] = {}
+    units: dict[str, str] = {}
+    for i, leg in enumerate(design.legs):
+        for key, value in leg:
+            if key == "type" or value is None:
+                continue
+            if isinstance(value, BaseModel):
+                for sub, v in value:
+                    name = f"{key}.{sub}"
+                    table.setdefault(name, [None] * len(design.legs))[i] = v
+                    units.setdefault(name, part_units(type(value)).get(sub, ""))
+                if key == "actuator":
+                    force, disp, stiff = leg.actuator_units()
+                    units.update({
+                        "actuator.locked_stiffness": stiff, "actuator.k_a": f"{force}/{disp}^q",
+                        "actuator.q": "1", "actuator.threshold_displacement": disp,
+                    })
+            else:
+                table.setdefault(key, [None] * len(design.legs))[i] = value
+                units.setdefault(key, type(leg).UNITS.get(key, ""))
+    return [(name, values, units.get(name, "")) for name, values in table.items()]

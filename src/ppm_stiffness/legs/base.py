@@ -1,0 +1,159 @@
+"""What every leg type provides: inverse kinematics, limits and its joint chain.
+
+A leg type is one module of :mod:`ppm_stiffness.legs.types` defining a subclass of
+:class:`LegModel` with a ``type`` literal (``"PPR"``, ``"RRR"``, ...), its geometry and
+parts as validated fields, and three methods:
+
+- :meth:`LegModel.solve`: inverse kinematics at poses (..., 3), returning a
+  :class:`LegPose` (named points, joint coordinates, a mask of solvable poses);
+- :meth:`LegModel.chain`: the joint chain at those poses (:mod:`.chain`);
+- :meth:`LegModel.limits`: the admissible range of each joint coordinate.
+
+Nothing outside a leg type's module knows its name: the design schema, the model,
+the statics, the FE model and the pictures go through these methods only.
+
+Platform points. Leg i is attached to the platform at
+``D_i = P - platform_radius * (cos(psi + phi), sin(psi + phi), 0)`` (paper, NOTES.md).
+Points are relative to P with the axes of F_b [m]; joint coordinates are SI (m, rad).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import UnreachablePoseError
+from ppm_stiffness.legs.chain import Element, actuator_screw
+from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """A joint coordinate with limits: its label and SI unit ("m" or "rad")."""
+
+    label: str
+    unit: str
+
+
+@dataclass(frozen=True)
+class LegPose:
+    """A leg at poses: the result of :meth:`LegModel.solve`.
+
+    Attributes
+    ----------
+    poses : ndarray (..., 3)
+        (x [m], y [m], phi [rad]) of P in F_b.
+    points : dict of str to ndarray (..., 3)
+        Named points of the leg relative to P, axes of F_b [m], from the base to the
+        platform point ``"D"`` (the order in which a picture joins them).
+    coordinates : dict of str to ndarray (...)
+        Joint coordinates [m or rad], the keys of :meth:`LegModel.limits`.
+    solvable : ndarray of bool (...)
+        The inverse kinematics has a real solution (elsewhere the points are finite
+        but meaningless).
+    """
+
+    poses: FloatArray
+    points: dict[str, FloatArray]
+    coordinates: dict[str, FloatArray]
+    solvable: FloatArray = field(default_factory=lambda: np.array(True))
+
+
+def planar(v: ArrayLike) -> FloatArray:
+    """Append a zero z component to (..., 2) arrays."""
+    a = np.asarray(v, dtype=float)
+    return np.concatenate([a, np.zeros(a.shape[:-1] + (1,))], axis=-1)
+
+
+def unit_planar(angle: ArrayLike) -> FloatArray:
+    """``(cos a, sin a, 0)`` for angles (...) [rad]; shape (..., 3)."""
+    a = np.asarray(angle, dtype=float)
+    return np.stack([np.cos(a), np.sin(a), np.zeros_like(a)], axis=-1)
+
+
+def cross_z(a: FloatArray, b: FloatArray) -> FloatArray:
+    """z component of ``a x b`` for (..., 3) arrays."""
+    return np.asarray(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+
+
+class LegModel(PartModel):
+    """Base of every leg type (module doc). Fields shared by all legs:
+
+    psi : float [rad]
+        Angle of the platform attachment (``D = P - r (cos(psi+phi), sin(psi+phi))``).
+    platform_radius : float [m]
+    actuator : ActuatorModel
+        The law of the leg's actuated joint (linear or rotary, by the joint).
+    """
+
+    type: str
+    psi: Finite
+    platform_radius: Positive
+    actuator: ActuatorModel
+
+    #: Joint coordinates that have limits: name -> Coordinate.
+    COORDINATES: ClassVar[dict[str, Coordinate]] = {}
+    #: SI unit of each geometry field ("m", "rad"); parts carry their own.
+    UNITS: ClassVar[dict[str, str]] = {"psi": "rad", "platform_radius": "m"}
+    #: Kind of the actuated joint ("P": linear actuator, "R": rotary).
+    ACTUATED_KIND: ClassVar[str] = "P"
+    #: One line for listings: what the letters mean, which joint is actuated.
+    DESCRIPTION: ClassVar[str] = ""
+
+    # -- to be provided by each leg type ------------------------------------------
+    def solve(self, poses: ArrayLike) -> LegPose:  # pragma: no cover - abstract
+        """Inverse kinematics at poses (..., 3)."""
+        raise NotImplementedError
+
+    def chain(self, leg_pose: LegPose) -> Sequence[Element]:  # pragma: no cover
+        """The joint chain at the poses of ``leg_pose``, base to platform."""
+        raise NotImplementedError
+
+    def limits(self) -> dict[str, tuple[float, float]]:  # pragma: no cover
+        """Admissible range of each joint coordinate of :data:`COORDINATES`."""
+        raise NotImplementedError
+
+    # -- shared ---------------------------------------------------------------------
+    def platform_point(self, phi: ArrayLike) -> FloatArray:
+        """Platform point D relative to P, axes of F_b, at orientation ``phi``; (..., 3)."""
+        return -self.platform_radius * unit_planar(self.psi + np.asarray(phi, dtype=float))
+
+    def reachable(self, leg_pose: LegPose) -> FloatArray:
+        """Mask of poses where the IK is solvable and every coordinate is in range."""
+        ok = np.asarray(leg_pose.solvable, dtype=bool)
+        for name, (lo, hi) in self.limits().items():
+            q = leg_pose.coordinates[name]
+            ok = ok & (q >= lo) & (q <= hi)
+        return np.asarray(ok)
+
+    def check(self, leg_pose: LegPose, label: str) -> None:
+        """Raise :class:`UnreachablePoseError` naming the first violated limit (one pose)."""
+        if not bool(np.all(leg_pose.solvable)):
+            raise UnreachablePoseError(
+                f"{label} ({self.type}): the platform point is out of the leg's reach "
+                "(no inverse-kinematics solution)"
+            )
+        for name, (lo, hi) in self.limits().items():
+            q = float(leg_pose.coordinates[name])
+            if not lo <= q <= hi:
+                c = self.COORDINATES[name]
+                scale, unit = (1e3, "mm") if c.unit == "m" else (180 / np.pi, "deg")
+                raise UnreachablePoseError(
+                    f"{label}: {c.label} {q * scale:.2f} {unit} outside "
+                    f"[{lo * scale:.2f}, {hi * scale:.2f}] {unit}"
+                )
+
+    def actuator_screw(self, leg_pose: LegPose) -> FloatArray:
+        """Unit twist of the actuated joint (..., 6): ``G = screw . w_leg``."""
+        return actuator_screw(self.chain(leg_pose))
+
+    def actuator_units(self) -> tuple[str, str, str]:
+        """Units of the actuator's force, displacement and stiffness."""
+        if self.ACTUATED_KIND == "R":
+            return "N·m", "rad", "N·m/rad"
+        return "N", "m", "N/m"

@@ -1,0 +1,241 @@
+"""A leg as a chain of joints and links, and the virtual springs it produces.
+
+A leg runs from the base to the platform through joints and links (the joint chain):
+
+- a **joint** is revolute (``"R"``), prismatic (``"P"``) or cylindrical (``"C"``, a
+  coaxial P + R) with an axis ``e1`` and a point (where its hardware springs act);
+  it is actuated or passive, and may carry hardware springs in its constrained
+  directions (:mod:`ppm_stiffness.legs.parts`);
+- a **link** is a straight beam (material + section) clamped at its start and loaded
+  at its end: the cantilever of eq. (3c) with its tip frame at the end point.
+
+Axes are 3-D: the planar mechanism is modelled as a spatial one.
+
+Frames. A joint frame is ``e1`` = the axis, ``e2 = unit(z x e1)`` (``unit(e1 x x)``
+when the axis is along z), ``e3 = e1 x e2``. A link's tip frame has its local x along
+the link (start -> end) and local y, z built the same way.
+
+The builder (:func:`leg_springs`) turns a chain at one or many poses (every point and
+axis has the batch shape plus a trailing 3) into the arrays of
+:class:`~ppm_stiffness.core.solver.LegSprings`, in chain order:
+
+- an actuated joint: first its actuator spring, along its freedom (translation along
+  e1 for P, rotation about e1 for R), then its hardware springs;
+- a passive joint: its hardware springs; its freedoms become passive-joint screws
+  (P: translation e1; C: rotation about e1, then translation e1; R: rotation e1);
+- a link: six columns (rotation about local x, y, z; translation along x, y, z) at
+  its end point, with the 6x6 cantilever compliance.
+
+The paper's P-P-R leg is ``P(actuated, guide) - link - C(bearing) - link - R``, and
+the builder gives exactly its 22 springs in the order of the paper's appendix.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.beam import BeamSection, cantilever_compliance
+from ppm_stiffness.core.conventions import (
+    Z_AXIS,
+    FloatArray,
+    rotation_screw,
+    translation_screw,
+)
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.solver import LegSprings
+
+JointKind = Literal["R", "P", "C"]
+
+#: Number of constrained directions (hardware springs) of each joint kind.
+CONSTRAINED = {"R": 5, "P": 5, "C": 4}
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint of a chain (arrays: batch shape + (3,), relative to P, axes of F_b).
+
+    Attributes
+    ----------
+    kind : {"R", "P", "C"}
+    axis : ndarray (..., 3), unit
+    point : ndarray (..., 3) [m]
+    springs : ndarray (CONSTRAINED[kind],) or None
+        Stiffness of each constrained direction, in the joint frame's order (see
+        :mod:`ppm_stiffness.legs.parts`); ``inf`` is rigid; None: no springs at all
+        (the joint is rigid in its constrained directions).
+    actuated : bool
+    name : str
+        The part's name in the design (``guide``, ``bearing``, ...), for pictures
+        and the FE model.
+    """
+
+    kind: JointKind
+    axis: FloatArray
+    point: FloatArray
+    springs: FloatArray | None = None
+    actuated: bool = False
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class Link:
+    """A straight beam from ``start`` to ``end`` (relative to P, axes of F_b) [m]."""
+
+    start: FloatArray
+    end: FloatArray
+    section: BeamSection
+    name: str = ""
+
+
+Element = Joint | Link
+
+
+def unit(v: ArrayLike) -> FloatArray:
+    """``v / |v|`` along the last axis (zero vectors stay zero)."""
+    a = np.asarray(v, dtype=float)
+    n = np.linalg.norm(a, axis=-1, keepdims=True)
+    return np.asarray(a / np.where(n > 0, n, 1.0))
+
+
+def frame_from_axis(axis: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The right-handed frame ``(e1, e2, e3)`` of a joint or link axis (module doc)."""
+    e1 = unit(axis)
+    z = np.broadcast_to(Z_AXIS, e1.shape)
+    e2 = np.cross(z, e1)
+    along_z = np.linalg.norm(e2, axis=-1, keepdims=True) < 1e-12
+    if np.any(along_z):
+        e2 = np.where(along_z, np.cross(e1, np.broadcast_to([1.0, 0.0, 0.0], e1.shape)), e2)
+    e2 = unit(e2)
+    return e1, e2, np.cross(e1, e2)
+
+
+def constrained_screws(joint: Joint) -> FloatArray:
+    """Unit twists of a joint's constrained directions, shape (..., 6, n)."""
+    c = np.asarray(joint.point, dtype=float)
+    shape = np.broadcast_shapes(np.shape(joint.axis), c.shape)
+    e1, e2, e3 = (np.broadcast_to(e, shape) for e in frame_from_axis(joint.axis))
+    if joint.kind == "P":
+        cols = [rotation_screw(e1, c), rotation_screw(e2, c), rotation_screw(e3, c),
+                translation_screw(e2), translation_screw(e3)]
+    elif joint.kind == "C":
+        cols = [rotation_screw(e2, c), rotation_screw(e3, c),
+                translation_screw(e2), translation_screw(e3)]
+    else:
+        cols = [rotation_screw(e2, c), rotation_screw(e3, c), translation_screw(e1),
+                translation_screw(e2), translation_screw(e3)]
+    return np.stack(cols, axis=-1)
+
+
+def freedom_screws(joint: Joint) -> FloatArray:
+    """Unit twists of a joint's freedoms, shape (..., 6, f)."""
+    shape = np.broadcast_shapes(np.shape(joint.axis), np.shape(joint.point))
+    e1 = np.broadcast_to(unit(joint.axis), shape)
+    if joint.kind == "P":
+        cols = [translation_screw(e1)]
+    elif joint.kind == "C":
+        cols = [rotation_screw(e1, joint.point), translation_screw(e1)]
+    else:
+        cols = [rotation_screw(e1, joint.point)]
+    return np.stack(cols, axis=-1)
+
+
+def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:
+    """Tip-frame unit twists (..., 6, 6) and the free length (...) [m] of a link."""
+    axis = np.asarray(link.end, dtype=float) - np.asarray(link.start, dtype=float)
+    length = np.linalg.norm(axis, axis=-1)
+    ex, ey, ez = frame_from_axis(axis)
+    end = link.end
+    cols = [rotation_screw(ex, end), rotation_screw(ey, end), rotation_screw(ez, end),
+            translation_screw(ex), translation_screw(ey), translation_screw(ez)]
+    return np.stack(cols, axis=-1), length
+
+
+def check_chain(chain: Sequence[Element]) -> None:
+    """Refuse a chain without exactly one actuated joint, or with an actuated C."""
+    actuated = [e for e in chain if isinstance(e, Joint) and e.actuated]
+    if len(actuated) != 1:
+        raise DesignError(f"a leg needs exactly one actuated joint, got {len(actuated)}")
+    if actuated[0].kind == "C":
+        raise DesignError("a cylindrical joint cannot be the actuated joint")
+
+
+def actuator_screw(chain: Sequence[Element]) -> FloatArray:
+    """Unit twist of the actuated joint's freedom, shape (..., 6)."""
+    check_chain(chain)
+    joint = next(e for e in chain if isinstance(e, Joint) and e.actuated)
+    return np.asarray(freedom_screws(joint)[..., 0])
+
+
+def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegSprings:
+    """Virtual springs and passive joints of a leg from its chain (module doc).
+
+    Parameters
+    ----------
+    chain : sequence of Joint and Link
+        From the base to the platform; every array with the same batch shape.
+    actuator_stiffness : array_like, broadcastable to the batch shape
+        [N/m] for a prismatic actuator, [N·m/rad] for a revolute one.
+
+    Returns
+    -------
+    LegSprings
+        screws (..., 6, m), compliance (..., m, m), passive (..., 6, p).
+    """
+    check_chain(chain)
+    batch = np.broadcast_shapes(
+        *[np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1]
+          for e in chain]
+    )
+    columns: list[FloatArray] = []
+    blocks: list[FloatArray] = []  # (..., n, n) compliance blocks, in column order
+    passive: list[FloatArray] = []
+    actuator_index = 0
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch)
+    for element in chain:
+        if isinstance(element, Link):
+            screws, length = link_screws(element)
+            columns.append(np.broadcast_to(screws, batch + (6, 6)))
+            blocks.append(np.broadcast_to(
+                cantilever_compliance(element.section, length), batch + (6, 6)))
+            continue
+        free = np.broadcast_to(freedom_screws(element), batch + (6, freedom_count(element)))
+        if element.actuated:
+            actuator_index = sum(c.shape[-1] for c in columns)
+            columns.append(free[..., :1])
+            blocks.append((1.0 / k_act)[..., None, None])
+        else:
+            passive.append(free)
+        if element.springs is not None:
+            k = np.asarray(element.springs, dtype=float)
+            n = CONSTRAINED[element.kind]
+            if k.shape != (n,) or np.any(~(k > 0)):
+                raise DesignError(
+                    f"joint {element.name or element.kind}: {n} positive spring "
+                    f"stiffnesses expected, got {k}"
+                )
+            columns.append(np.broadcast_to(constrained_screws(element), batch + (6, n)))
+            blocks.append(np.broadcast_to(np.diag(1.0 / k), batch + (n, n)))
+    screws = np.concatenate(columns, axis=-1)
+    m = screws.shape[-1]
+    compliance = np.zeros(batch + (m, m))
+    i = 0
+    for block in blocks:
+        n = block.shape[-1]
+        compliance[..., i : i + n, i : i + n] = block
+        i += n
+    return LegSprings(
+        screws=screws,
+        compliance=compliance,
+        passive=np.concatenate(passive, axis=-1),
+        actuator_index=actuator_index,
+    )
+
+
+def freedom_count(joint: Joint) -> int:
+    """Number of freedoms of a joint: 2 for C, 1 otherwise."""
+    return 2 if joint.kind == "C" else 1

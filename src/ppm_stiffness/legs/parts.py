@@ -1,0 +1,132 @@
+"""Catalogue parts a leg is built from: actuator law, joint springs, link sections.
+
+Each is a validated, frozen record in SI units. A joint's hardware springs act in its
+*constrained* directions, expressed in the joint frame ``(e1, e2, e3)`` of
+:mod:`ppm_stiffness.legs.chain`: ``e1`` the joint axis, ``e2 = unit(z x e1)`` (for an
+in-plane axis: the in-plane lateral direction), ``e3 = e1 x e2`` (then: z).
+
+- :class:`GuideModel`, a prismatic joint (linear guide, paper Table 3, eq. 3a):
+  roll about e1, pitch about e2, yaw about e3 [N·m/rad]; lateral along e2, vertical
+  along e3 [N/m].
+- :class:`BearingModel`, a cylindrical joint (linear bearing of a rod, eq. 3b): tilt
+  about e2 and about e3 [N·m/rad]; radial along e2 and e3 [N/m].
+- :class:`RevoluteModel`, a revolute joint (a rotary bearing, axisymmetric): tilt
+  about any axis normal to its own [N·m/rad], radial along any direction normal to
+  it and axial along it [N/m].
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from ppm_stiffness.core.beam import BeamSection
+from ppm_stiffness.core.conventions import FloatArray
+
+Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class PartModel(BaseModel):
+    """Base of every design record: unknown keys are errors, values are frozen."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class SectionModel(PartModel):
+    """A link's material and section (paper Table 2) [Pa, m^2, m^4]."""
+
+    young_modulus: Positive
+    shear_modulus: Positive
+    area: Positive
+    torsion_constant: Positive
+    inertia_y: Positive
+    inertia_z: Positive
+
+    def section(self) -> BeamSection:
+        return BeamSection(**self.model_dump())
+
+
+class ActuatorModel(PartModel):
+    """Actuator law (eq. 20-21): ``G = k_a * delta**q``.
+
+    The stiffness is ``locked_stiffness`` below ``threshold_displacement`` and the
+    tangent ``q k_a delta**(q-1)`` above it. ``q = 1`` is a linear spring of stiffness
+    ``k_a``; a huge threshold makes the actuator constant. Units follow the actuated
+    joint: N, m and N/m for a linear actuator (prismatic joint); N·m, rad and
+    N·m/rad for a rotary one (revolute joint).
+    """
+
+    locked_stiffness: Positive
+    k_a: Positive
+    q: Annotated[float, Field(gt=0.0, le=1.0)]
+    threshold_displacement: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+
+
+class GuideModel(PartModel):
+    """Linear guide on a prismatic joint (Table 3, eq. 3a), five springs at the block."""
+
+    roll: Positive
+    pitch: Positive
+    yaw: Positive
+    lateral: Positive
+    vertical: Positive
+
+    def stiffnesses(self) -> FloatArray:
+        """Stiffness of each constrained direction, in the order of :mod:`.chain`."""
+        return np.array([self.roll, self.pitch, self.yaw, self.lateral, self.vertical])
+
+
+class BearingModel(PartModel):
+    """Linear bearing on a cylindrical joint (Table 3, eq. 3b), four springs."""
+
+    tilt_lateral: Positive
+    tilt_vertical: Positive
+    radial_lateral: Positive
+    radial_vertical: Positive
+
+    def stiffnesses(self) -> FloatArray:
+        """Stiffness of each constrained direction, in the order of :mod:`.chain`."""
+        return np.array(
+            [self.tilt_lateral, self.tilt_vertical, self.radial_lateral, self.radial_vertical]
+        )
+
+
+class RevoluteModel(PartModel):
+    """Rotary bearing of a revolute joint (axisymmetric), five springs."""
+
+    tilt: Positive
+    axial: Positive
+    radial: Positive
+
+    def stiffnesses(self) -> FloatArray:
+        """Stiffness of each constrained direction, in the order of :mod:`.chain`:
+        tilt about e2, e3; axial along e1; radial along e2, e3."""
+        return np.array([self.tilt, self.tilt, self.axial, self.radial, self.radial])
+
+
+def part_units(model: type[BaseModel]) -> dict[str, str]:
+    """SI unit of each field of a part, for reports and tables."""
+    units: dict[type[BaseModel], dict[str, str]] = {
+        SectionModel: {
+            "young_modulus": "Pa", "shear_modulus": "Pa", "area": "m^2",
+            "torsion_constant": "m^4", "inertia_y": "m^4", "inertia_z": "m^4",
+        },
+        GuideModel: {
+            "roll": "N·m/rad", "pitch": "N·m/rad", "yaw": "N·m/rad",
+            "lateral": "N/m", "vertical": "N/m",
+        },
+        BearingModel: {
+            "tilt_lateral": "N·m/rad", "tilt_vertical": "N·m/rad",
+            "radial_lateral": "N/m", "radial_vertical": "N/m",
+        },
+        RevoluteModel: {"tilt": "N·m/rad", "axial": "N/m", "radial": "N/m"},
+    }
+    return dict(units.get(model, {}))
+
+
+def joint_springs(part: GuideModel | BearingModel | RevoluteModel | None) -> FloatArray | None:
+    """A joint part's spring stiffnesses, or None for a rigid joint (no part given)."""
+    return None if part is None else part.stiffnesses()

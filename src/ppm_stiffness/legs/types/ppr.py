@@ -1,0 +1,121 @@
+"""P-P-R leg (the paper's): actuated prismatic on a linear guide, passive prismatic rod
+sliding in a linear bearing (a cylindrical joint), revolute at the platform.
+
+Geometry (Table 1 plus the carriage layout, which the paper does not publish). The
+rail runs through ``base_point`` A along ``u = (cos alpha, sin alpha)``; the rod runs
+along ``w = rot(beta) u`` through the bearing C to the platform point D. In the leg
+frame (u, w) with origin A: ``C = A + rho u + bearing_offset w`` with rho the actuator
+coordinate, and D on the rod line, ``D = C + rod w`` (rod: the free length of the
+rod). The guide block is ``B = A + (rho + guide_offset_u) u + guide_offset_w w``; the
+proximal link runs from B to C. Any rail-rod angle beta with ``sin(beta) != 0`` is
+allowed: ``D - A = rho u + (bearing_offset + rod) w`` is solved as a 2x2 system.
+
+Chain: P (actuated, ``guide`` springs at B) - link B->C (``proximal``) - C (``bearing``
+at C, axis w) - link C->D (``distal``, the rod) - R at D (``platform_revolute``,
+rigid when absent, as in the paper).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+from pydantic import model_validator
+
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, cross_z, planar, unit_planar
+from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.legs.parts import (
+    BearingModel,
+    Finite,
+    GuideModel,
+    Positive,
+    RevoluteModel,
+    SectionModel,
+)
+
+
+class PPRLeg(LegModel):
+    """One P-P-R leg (module doc); lengths [m], angles [rad]."""
+
+    type: Literal["PPR"] = "PPR"
+    base_point: tuple[Finite, Finite]
+    alpha: Finite
+    beta: Finite
+    bearing_offset: Finite
+    guide_offset_u: Finite
+    guide_offset_w: Finite
+    stroke: tuple[Finite, Finite] = (-1.0, 1.0)
+    rod_length_range: tuple[Positive, Positive] = (1e-3, 1.0)
+    guide: GuideModel
+    bearing: BearingModel
+    proximal: SectionModel
+    distal: SectionModel
+    platform_revolute: RevoluteModel | None = None
+
+    COORDINATES: ClassVar[dict[str, Coordinate]] = {
+        "rho": Coordinate("actuator coordinate", "m"),
+        "rod": Coordinate("rod free length", "m"),
+    }
+    UNITS: ClassVar[dict[str, str]] = {
+        **LegModel.UNITS, "base_point": "m", "alpha": "rad", "beta": "rad",
+        "bearing_offset": "m", "guide_offset_u": "m", "guide_offset_w": "m",
+        "stroke": "m", "rod_length_range": "m",
+    }
+    DESCRIPTION: ClassVar[str] = (
+        "actuated prismatic on a rail, rod sliding in a bearing, revolute at the platform"
+    )
+
+    @model_validator(mode="after")
+    def _ranges(self) -> PPRLeg:
+        if not self.stroke[0] < self.stroke[1]:
+            raise ValueError("stroke must be [min, max] with min < max")
+        if not self.rod_length_range[0] < self.rod_length_range[1]:
+            raise ValueError("rod_length_range must be [min, max] with min < max")
+        if abs(np.sin(self.beta)) < 1e-3:
+            raise ValueError("beta: the rod must not be parallel to the rail (sin(beta) = 0)")
+        return self
+
+    def directions(self) -> tuple[FloatArray, FloatArray]:
+        """Rail direction u and rod direction w (unit, F_b)."""
+        return unit_planar(self.alpha), unit_planar(self.alpha + self.beta)
+
+    def limits(self) -> dict[str, tuple[float, float]]:
+        return {"rho": self.stroke, "rod": self.rod_length_range}
+
+    def solve(self, poses: ArrayLike) -> LegPose:
+        pose = np.asarray(poses, dtype=float)
+        u, w = self.directions()
+        d = self.platform_point(pose[..., 2])
+        p_abs = planar(pose[..., :2])
+        a = planar(np.asarray(self.base_point))
+        r = p_abs + d - a
+        det = cross_z(u, w)
+        rho = cross_z(r, np.broadcast_to(w, r.shape)) / det
+        along = cross_z(np.broadcast_to(u, r.shape), r) / det
+        rod = along - self.bearing_offset
+        c = a + rho[..., None] * u + self.bearing_offset * w - p_abs
+        b = a + (rho[..., None] + self.guide_offset_u) * u + self.guide_offset_w * w - p_abs
+        rail = a + rho[..., None] * u - p_abs
+        return LegPose(
+            poses=pose,
+            points={"A": rail, "B": b, "C": c, "D": d},
+            coordinates={"rho": rho, "rod": rod},
+            solvable=np.ones(rho.shape, dtype=bool),
+        )
+
+    def chain(self, leg_pose: LegPose) -> Sequence[Element]:
+        u, w = self.directions()
+        pts = leg_pose.points
+        return [
+            Joint("P", u, pts["B"], self.guide.stiffnesses(), actuated=True, name="guide"),
+            Link(pts["B"], pts["C"], self.proximal.section(), name="proximal"),
+            Joint("C", w, pts["C"], self.bearing.stiffnesses(), name="bearing"),
+            Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
+            Joint("R", Z_AXIS, pts["D"],
+                  None if self.platform_revolute is None
+                  else self.platform_revolute.stiffnesses(),
+                  name="platform_revolute"),
+        ]

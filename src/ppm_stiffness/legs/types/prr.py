@@ -1,0 +1,106 @@
+"""P-R-R leg: an actuated prismatic on a base rail, a revolute on the carriage, a link
+of fixed length, and a platform revolute.
+
+Geometry. The rail runs through ``base_point`` A along ``u = (cos alpha, sin alpha)``;
+the carriage revolute C = A + rho u (rho the actuator coordinate) carries a link of
+length ``link_length`` to the platform point D. With ``r = D - A``,
+``a = r . u`` and ``b = r . n`` (``n = z x u``), ``|D - C| = link_length`` gives
+``rho = a - branch * sqrt(link_length^2 - b^2)``: ``branch = +1`` puts D ahead of C
+along +u, ``branch = -1`` behind it (the two working modes). No real root when
+``|b| > link_length``; the two modes meet (a serial singularity) at ``|b| =
+link_length``.
+
+Chain: P along u at C (actuated, ``guide``) - R at C (``carriage_revolute``) - link
+C->D (``distal``) - R at D (``platform_revolute``). Revolute springs are rigid when
+absent.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+from pydantic import model_validator
+
+from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.legs.parts import (
+    Finite,
+    GuideModel,
+    Positive,
+    RevoluteModel,
+    SectionModel,
+    joint_springs,
+)
+
+
+class PRRLeg(LegModel):
+    """One P-R-R leg (module doc); lengths [m], angles [rad]."""
+
+    type: Literal["PRR"] = "PRR"
+    base_point: tuple[Finite, Finite]
+    alpha: Finite
+    link_length: Positive
+    branch: Literal[-1, 1] = 1
+    stroke: tuple[Finite, Finite]
+    guide: GuideModel
+    distal: SectionModel
+    carriage_revolute: RevoluteModel | None = None
+    platform_revolute: RevoluteModel | None = None
+
+    COORDINATES: ClassVar[dict[str, Coordinate]] = {
+        "rho": Coordinate("actuator coordinate", "m"),
+    }
+    UNITS: ClassVar[dict[str, str]] = {
+        **LegModel.UNITS, "base_point": "m", "alpha": "rad", "link_length": "m",
+        "stroke": "m", "branch": "1",
+    }
+    DESCRIPTION: ClassVar[str] = (
+        "actuated prismatic on a rail, revolute on the carriage, link, platform revolute"
+    )
+
+    @model_validator(mode="after")
+    def _ranges(self) -> PRRLeg:
+        if not self.stroke[0] < self.stroke[1]:
+            raise ValueError("stroke must be [min, max] with min < max")
+        return self
+
+    def rail_direction(self) -> FloatArray:
+        return unit_planar(self.alpha)
+
+    def limits(self) -> dict[str, tuple[float, float]]:
+        return {"rho": self.stroke}
+
+    def solve(self, poses: ArrayLike) -> LegPose:
+        pose = np.asarray(poses, dtype=float)
+        u = self.rail_direction()
+        n = np.array([-u[1], u[0], 0.0])
+        d = self.platform_point(pose[..., 2])
+        p_abs = planar(pose[..., :2])
+        a = planar(np.asarray(self.base_point)) - p_abs
+        r = d - a
+        along, across = r @ u, r @ n
+        disc = self.link_length**2 - across**2
+        rho = along - self.branch * np.sqrt(np.maximum(disc, 0.0))
+        c = a + rho[..., None] * u
+        return LegPose(
+            poses=pose,
+            points={"C": c, "D": d},
+            coordinates={"rho": rho},
+            solvable=disc >= 0,
+        )
+
+    def chain(self, leg_pose: LegPose) -> Sequence[Element]:
+        pts = leg_pose.points
+        u = self.rail_direction()
+        return [
+            Joint("P", u, pts["C"], self.guide.stiffnesses(), actuated=True, name="guide"),
+            Joint("R", Z_AXIS, pts["C"], joint_springs(self.carriage_revolute),
+                  name="carriage_revolute"),
+            Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
+            Joint("R", Z_AXIS, pts["D"], joint_springs(self.platform_revolute),
+                  name="platform_revolute"),
+        ]
