@@ -23,10 +23,9 @@ from ppm_stiffness.statics.deflection import (
     closed_form_twist,
     deflection_curve,
     deflection_path,
-    linear_structure,
     threshold_force,
 )
-from ppm_stiffness.statics.loading import loaded_state
+from ppm_stiffness.statics.loading import actuator_forces, loaded_state
 from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
 
 DESIGN = default_design()
@@ -122,15 +121,17 @@ def test_loaded_stiffness_is_the_derivative_of_the_equilibrium_wrench() -> None:
 # --------------------------------------------------------------------- the path
 def test_affine_compliance_behind_the_closed_form() -> None:
     """C(k) - B^T diag(1/k) B does not depend on k: the actuators enter the
-    compliance only through their own determinate forces (reciprocity)."""
-    lin = linear_structure(DESIGN)
-    b = lin.force_influence
+    compliance only through their own determinate forces (reciprocity): the 3-PPR's
+    actuator forces per unit wrench, B, do not depend on k either."""
+    b = np.array([actuator_forces(DESIGN, e) for e in np.eye(6)]).T
+    k0 = np.full(3, LAW.locked_stiffness)
+    c_s = np.linalg.inv(stiffness_at_pose(DESIGN)) - b.T @ np.diag(1 / k0) @ b
     rng = np.random.default_rng(7)
     for _ in range(3):
         k = 10 ** rng.uniform(3, 6, 3)
         c = np.linalg.inv(stiffness_at_pose(DESIGN, None, k))
         np.testing.assert_allclose(
-            c - b.T @ np.diag(1 / k) @ b, lin.structural_compliance,
+            c - b.T @ np.diag(1 / k) @ b, c_s,
             atol=1e-12 * np.abs(c).max(),
         )
 
@@ -212,7 +213,9 @@ def test_path_is_monotone_for_the_paper_law(mode: str) -> None:
     loads = np.linspace(0.0, TOP[mode], 21)
     curve = deflection_curve(DESIGN, mode, loads)
     assert np.all(np.diff(curve.conjugate_displacement()) > 0)
-    assert np.all(np.diff(np.abs(curve.actuator_displacements), axis=0) >= 0)
+    # >= 0 up to the integration's round-off floor: 1e-15 m on displacements of ~1 mm
+    # (a pure moment leaves leg 3's force at 1e-20 N of noise)
+    assert np.all(np.diff(np.abs(curve.actuator_displacements), axis=0) >= -1e-15)
     for j in range(6):
         d = np.diff(curve.twists[:, j])
         assert np.all(d >= -1e-18) or np.all(d <= 1e-18)

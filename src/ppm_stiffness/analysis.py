@@ -14,11 +14,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ppm_stiffness.core.conventions import twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import actuator_stiffness_vector, stiffness_at_pose, workspace_centre
+from ppm_stiffness.model import (
+    actuator_stiffness_vector,
+    stiffness_at_pose,
+    stiffness_at_tool_point,
+    tool_offset,
+    workspace_centre,
+)
 from ppm_stiffness.statics.loading import loaded_state
 
 
@@ -84,26 +91,59 @@ def analyze_design(
     pose: ArrayLike | None = None,
     wrench: ArrayLike | None = None,
     method: Method = "paper",
+    tool_point: ArrayLike | None = None,
 ) -> dict[str, Any]:
-    """Full analysis at a pose, unloaded or under ``wrench`` (m_x..f_z, at P, F_b).
+    """Full analysis at a pose, unloaded or under ``wrench``, at the tool point.
 
-    Keys: ``pose`` {x, y, phi}, ``actuator_stiffness`` [n], ``stiffness_matrix``,
-    ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``); with a
-    wrench also ``wrench``, ``actuator_forces``, ``actuator_displacements``.
+    Parameters
+    ----------
+    design : Design
+    pose : array_like (3,), optional
+        (x [m], y [m], phi [rad]) of P in F_b; the workspace centre if None.
+    wrench : array_like (6,), optional
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] applied at the tool point, axes of F_b.
+    method : {"paper", "least-squares"}
+        The decoupling reported under ``decoupling``/``principal``.
+    tool_point : array_like (3,), optional
+        In the platform frame [m]; ``design.tool_point`` if None ((0, 0, 0) is P).
+
+    Returns
+    -------
+    dict
+        ``pose`` {x, y, phi}, ``architecture``, ``tool_point`` [m, F_p],
+        ``actuator_units`` [force, displacement, stiffness] per leg,
+        ``actuator_stiffness`` [n], ``stiffness_matrix`` (at the tool point, axes of
+        F_b), ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``);
+        with a wrench also ``wrench``, ``actuator_forces``,
+        ``actuator_displacements`` (delta(G), the integral of 1/K_act),
+        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point).
     """
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    out: dict[str, Any] = {"pose": {"x": float(p[0]), "y": float(p[1]), "phi": float(p[2])}}
+    tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
+    if tool.shape != (3,) or not np.all(np.isfinite(tool)):
+        raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
+    offset = tool_offset(p, tool)  # tool point - P, axes of F_b
+    out: dict[str, Any] = {
+        "pose": {"x": float(p[0]), "y": float(p[1]), "phi": float(p[2])},
+        "architecture": design.architecture,
+        "tool_point": tool.tolist(),
+        "actuator_units": [list(leg.actuator_units()) for leg in design.legs],
+    }
     if wrench is None:
         k_act = actuator_stiffness_vector(design, None)
         k = stiffness_at_pose(design, p, k_act)
     else:
-        state = loaded_state(design, wrench, p)
+        w_tool = np.asarray(wrench, dtype=float)
+        w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # moved from T to P
+        state = loaded_state(design, w_p, p)
         k_act, k = state.actuator_stiffness, state.stiffness_matrix
-        out["wrench"] = state.wrench.tolist()
+        out["wrench"] = w_tool.tolist()
         out["actuator_forces"] = state.actuator_forces.tolist()
         out["actuator_displacements"] = state.actuator_displacements.tolist()
+        out["actuator_secant_stiffness"] = state.secant_stiffness.tolist()
+        out["twist"] = (twist_b_from_twist_a(np.eye(3), -offset) @ state.twist).tolist()
     out["actuator_stiffness"] = np.asarray(k_act).tolist()
-    out.update(analyze_matrix(k, method))
+    out.update(analyze_matrix(stiffness_at_tool_point(k, p, tool), method))
     return out
 
 

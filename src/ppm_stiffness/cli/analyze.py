@@ -13,12 +13,14 @@ from ppm_stiffness.analysis import analyze_design, analyze_matrix, dump_json
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
+    add_tool_point_argument,
     add_wrench_argument,
     console,
     load_design_arg,
     parse_wrench,
     pose_from_args,
     read_matrix_csv,
+    tool_point_from_args,
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
@@ -34,6 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     add_pose_arguments(parser)
     add_wrench_argument(parser)
+    add_tool_point_argument(parser)
     parser.add_argument(
         "--matrix", metavar="FILE.csv",
         help="analyse this 6x6 stiffness matrix (SI, order phi_x,phi_y,phi_z,x,y,z) "
@@ -49,9 +52,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.matrix is not None:
         if args.design is not None or args.wrench is not None or any(
-            getattr(args, k) is not None for k in ("x", "y", "phi")
+            getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point")
         ):
-            raise InputDataError("--matrix cannot be combined with --design, a pose or --wrench")
+            raise InputDataError(
+                "--matrix cannot be combined with --design, a pose, --wrench or --tool-point"
+            )
         k = validate_stiffness_matrix(read_matrix_csv(args.matrix), args.matrix)
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
@@ -60,7 +65,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         design = load_design_arg(args)
         pose = pose_from_args(args, design)
-        result = analyze_design(design, pose, parse_wrench(args.wrench), args.method)
+        result = analyze_design(design, pose, parse_wrench(args.wrench), args.method,
+                                tool_point_from_args(args, design))
         title = design.name
     if args.json:
         print(dump_json(result))
@@ -108,8 +114,15 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             f"pose: x = {p['x'] * 1e3:.3f} mm, y = {p['y'] * 1e3:.3f} mm, "
             f"phi = {np.degrees(p['phi']):.3f} deg (P in F_b)"
         )
-        k_act = ", ".join(f"{v:.6g}" for v in result["actuator_stiffness"])
-        c.print(f"actuator stiffness \\[N/m]: {k_act}")
+        units = result.get("actuator_units") or [["N", "m", "N/m"]] * len(
+            result["actuator_stiffness"])
+        k_act = ", ".join(f"{v:.6g} {u[2]}" for v, u in
+                          zip(result["actuator_stiffness"], units, strict=True))
+        c.print(f"architecture: {result.get('architecture', '')}; actuator stiffness: {k_act}")
+        tool = result.get("tool_point", [0.0, 0.0, 0.0])
+        if any(tool):
+            c.print("tool point T (platform frame): ({:.3f}, {:.3f}, {:.3f}) mm; results "
+                    "below are at T".format(*(1e3 * np.asarray(tool))))
     if "wrench" in result:
         w = result["wrench"]
         c.print(
@@ -117,12 +130,22 @@ def print_tables(result: dict[str, Any], title: str) -> None:
                 *w[3:], *w[:3]
             )
         )
-        forces = ", ".join(f"{v:.4g}" for v in result["actuator_forces"])
-        disp = ", ".join(f"{v * 1e3:.4g}" for v in result["actuator_displacements"])
-        c.print(f"actuator forces \\[N]: {forces}; displacements \\[mm]: {disp}")
+        units = result["actuator_units"]
+        forces = ", ".join(f"{v:.4g} {u[0]}" for v, u in
+                           zip(result["actuator_forces"], units, strict=True))
+        disp = ", ".join(
+            f"{v * 1e3:.4g} mm" if u[1] == "m" else f"{np.degrees(v):.4g} deg"
+            for v, u in zip(result["actuator_displacements"], units, strict=True)
+        )
+        c.print(f"actuator forces: {forces}; displacements: {disp}")
+        t = result["twist"]
+        c.print("deflection: rotation ({:.4g}, {:.4g}, {:.4g}) mrad, displacement "
+                "({:.4g}, {:.4g}, {:.4g}) µm".format(*(1e3 * np.asarray(t[:3])),
+                                                      *(1e6 * np.asarray(t[3:]))))
     k = np.asarray(result["stiffness_matrix"])
     c.print(_matrix_table(
-        "Cartesian stiffness K at P, axes of F_b (w = K t; t = (phi, u) [rad, m], "
+        "Cartesian stiffness K at " + ("T" if any(result.get("tool_point") or [])
+                                       else "P") + ", axes of F_b (w = K t; t = (phi, u) [rad, m], "
         "w = (m, f) [N·m, N])",
         k, TWIST_COMPONENTS, "{:.5g}", _ROW_UNITS,
     ))

@@ -91,6 +91,22 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--phi", type=float, metavar="DEG", help="orientation [deg]")
 
 
+def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--tool-point", metavar="X,Y,Z",
+        help="report at this point of the platform [mm, platform frame] instead of the "
+        "design's tool_point (default: P)",
+    )
+
+
+def tool_point_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
+    """The tool point [m, platform frame]: --tool-point [mm] or the design's."""
+    text = getattr(args, "tool_point", None)
+    if text is None:
+        return np.asarray(design.tool_point, dtype=float)
+    return np.array(parse_floats(text, 3, "--tool-point", "X,Y,Z")) * 1e-3
+
+
 def add_wrench_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--wrench",

@@ -25,3 +25,7 @@ class InputDataError(PPMStiffnessError):
 
 class DesignFormatWarning(FutureWarning):
     """A design file in an old format was read (it still loads; re-save it)."""
+
+
+class EquilibriumError(PPMStiffnessError):
+    """The loaded equilibrium could not be solved (no convergence)."""

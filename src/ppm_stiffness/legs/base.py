@@ -100,6 +100,8 @@ class LegModel(PartModel):
     COORDINATES: ClassVar[dict[str, Coordinate]] = {}
     #: SI unit of each geometry field ("m", "rad"); parts carry their own.
     UNITS: ClassVar[dict[str, str]] = {"psi": "rad", "platform_radius": "m"}
+    #: The key of :data:`COORDINATES` that the actuator drives (its stroke).
+    ACTUATED_COORDINATE: ClassVar[str] = "rho"
     #: Kind of the actuated joint ("P": linear actuator, "R": rotary).
     ACTUATED_KIND: ClassVar[str] = "P"
     #: One line for listings: what the letters mean, which joint is actuated.

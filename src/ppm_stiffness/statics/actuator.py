@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.design import ActuatorModel
+from ppm_stiffness.legs.parts import ActuatorModel
 
 
 def displacement_from_force(law: ActuatorModel, force: ArrayLike) -> FloatArray:
@@ -40,3 +40,51 @@ def stiffness_from_displacement(law: ActuatorModel, displacement: ArrayLike) -> 
 def stiffness_from_force(law: ActuatorModel, force: ArrayLike) -> FloatArray:
     """Actuator stiffness [N/m] under an axial force [N] (eq. 20 then 21)."""
     return stiffness_from_displacement(law, displacement_from_force(law, force))
+
+
+def threshold_force(law: ActuatorModel) -> float:
+    """Force at which eq. (21) leaves the locked branch: ``k_a delta_th^q`` [N or N·m]."""
+    return float(law.k_a * law.threshold_displacement**law.q)
+
+
+def actuator_displacement(law: ActuatorModel, force: ArrayLike) -> FloatArray:
+    """The actuator displacement under force G: ``delta(G) = int_0^G dG' / K_act(G')``.
+
+    This is the one actuator displacement of the library (loaded state, deflection,
+    maps): its derivative is the tangent compliance ``1 / K_act`` of eq. (21)
+    everywhere, so a deflection integrated along any load path ends where the
+    equilibrium of :mod:`ppm_stiffness.statics.equilibrium` says. ``G / K_locked`` up to
+    the threshold force ``G_th``; above it ``G_th / K_locked + (|G|/k_a)^(1/q) -
+    delta_th``, with the sign of G. Above the threshold it exceeds the bare law
+    ``(G/k_a)^(1/q)`` by ``G_th/K_locked - delta_th`` (20.9 µm for the paper's law):
+    eq. (21)'s locked branch and eq. (20) do not describe the same displacement, and
+    the bare law is not even monotone at the threshold (docs/actuation.md).
+
+    Parameters
+    ----------
+    law : ActuatorModel
+    force : array_like [N, or N·m for a rotary actuator]
+
+    Returns
+    -------
+    ndarray, same shape [m, or rad]
+    """
+    g = np.asarray(force, dtype=float)
+    mag = np.abs(g)
+    g_th = threshold_force(law)
+    locked = mag / law.locked_stiffness
+    powered = (
+        g_th / law.locked_stiffness
+        + displacement_from_force(law, mag)
+        - law.threshold_displacement
+    )
+    return np.asarray(np.sign(g) * np.where(mag <= g_th, locked, powered))
+
+
+def powered_stiffness(law: ActuatorModel, force: ArrayLike) -> FloatArray:
+    """The powered branch of eq. (21) at a force, ``q k_a delta^(q-1)`` with the bare
+    law's ``delta = (|G|/k_a)^(1/q)``, whatever the threshold [N/m or N·m/rad]."""
+    delta = displacement_from_force(law, force)
+    safe = np.where(delta > 0, delta, 1.0)
+    at_zero = np.inf if law.q < 1 else law.k_a  # the tangent of delta^q at 0
+    return np.asarray(np.where(delta > 0, law.q * law.k_a * safe ** (law.q - 1.0), at_zero))

@@ -1,34 +1,30 @@
 """Deflection of the loaded platform along a growing load, actuators' law in the loop.
 
 A load grows from zero along a fixed direction, ``w(L) = L * w_hat`` (``L`` in N or
-N·m, ``w_hat`` the wrench of a unit load). The platform twist follows from
+N·m, ``w_hat`` the wrench of a unit load), geometry fixed at the unloaded pose (small
+displacements, as in the paper). Three ways to compute the platform twist t(L):
 
-    dt/dL = K(k_act(L))^{-1} w_hat,        t(0) = 0,
+``"closed-form"``
+    the exact equilibrium at each load (:mod:`ppm_stiffness.statics.equilibrium`):
+    actuator displacements ``delta(G) = int dG / K_act`` (eq. 20-21) in closed form,
+    the actuator forces by Newton's method (directly, for 3-leg designs whose forces
+    are statically determinate).
+``"integrate"``
+    an independent route: the tangent model integrated along the load path,
+    ``dt/dL = K(L)^-1 w_hat`` and ``dG_i/dL = a_i . K_i(L) K(L)^-1 w_hat`` (each leg's
+    share of the load increment, by its tangent stiffness K_i), with every actuator at
+    its tangent stiffness (eq. 21) under its current force. The right-hand side jumps
+    where an actuator leaves its locked branch; the integration stops there (an
+    event) and restarts, each piece with an adaptive 8th-order Runge-Kutta scheme
+    (``scipy.integrate.solve_ivp``, DOP853). It uses neither ``delta(G)`` in closed
+    form nor the equilibrium solver, and agrees with them (tests).
+``"linear"``
+    one linearisation at zero load, every actuator locked (the paper's matrix 22).
 
-where ``K`` is the model's stiffness (:mod:`ppm_stiffness.model`, geometry fixed at the
-unloaded pose) with each actuator at its tangent stiffness (eq. 21) under its current
-force ``G_i(L) = L * (B w_hat)_i`` (:func:`ppm_stiffness.statics.loading.actuator_forces`; the
-3-PPR's in-plane statics are determinate, so ``B`` does not depend on the stiffnesses).
-The right-hand side jumps where an actuator leaves its locked branch; the load axis is
-cut there and each piece is integrated with an adaptive 8th-order Runge-Kutta scheme
-(``scipy.integrate.solve_ivp``, DOP853).
-
-Closed form. With the geometry fixed and determinate forces, the compliance is affine
-in the actuator compliances, ``C(k) = C_s + B^T diag(1/k) B`` (``C_s``: actuators rigid;
-``B^T`` column i: the platform twist per unit actuator displacement, by reciprocity),
-so the path integrates exactly to
-
-    t(L) = C_s w(L) + B^T delta(B w(L)),
-
-with ``delta(G)`` the actuator displacement :func:`actuator_displacement`, the integral
-of the tangent compliance ``1/K_act`` along the force path. Below the locked
-threshold this is ``G / K_locked``; above, ``G_th / K_locked + (G/k_a)^(1/q) - delta_th``
-(``G_th = k_a delta_th^q`` the force at the threshold). Above the threshold it
-exceeds the bare law ``(G/k_a)^(1/q)`` by the constant ``G_th/K_locked - delta_th``
-(20.9 µm for the paper's values: 2.99 N on the locked 1.1108e5 N/m is 26.9 µm, while
-eq. 20 reaches 2.99 N at 6 µm). Eq. (21)'s locked branch and eq. (20) do not describe
-the same displacement; a tangent-stiffness model can only be consistent with the
-first. See docs/actuation.md.
+The actuator displacement is the integral of the tangent compliance 1/K_act
+(:func:`ppm_stiffness.statics.actuator.actuator_displacement`); above the threshold it
+exceeds the bare law ``(G/k_a)^(1/q)`` by ``G_th/K_locked - delta_th`` (20.9 µm for
+the paper's values). See docs/actuation.md.
 """
 
 from __future__ import annotations
@@ -42,28 +38,35 @@ from scipy.integrate import solve_ivp
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
-from ppm_stiffness.design import ActuatorModel, Design
-from ppm_stiffness.model import (
-    actuator_stiffness_vector,
-    check_nonsingular,
-    leg_springs_at_pose,
-    workspace_centre,
+from ppm_stiffness.design import Design
+from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.statics.actuator import (
+    actuator_displacement,
+    powered_stiffness,
+    threshold_force,
 )
-from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.equilibrium import (
+    LegStructures,
+    equilibrium,
+    tangent_stiffnesses,
+)
 from ppm_stiffness.statics.loading import (
-    actuator_forces,
     check_actuator_travel,
     check_small_rotation,
     validate_wrench,
 )
 
+__all__ = [
+    "LOAD_UNITS", "METHODS", "MODES", "DeflectionCurve", "actuator_displacement",
+    "closed_form_twist", "deflection_curve", "deflection_path", "mode_wrench",
+    "threshold_force",
+]
+
 #: The loading modes of the paper's Fig. 9, plus an arbitrary proportional wrench.
 MODES = ("planar-force", "moment", "vertical-force")
 #: Unit of the load for each mode ("wrench": a dimensionless scale of a given wrench).
 LOAD_UNITS = {"planar-force": "N", "moment": "N·m", "vertical-force": "N", "wrench": "1"}
-#: Ways to compute the path: the integral of the tangent compliance, its closed form,
-#: or one linearisation at zero load (every actuator locked, the paper's matrix 22).
+#: Ways to compute the path (module doc).
 METHODS = ("integrate", "closed-form", "linear")
 
 #: Relative tolerance of the path integration (DOP853).
@@ -97,94 +100,6 @@ def mode_wrench(mode: str, alpha: float = math.pi / 4) -> FloatArray:
     else:
         raise InputDataError(f"unknown loading mode {mode!r}; expected one of {MODES}")
     return w
-
-
-def threshold_force(law: ActuatorModel) -> float:
-    """Force [N] at which eq. (21) leaves the locked branch: ``k_a delta_th^q``."""
-    return float(law.k_a * law.threshold_displacement**law.q)
-
-
-def actuator_displacement(law: ActuatorModel, force: ArrayLike) -> FloatArray:
-    """Signed actuator displacement [m] under force [N]: ``int_0^G dG' / K_act(G')``.
-
-    ``G / K_locked`` up to the threshold force ``G_th``; above it
-    ``G_th / K_locked + (|G|/k_a)^(1/q) - delta_th``, with the sign of ``G``. The
-    derivative is the tangent compliance ``1 / K_act`` of eq. (21) everywhere.
-    """
-    g = np.asarray(force, dtype=float)
-    mag = np.abs(g)
-    g_th = threshold_force(law)
-    locked = mag / law.locked_stiffness
-    powered = (
-        g_th / law.locked_stiffness
-        + act.displacement_from_force(law, mag)
-        - law.threshold_displacement
-    )
-    return np.asarray(np.sign(g) * np.where(mag <= g_th, locked, powered))
-
-
-@dataclass(frozen=True)
-class LinearStructure:
-    """The linear parts of the deflection at a pose.
-
-    Attributes
-    ----------
-    structural_compliance : ndarray, shape (6, 6)
-        ``C_s``, the platform compliance with rigid actuators [rad/(N·m), rad/N, m/N].
-    force_influence : ndarray, shape (n_legs, 6)
-        ``B``: actuator forces [N] per unit wrench, ``G = B w``.
-    """
-
-    structural_compliance: FloatArray
-    force_influence: FloatArray
-
-
-class _TangentModel:
-    """The model's K at one pose for any actuator stiffness vector (springs built once)."""
-
-    def __init__(self, design: Design, pose: FloatArray) -> None:
-        legs = leg_springs_at_pose(design, pose)
-        k0 = actuator_stiffness_vector(design, None)
-        self._passive = np.stack([leg.passive for leg in legs])
-        c6 = np.stack([leg_compliance_at_platform(leg.screws, leg.compliance) for leg in legs])
-        self._act = np.stack([leg.screws[:, leg.actuator_index] for leg in legs])
-        # J C' J^T of the structure alone: remove the locked actuator's a a^T / k0.
-        self._structure = c6 - np.einsum("li,lj->lij", self._act, self._act) / k0[:, None, None]
-
-    def stiffness(self, actuator_stiffness: FloatArray) -> FloatArray:
-        c6 = self._structure + (
-            np.einsum("li,lj->lij", self._act, self._act) / actuator_stiffness[:, None, None]
-        )
-        return np.asarray(bordered_stiffness(c6, self._passive).sum(axis=0))
-
-
-def linear_structure(design: Design, pose: ArrayLike | None = None) -> LinearStructure:
-    """``C_s`` and ``B`` at a pose (see the module docstring)."""
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    b = np.array([actuator_forces(design, e, p) for e in np.eye(6)]).T
-    k0 = actuator_stiffness_vector(design, None)
-    k = _TangentModel(design, p).stiffness(k0)
-    check_nonsingular(k)
-    c = np.linalg.inv(k)
-    c_s = c - b.T @ np.diag(1.0 / k0) @ b
-    return LinearStructure(0.5 * (c_s + c_s.T), b)
-
-
-def closed_form_twist(
-    design: Design, wrench: ArrayLike, pose: ArrayLike | None = None
-) -> FloatArray:
-    """Twist (6,) [rad, m] under ``wrench`` applied from zero: ``C_s w + B^T delta(B w)``.
-
-    Path independent (the forces are determinate), so any loading history that ends
-    at ``wrench`` gives this twist.
-    """
-    w = validate_wrench(wrench)
-    lin = linear_structure(design, pose)
-    g = lin.force_influence @ w
-    return np.asarray(
-        lin.structural_compliance @ w
-        + lin.force_influence.T @ actuator_displacement(design.actuator, g)
-    )
 
 
 @dataclass(frozen=True)
@@ -251,42 +166,98 @@ def _validate_loads(loads: ArrayLike) -> FloatArray:
     return x
 
 
+def _validate_loads(loads: ArrayLike) -> FloatArray:
+    x = np.asarray(loads, dtype=float)
+    if x.ndim != 1 or x.size == 0:
+        raise InputDataError(f"loads must be a non-empty 1-D array, got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise InputDataError("loads must be finite")
+    if np.any(x < 0) or np.any(np.diff(x) <= 0):
+        raise InputDataError(
+            "loads must be >= 0 and strictly increasing (the load grows from zero; "
+            "reverse a direction with alpha or a negative wrench instead)"
+        )
+    return x
+
+
+def closed_form_twist(
+    design: Design, wrench: ArrayLike, pose: ArrayLike | None = None
+) -> FloatArray:
+    """Twist (6,) [rad, m] under ``wrench`` applied from zero: the exact equilibrium.
+
+    Path independent (the actuator springs are elastic), so any loading history that
+    ends at ``wrench`` gives this twist.
+    """
+    w = validate_wrench(wrench)
+    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    return equilibrium(design, w, p).twist
+
+
 def _integrate(
-    model: _TangentModel,
-    law: ActuatorModel,
+    design: Design,
+    structures: LegStructures,
     unit_wrench: FloatArray,
-    g_unit: FloatArray,
     loads: FloatArray,
     rtol: float,
-) -> FloatArray:
-    """t(L) at ``loads`` by integrating dt/dL = K(L)^-1 w_hat from L = 0."""
+) -> tuple[FloatArray, FloatArray]:
+    """t(L) (n_loads, 6) and G(L) (n_loads, n_legs) by integrating the tangent model."""
+    n = structures.n_legs
+    g_th = np.array([threshold_force(leg.actuator) for leg in design.legs])
 
-    def rhs(load: float, _t: FloatArray) -> FloatArray:
-        k = act.stiffness_from_force(law, load * g_unit)
-        return np.asarray(np.linalg.solve(model.stiffness(k), unit_wrench))
+    def rates(state: FloatArray, branch: FloatArray) -> FloatArray:
+        g = state[6:]
+        # the branch (locked or powered) is fixed within a piece, so the right-hand
+        # side is smooth there; it is chosen at the start of each piece
+        k = np.array([
+            powered_stiffness(leg.actuator, g[i]) if branch[i]
+            else leg.actuator.locked_stiffness
+            for i, leg in enumerate(design.legs)
+        ])
+        legs_k = structures.leg_stiffnesses(k)
+        dt = np.linalg.solve(legs_k.sum(axis=0), unit_wrench)
+        dg = np.einsum("li,lij,j->l", structures.actuator, legs_k, dt)
+        return np.concatenate([dt, dg])
 
-    g_th = threshold_force(law)
+    def crossing(i: int) -> object:
+        def event(_load: float, state: FloatArray, *_args: object) -> float:
+            return float(abs(state[6 + i]) - g_th[i])
+
+        event.terminal = True  # type: ignore[attr-defined]
+        return event
+
+    events = [crossing(i) for i in range(n)]
     top = float(loads[-1])
-    cuts = {0.0, top}
-    for g in np.abs(g_unit):
-        if g > 1e-12 * max(float(np.max(np.abs(g_unit))), 1e-300):
-            cut = g_th / g
-            if 0.0 < cut < top:
-                cuts.add(cut)
-    edges = sorted(cuts)
-    out = np.zeros((loads.size, 6))
-    state = np.zeros(6)
-    for a, b in zip(edges[:-1], edges[1:], strict=True):
-        inside = (loads > a) & (loads <= b)
-        points = np.unique(np.append(loads[inside], b))
+    out_t = np.zeros((loads.size, 6))
+    out_g = np.zeros((loads.size, n))
+    state = np.zeros(6 + n)
+    start = 0.0
+    for _ in range(4 * n + 4):
+        # an actuator with no locked range (threshold 0) is powered once loaded
+        powered = (np.abs(state[6:]) > g_th * (1 + 1e-12)) | (g_th == 0)
+        # an actuator sitting at its threshold: powered if its force is growing
+        at_edge = np.isclose(np.abs(state[6:]), g_th, rtol=1e-9, atol=0.0) & (g_th > 0)
+        if np.any(at_edge):
+            grow = rates(state, powered)[6:] * np.sign(state[6:])
+            powered = powered | (at_edge & (grow > 0))
         sol = solve_ivp(
-            rhs, (a, b), state, method="DOP853", t_eval=points, rtol=rtol, atol=1e-16
+            lambda _load, y, branch: rates(y, branch), (start, top), state,
+            method="DOP853", args=(powered,), rtol=rtol, atol=1e-16, events=[
+                ev for i, ev in enumerate(events) if not at_edge[i] and g_th[i] > 0
+            ] or None, dense_output=True,
         )
         if not sol.success:  # pragma: no cover - DOP853 on a smooth bounded RHS
             raise InputDataError(f"deflection integration failed: {sol.message}")
-        out[inside] = sol.y.T[: int(np.count_nonzero(inside))]
+        end = float(sol.t[-1])
+        inside = (loads > start) & (loads <= end)
+        if np.any(inside):
+            values = sol.sol(loads[inside])
+            out_t[inside] = values[:6].T
+            out_g[inside] = values[6:].T
         state = sol.y[:, -1]
-    return out
+        start = end
+        if end >= top:
+            return out_t, out_g
+    raise InputDataError("deflection integration: too many actuator branch changes")
 
 
 def deflection_path(
@@ -327,36 +298,39 @@ def deflection_path(
     if method not in METHODS:
         raise InputDataError(f"unknown method {method!r}; expected one of {METHODS}")
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    law = design.actuator
-    lin = linear_structure(design, p)
-    g_unit = lin.force_influence @ w_hat
-    forces = x[:, None] * g_unit[None, :]
-    check_actuator_travel(design, actuator_displacement(law, forces[-1:]))
-    if method == "integrate":
-        twists = _integrate(_TangentModel(design, p), law, w_hat, g_unit, x, INTEGRATION_RTOL)
-    elif method == "closed-form":
-        twists = (
-            x[:, None] * (lin.structural_compliance @ w_hat)[None, :]
-            + actuator_displacement(law, forces) @ lin.force_influence
-        )
-    else:
-        k0 = actuator_stiffness_vector(design, None)
-        b = lin.force_influence
-        c0 = lin.structural_compliance + b.T @ np.diag(1 / k0) @ b
-        twists = x[:, None] * (c0 @ w_hat)[None, :]
-    check_small_rotation(twists)
+    structures = LegStructures(design, p)
+    locked = np.array([leg.actuator.locked_stiffness for leg in design.legs])
     if method == "linear":
-        k_act = np.broadcast_to(actuator_stiffness_vector(design, None), forces.shape).copy()
+        legs_k = structures.leg_stiffnesses(locked)
+        c0 = np.linalg.inv(legs_k.sum(axis=0))
+        t_unit = c0 @ w_hat
+        g_unit = np.einsum("li,lij,j->l", structures.actuator, legs_k, t_unit)
+        twists = x[:, None] * t_unit[None, :]
+        forces = x[:, None] * g_unit[None, :]
+        k_act = np.broadcast_to(locked, forces.shape).copy()
         disp = forces / k_act
     else:
-        k_act = act.stiffness_from_force(law, forces)
-        disp = actuator_displacement(law, forces)
+        # the top load first: refuse a load beyond the strokes before integrating
+        top = equilibrium(design, x[-1] * w_hat, p, structures)
+        check_actuator_travel(design, top.actuator_displacements)
+        check_small_rotation(top.twist)
+        if method == "integrate":
+            twists, forces = _integrate(design, structures, w_hat, x, INTEGRATION_RTOL)
+        else:
+            states = [equilibrium(design, load * w_hat, p, structures) for load in x]
+            twists = np.array([e.twist for e in states])
+            forces = np.array([e.actuator_forces for e in states])
+        k_act = tangent_stiffnesses(design, forces)
+        disp = np.stack([actuator_displacement(leg.actuator, forces[:, i])
+                         for i, leg in enumerate(design.legs)], axis=-1)
+    check_actuator_travel(design, disp)
+    check_small_rotation(twists)
     return DeflectionCurve(
         mode=mode,
         loads=x,
         wrenches=x[:, None] * w_hat[None, :],
         twists=np.asarray(twists),
-        actuator_forces=forces,
+        actuator_forces=np.asarray(forces),
         actuator_stiffness=np.asarray(k_act),
         actuator_displacements=np.asarray(disp),
         unit_wrench=w_hat,

@@ -1,15 +1,15 @@
 """The loaded manipulator: actuator forces, actuator stiffness and K under a wrench.
 
 An external wrench ``w = (m_x, m_y, m_z, f_x, f_y, f_z)`` [N·m, N] applied at P (axes
-of F_b) is shared by the legs in proportion to their stiffness:
-``w_i = K_i K^{-1} w`` (so that ``sum_i w_i = w``, equilibrium). All springs of a leg
-are in series, so each carries the projection of ``w_i`` on its screw; the actuator
-carries ``G_i = u_i . f_i`` [N]. For the 3-PPR each leg transmits a single in-plane
-force, so the in-plane split is statically determinate and these forces do not
-depend on the stiffness values used for the split.
+of F_b). :func:`loaded_state` solves the equilibrium with the nonlinear actuator law
+(:mod:`ppm_stiffness.statics.equilibrium`). :func:`actuator_forces` is the *linear*
+split at given actuator stiffnesses, ``w_i = K_i K^{-1} w``: exact for a 3-leg planar
+design (its actuator forces are statically determinate, independent of the
+stiffnesses), an approximation for a redundant one.
 
-Sign: ``G_i = u_i . f_i``, the component along ``u_i`` of the force carried by leg i;
-the actuator law is odd, so only ``|G_i|`` sets its stiffness.
+Sign: ``G_i = a_i . w_i`` with ``a_i`` the actuated joint's unit twist
+(for a linear actuator along u_i, ``G_i = u_i . f_i``); the actuator law is odd, so
+only ``|G_i|`` sets its stiffness.
 """
 
 from __future__ import annotations
@@ -25,10 +25,14 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_screws_at_pose,
     leg_stiffnesses_at_pose,
-    stiffness_at_pose,
     workspace_centre,
 )
-from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.equilibrium import (
+    MAX_ROTATION,
+    check_actuator_travel,
+    check_small_rotation,
+    equilibrium,
+)
 
 
 def validate_wrench(wrench: ArrayLike) -> FloatArray:
@@ -41,50 +45,6 @@ def validate_wrench(wrench: ArrayLike) -> FloatArray:
     if not np.all(np.isfinite(w)):
         raise InputDataError("wrench components must be finite")
     return w
-
-
-def check_actuator_travel(design: Design, displacements: ArrayLike) -> None:
-    """Refuse loads under which an actuator would travel beyond its stroke.
-
-    The model is one of small displacements about a fixed geometry; an actuator
-    displaced by more than its whole stroke (``stroke[1] - stroke[0]`` of its leg) is
-    far outside it, and its stiffness from eq. (21) is meaningless.
-
-    Parameters
-    ----------
-    displacements : array_like, shape (..., n_legs)
-        Actuator displacement magnitudes [m].
-    """
-    d = np.abs(np.asarray(displacements, dtype=float)).reshape(-1, len(design.legs))
-    spans = np.array([leg.stroke[1] - leg.stroke[0] for leg in design.legs])
-    worst = np.where(np.isfinite(d), d, 0.0).max(axis=0)
-    for i in np.flatnonzero(~(worst <= spans)):
-        raise InputDataError(
-            f"load too large: actuator {i + 1} would move {worst[i] * 1e3:.4g} mm, more than "
-            f"its whole stroke of {spans[i] * 1e3:.4g} mm (the model is for small deflections)"
-        )
-
-
-#: Largest platform rotation [rad] a deflection may reach: the model linearises the
-#: geometry about the unloaded pose (small displacements).
-MAX_ROTATION = 0.1
-
-
-def check_small_rotation(twists: ArrayLike) -> None:
-    """Refuse deflections whose rotation exceeds :data:`MAX_ROTATION` (5.7 deg).
-
-    Parameters
-    ----------
-    twists : array_like, shape (..., 6)
-        Platform twists (rotation first) [rad, m].
-    """
-    t = np.asarray(twists, dtype=float).reshape(-1, 6)
-    rotation = float(np.max(np.linalg.norm(t[:, :3], axis=1))) if len(t) else 0.0
-    if not rotation <= MAX_ROTATION:
-        raise InputDataError(
-            f"load too large: the platform would rotate {np.degrees(rotation):.3g} deg, "
-            f"beyond the {np.degrees(MAX_ROTATION):.2g} deg a small-displacement model covers"
-        )
 
 
 def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:
@@ -100,9 +60,11 @@ def actuator_forces(
     pose: ArrayLike | None = None,
     actuator_stiffness: ArrayLike | None = None,
 ) -> FloatArray:
-    """Axial force [N] in each actuator for an external wrench at a pose.
+    """Actuator forces [N or N·m] by the linear split at given actuator stiffnesses.
 
-    ``actuator_stiffness`` only matters for statically indeterminate designs.
+    Exact for statically determinate designs, whatever ``actuator_stiffness``; for a
+    redundant design it is the split of a linear model with those stiffnesses (the
+    locked ones by default), *not* the loaded equilibrium: use :func:`loaded_state`.
     """
     w = validate_wrench(wrench)
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
@@ -114,20 +76,25 @@ def actuator_forces(
 
 @dataclass(frozen=True)
 class LoadedState:
-    """The manipulator under a wrench (SI).
+    """The manipulator under a wrench (SI; at P, axes of F_b).
 
     Attributes
     ----------
     pose : ndarray (3,)
     wrench : ndarray (6,)
-    actuator_forces : ndarray (n_legs,) [N]
-    actuator_displacements : ndarray (n_legs,) [m]
-        Magnitudes from the bare law, eq. (20): the delta that sets the stiffness in
-        eq. (21). The deflection module's actuator displacement, the integral of
-        1/K_act along the force path, exceeds it by G_th/K_locked - delta_th (20.9 um
-        for the paper's law) above the threshold (docs/actuation.md).
-    actuator_stiffness : ndarray (n_legs,) [N/m], eq. (21)
+    actuator_forces : ndarray (n_legs,) [N or N·m]
+    actuator_displacements : ndarray (n_legs,) [m or rad]
+        Signed ``delta(G)``, the integral of 1/K_act along the force
+        (:func:`ppm_stiffness.statics.actuator.actuator_displacement`): the same
+        displacement ``deflect`` and the maps use.
+    actuator_stiffness : ndarray (n_legs,)
+        Tangent stiffness (eq. 21) at the force.
+    secant_stiffness : ndarray (n_legs,)
+        ``G / delta(G)``: the stiffness that shares the load in redundant designs.
+    twist : ndarray (6,) [rad, m]
+        Platform deflection from the unloaded pose.
     stiffness_matrix : ndarray (6, 6)
+        Tangent Cartesian stiffness at the loaded state (the paper's eq. 33).
     """
 
     pose: FloatArray
@@ -135,22 +102,43 @@ class LoadedState:
     actuator_forces: FloatArray
     actuator_displacements: FloatArray
     actuator_stiffness: FloatArray
+    secant_stiffness: FloatArray
+    twist: FloatArray
     stiffness_matrix: FloatArray
 
 
 def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = None) -> LoadedState:
     """Actuator forces, displacements, stiffnesses and K under ``wrench`` at ``pose``.
 
-    The forces come from the statics of the unloaded (locked) manipulator; the
-    structure is linear and the 3-PPR's in-plane split is determinate, so no
-    iteration is needed. Geometry changes under load are neglected (small
-    displacements), as in the paper.
+    The equilibrium of the nonlinear actuator springs is solved exactly
+    (:func:`ppm_stiffness.statics.equilibrium.equilibrium`): for 3-leg planar designs
+    the actuator forces are statically determinate, for redundant ones the secant
+    actuator stiffnesses share the load. Geometry changes under load are neglected
+    (small displacements), as in the paper.
+
+    Raises
+    ------
+    InputDataError
+        If an actuator would travel beyond its whole stroke or the platform would turn
+        by more than :data:`~ppm_stiffness.statics.equilibrium.MAX_ROTATION`.
+    UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
     w = validate_wrench(wrench)
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    forces = actuator_forces(design, w, p)
-    delta = act.displacement_from_force(design.actuator, forces)
-    check_actuator_travel(design, delta)
-    k_act = act.stiffness_from_displacement(design.actuator, delta)
-    k = stiffness_at_pose(design, p, k_act)
-    return LoadedState(p, w, forces, delta, k_act, k)
+    eq = equilibrium(design, w, p)
+    return LoadedState(
+        pose=p,
+        wrench=w,
+        actuator_forces=eq.actuator_forces,
+        actuator_displacements=eq.actuator_displacements,
+        actuator_stiffness=eq.actuator_stiffness,
+        secant_stiffness=eq.secant_stiffness,
+        twist=eq.twist,
+        stiffness_matrix=eq.stiffness_matrix,
+    )
+
+
+__all__ = [
+    "MAX_ROTATION", "LoadedState", "actuator_forces", "check_actuator_travel",
+    "check_small_rotation", "leg_wrenches", "loaded_state", "validate_wrench",
+]

@@ -62,6 +62,7 @@ class RRRLeg(LegModel):
         "stroke": "rad", "branch": "1",
     }
     ACTUATED_KIND: ClassVar[str] = "R"
+    ACTUATED_COORDINATE: ClassVar[str] = "theta"
     DESCRIPTION: ClassVar[str] = (
         "actuated base revolute, proximal link, elbow revolute, distal link, "
         "platform revolute"
