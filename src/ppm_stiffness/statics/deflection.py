@@ -166,20 +166,6 @@ def _validate_loads(loads: ArrayLike) -> FloatArray:
     return x
 
 
-def _validate_loads(loads: ArrayLike) -> FloatArray:
-    x = np.asarray(loads, dtype=float)
-    if x.ndim != 1 or x.size == 0:
-        raise InputDataError(f"loads must be a non-empty 1-D array, got shape {x.shape}")
-    if not np.all(np.isfinite(x)):
-        raise InputDataError("loads must be finite")
-    if np.any(x < 0) or np.any(np.diff(x) <= 0):
-        raise InputDataError(
-            "loads must be >= 0 and strictly increasing (the load grows from zero; "
-            "reverse a direction with alpha or a negative wrench instead)"
-        )
-    return x
-
-
 def closed_form_twist(
     design: Design, wrench: ArrayLike, pose: ArrayLike | None = None
 ) -> FloatArray:
