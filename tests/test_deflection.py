@@ -84,8 +84,10 @@ def _leg_wrench(leg: LegSprings, twist: np.ndarray, design: Design) -> np.ndarra
     return x[:6]
 
 
-def _equilibrium_wrench(legs: list[LegSprings], twist: np.ndarray) -> np.ndarray:
-    return np.asarray(sum(_leg_wrench(leg, twist, DESIGN) for leg in legs))
+def _equilibrium_wrench(
+    legs: list[LegSprings], twist: np.ndarray, design: Design = DESIGN
+) -> np.ndarray:
+    return np.asarray(sum(_leg_wrench(leg, twist, design) for leg in legs))
 
 
 def test_loaded_stiffness_is_the_derivative_of_the_equilibrium_wrench() -> None:
