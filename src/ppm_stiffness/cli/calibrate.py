@@ -66,8 +66,9 @@ def run(args: argparse.Namespace) -> int:
         t = Table(title="Design parameters (SI)", title_justify="left")
         t.add_column("name")
         t.add_column("value", justify="right")
+        t.add_column("unit")
         for name in design.scalar_parameter_names():
-            t.add_row(name, f"{design.parameter(name):.6g}")
+            t.add_row(name, f"{design.parameter(name):.6g}", design.parameter_unit(name))
         console.print(t)
         return 0
     if not args.target or not args.free:

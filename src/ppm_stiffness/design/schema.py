@@ -122,6 +122,24 @@ class Design(PartModel):
             )
         return hits
 
+    def parameter_unit(self, name: str) -> str:
+        """SI unit of a parameter (``"m"``, ``"rad"``, ``"N/m"``, ...; "" if unknown)."""
+        from ppm_stiffness.legs.parts import part_units
+
+        first = self.expand(name)[0]
+        parts = first.split(".")
+        if parts[0] == "workspace":
+            return "rad" if parts[-1] == "phi" else "m"
+        leg = self.legs[int(parts[0][3:]) - 1]
+        if len(parts) == 2:
+            return type(leg).UNITS.get(parts[1], "")
+        part = getattr(leg, parts[1])
+        if parts[1] == "actuator":
+            force, disp, stiff = leg.actuator_units()
+            return {"locked_stiffness": stiff, "k_a": f"{force}/{disp}^q", "q": "1",
+                    "threshold_displacement": disp}[parts[2]]
+        return part_units(type(part)).get(parts[2], "")
+
     def with_parameters(self, values: dict[str, float]) -> Design:
         """A copy with the named (or globbed) scalar parameters replaced, validated again."""
         data = self.model_dump(by_alias=True)

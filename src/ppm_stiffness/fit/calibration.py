@@ -106,13 +106,14 @@ def default_sigma(target: FloatArray) -> FloatArray:
     return 0.01 * np.outer(diag, diag)
 
 
-def default_bounds(name: str, value: float) -> tuple[float, float]:
-    """Bounds used when none are given: offsets +-0.5 m around 0, positive parameters
-    within a factor 100 of their start, angles +-pi around their start."""
+def default_bounds(name: str, value: float, unit: str = "") -> tuple[float, float]:
+    """Bounds used when none are given: offsets +-0.5 m around their start, angles
+    (``unit == "rad"``) +-pi around their start, positive parameters within a factor
+    100 of their start."""
     key = name.rsplit(".", 1)[-1]
     if "offset" in key or key.startswith("centre"):
         return (value - 0.5, value + 0.5)
-    if key in ("alpha", "beta", "psi", "phi"):
+    if unit == "rad":
         return (value - np.pi, value + np.pi)
     if value > 0:
         return (value / 100.0, value * 100.0)
@@ -187,8 +188,11 @@ def calibrate(
     unknown = set(bnds) - set(names)
     if unknown:
         raise InputDataError(f"bounds given for parameters that are not free: {sorted(unknown)}")
-    lo = np.array([bnds.get(n, default_bounds(n, v))[0] for n, v in zip(names, x0, strict=True)])
-    hi = np.array([bnds.get(n, default_bounds(n, v))[1] for n, v in zip(names, x0, strict=True)])
+    units = [design.parameter_unit(n) for n in names]
+    lo = np.array([bnds.get(n, default_bounds(n, v, u))[0]
+                   for n, v, u in zip(names, x0, units, strict=True)])
+    hi = np.array([bnds.get(n, default_bounds(n, v, u))[1]
+                   for n, v, u in zip(names, x0, units, strict=True)])
     if np.any(lo >= hi):
         raise InputDataError("each bound must be (low, high) with low < high")
     x0 = np.clip(x0, lo, hi)
