@@ -16,12 +16,14 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_pose_arguments,
+    add_tool_point_argument,
     check_input_path,
     check_output_path,
     console,
     load_design_arg,
     parse_wrench,
     pose_from_args,
+    tool_point_from_args,
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
@@ -46,6 +48,7 @@ _MAX_POINTS = 100_000
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     add_pose_arguments(parser)
+    add_tool_point_argument(parser)
     parser.add_argument(
         "--mode", choices=MODES + ("wrench",),
         help="planar force at angle --alpha, pure moment m_z, vertical force f_z (Fig. 9), "
@@ -135,10 +138,12 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         assert w is not None
         if not np.any(w):
             raise InputDataError("--wrench must not be zero")
-        curve = deflection_path(design, w, loads, pose, args.method)
+        curve = deflection_path(design, w, loads, pose, args.method,
+                                tool_point=tool_point_from_args(args, design))
     else:
         curve = deflection_curve(
-            design, mode, loads, pose, math.radians(args.alpha), args.method
+            design, mode, loads, pose, math.radians(args.alpha), args.method,
+            tool_point_from_args(args, design),
         )
     return curve, meas
 
@@ -148,7 +153,9 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     twist = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
     p = curve.pose
     lines = [
-        "# ppm-stiffness deflect: platform deflection at P (axes of F_b) from the unloaded pose",
+        "# ppm-stiffness deflect: platform deflection at the tool point "
+        "({:g}, {:g}, {:g}) mm, platform frame (0,0,0 is P), axes of F_b, from the "
+        "unloaded pose".format(*(1e3 * curve.tool_point)),
         f"# mode: {curve.mode}",
     ]
     if curve.mode == "planar-force":

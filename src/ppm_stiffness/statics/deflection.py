@@ -30,16 +30,16 @@ the paper's values). See docs/actuation.md.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.model import tool_offset, workspace_centre
 from ppm_stiffness.statics.actuator import (
     actuator_displacement,
     powered_stiffness,
@@ -115,7 +115,8 @@ class DeflectionCurve:
     wrenches : ndarray, shape (n, 6)
         Applied wrench at each load, (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N].
     twists : ndarray, shape (n, 6)
-        Platform twist (phi_x, phi_y, phi_z, x, y, z) [rad, m] at P, axes of F_b.
+        Platform twist (phi_x, phi_y, phi_z, x, y, z) [rad, m] at the tool point (P by
+        default), axes of F_b.
     actuator_forces : ndarray, shape (n, n_legs)
         Axial actuator forces G_i [N].
     actuator_stiffness : ndarray, shape (n, n_legs)
@@ -123,12 +124,14 @@ class DeflectionCurve:
     actuator_displacements : ndarray, shape (n, n_legs)
         Signed actuator displacements [m] (:func:`actuator_displacement`).
     unit_wrench : ndarray, shape (6,)
-        Wrench per unit load.
+        Wrench per unit load, applied at the tool point.
     pose : ndarray, shape (3,)
     alpha : float
         Direction of the planar force [rad] (NaN for other modes).
     method : str
         One of :data:`METHODS`.
+    tool_point : ndarray, shape (3,)
+        Where the load acts and the twist is given, platform frame [m].
     """
 
     mode: str
@@ -142,6 +145,7 @@ class DeflectionCurve:
     pose: FloatArray
     alpha: float
     method: str
+    tool_point: FloatArray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def load_unit(self) -> str:
@@ -254,6 +258,7 @@ def deflection_path(
     method: str = "integrate",
     mode: str = "wrench",
     alpha: float = math.nan,
+    tool_point: ArrayLike | None = None,
 ) -> DeflectionCurve:
     """Deflection under the load ``L * unit_wrench`` as L grows through ``loads``.
 
@@ -270,6 +275,9 @@ def deflection_path(
         See :data:`METHODS` and the module docstring.
     mode, alpha
         Labels stored in the result.
+    tool_point : array_like, shape (3,), optional
+        Platform frame [m]: the load acts there and the twists are given there;
+        ``design.tool_point`` if None.
 
     Returns
     -------
@@ -284,6 +292,11 @@ def deflection_path(
     if method not in METHODS:
         raise InputDataError(f"unknown method {method!r}; expected one of {METHODS}")
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
+    offset = tool_offset(p, tool)
+    w_tool = w_hat
+    w_hat = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # the same load, at P
+    to_tool = twist_b_from_twist_a(np.eye(3), -offset)
     structures = LegStructures(design, p)
     locked = np.array([leg.actuator.locked_stiffness for leg in design.legs])
     if method == "linear":
@@ -314,15 +327,16 @@ def deflection_path(
     return DeflectionCurve(
         mode=mode,
         loads=x,
-        wrenches=x[:, None] * w_hat[None, :],
-        twists=np.asarray(twists),
+        wrenches=x[:, None] * w_tool[None, :],
+        twists=np.asarray(twists) @ to_tool.T,
         actuator_forces=np.asarray(forces),
         actuator_stiffness=np.asarray(k_act),
         actuator_displacements=np.asarray(disp),
-        unit_wrench=w_hat,
+        unit_wrench=w_tool,
         pose=p,
         alpha=alpha,
         method=method,
+        tool_point=tool,
     )
 
 
@@ -333,6 +347,7 @@ def deflection_curve(
     pose: ArrayLike | None = None,
     alpha: float = math.pi / 4,
     method: str = "integrate",
+    tool_point: ArrayLike | None = None,
 ) -> DeflectionCurve:
     """Deflection along one of the Fig. 9 loading modes.
 
@@ -354,5 +369,6 @@ def deflection_curve(
     """
     w_hat = mode_wrench(mode, alpha)
     return deflection_path(
-        design, w_hat, loads, pose, method, mode, alpha if mode == "planar-force" else math.nan
+        design, w_hat, loads, pose, method, mode,
+        alpha if mode == "planar-force" else math.nan, tool_point,
     )
