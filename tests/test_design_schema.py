@@ -132,3 +132,21 @@ def test_cli_reports_a_v1_file_in_one_line(tmp_path: Path) -> None:
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("ppm-stiffness: warning: ")
     assert "schema" in lines[0]
+
+
+@pytest.mark.parametrize(("old", "new"), [
+    ("ppm_stiffness.eigenscrews", "ppm_stiffness.core.eigenscrews"),
+    ("ppm_stiffness.decoupling", "ppm_stiffness.core.decoupling"),
+    ("ppm_stiffness.workspace", "ppm_stiffness.maps.workspace"),
+    ("ppm_stiffness.deflection", "ppm_stiffness.statics.deflection"),
+])
+def test_old_module_paths_import_with_a_deprecation_warning(old: str, new: str) -> None:
+    """Paths the 0.1 README and docs showed still work and name the new home."""
+    import importlib
+    import sys
+
+    sys.modules.pop(old, None)
+    with pytest.warns(DeprecationWarning, match=new):
+        module = importlib.import_module(old)
+    assert module is importlib.import_module(new)
+    assert module.__spec__ is not None and module.__spec__.name == new
