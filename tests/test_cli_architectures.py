@@ -1,0 +1,66 @@
+"""The commands this module's developer owns, on every shipped design: `analyze --json`
+gives a symmetric positive definite K in the library's conventions, `deflect` runs the
+three loading modes, and the redundant design's loaded state is the exact equilibrium."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ppm_stiffness.cli import main
+from ppm_stiffness.core.conventions import length_balanced
+from ppm_stiffness.design import default_design, load_design
+from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.statics.equilibrium import equilibrium
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+DESIGNS = [None, *sorted(str(p) for p in EXAMPLES.glob("*.toml"))]
+
+
+def _json(capsys: pytest.CaptureFixture[str], *args: str) -> dict[str, object]:
+    assert main(list(args)) == 0
+    return json.loads(capsys.readouterr().out)  # type: ignore[no-any-return]
+
+
+@pytest.mark.parametrize("path", DESIGNS, ids=lambda p: Path(p).stem if p else "built-in")
+def test_analyze_json_on_every_design(capsys: pytest.CaptureFixture[str],
+                                      path: str | None) -> None:
+    args = ["analyze", "--json"] + (["--design", path] if path else [])
+    out = _json(capsys, *args)
+    k = np.array(out["stiffness_matrix"])
+    design = load_design(path) if path else default_design()
+    np.testing.assert_allclose(k, stiffness_at_pose(design), rtol=1e-12, atol=0)
+    kb = length_balanced(k)
+    assert np.max(np.abs(kb - kb.T)) <= 1e-12 * np.max(np.abs(kb))
+    assert np.linalg.eigvalsh(kb)[0] > 0
+    assert out["architecture"] == design.architecture
+    assert len(out["actuator_units"]) == len(design.legs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("path", DESIGNS, ids=lambda p: Path(p).stem if p else "built-in")
+@pytest.mark.parametrize("mode", ["planar-force", "moment", "vertical-force"])
+def test_deflect_on_every_design(capsys: pytest.CaptureFixture[str], path: str | None,
+                                 mode: str) -> None:
+    top = {"planar-force": "5", "moment": "0.2", "vertical-force": "5"}[mode]
+    args = ["deflect", "--mode", mode, "--max", top, "--step", top, "--json"]
+    out = _json(capsys, *args, *(["--design", path] if path else []))
+    twists = np.array(out["twists"])
+    assert twists.shape == (2, 6) and np.all(np.isfinite(twists))
+    assert not np.any(twists[0])  # the path starts unloaded
+
+
+def test_analyze_redundant_wrench_is_the_equilibrium(capsys: pytest.CaptureFixture[str]) -> None:
+    """The CLI's loaded state of the 4-PPR is the exact equilibrium (pinned against
+    independent solutions in tests/test_statics_redundant.py)."""
+    path = str(EXAMPLES / "redundant_4ppr.toml")
+    out = _json(capsys, "analyze", "--json", "--design", path, "--x", "15", "--y", "-15",
+                "--phi", "-12", "--wrench", "15,-8,10,0.05,-0.03,0.4")
+    eq = equilibrium(load_design(path), [0.05, -0.03, 0.4, 15.0, -8.0, 10.0],
+                     [0.015, -0.015, math.radians(-12.0)])
+    np.testing.assert_allclose(out["actuator_forces"], eq.actuator_forces, rtol=1e-12)
+    np.testing.assert_allclose(out["twist"], eq.twist, rtol=1e-12)
+    np.testing.assert_allclose(out["stiffness_matrix"], eq.stiffness_matrix, rtol=1e-12)
