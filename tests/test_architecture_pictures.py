@@ -278,3 +278,21 @@ def test_report_runs_on_the_other_examples(tmp_path: Path, name: str) -> None:
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     n = len(_design(name).legs)
     assert all(f"loaded/actuator_forces/{i}" in page for i in range(n))
+
+
+def test_architecture_figures_script(tmp_path: Path) -> None:
+    """scripts/architecture_figures.py writes the five docs pictures as decodable PNGs."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "architecture_figures", ROOT / "scripts" / "architecture_figures.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    paths = module.write_figures(tmp_path)
+    assert sorted(p.name for p in paths) == ["arch_3ppr.png", "arch_3prr.png", "arch_3rpr.png",
+                                             "arch_3rrr.png", "arch_4ppr.png"]
+    for path in paths:
+        img = mpimg.imread(path)
+        assert 700 < img.shape[0] < 1200 and 900 < img.shape[1] < 1500, (path.name, img.shape)
+        assert (ROOT / "docs" / "figures" / path.name).is_file()
