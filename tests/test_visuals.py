@@ -23,9 +23,10 @@ import pytest  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import default_design  # noqa: E402
+from ppm_stiffness.legs.chain import Joint  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose  # noqa: E402
 from ppm_stiffness.statics.loading import loaded_state  # noqa: E402
-from ppm_stiffness.visuals.mechanism import mechanism_points, plot_mechanism  # noqa: E402
+from ppm_stiffness.visuals.mechanism import mechanism_legs, plot_mechanism  # noqa: E402
 from ppm_stiffness.visuals.springs import (  # noqa: E402
     AXIS_GID,
     HELIX_GID,
@@ -101,14 +102,15 @@ def test_helix_handedness_follows_pitch_sign() -> None:
 
 
 def test_mechanism_drawing_is_the_modelled_geometry() -> None:
-    """Top view at seeded random poses: the platform is D1-D2-D3 at radius r from P,
-    each rod C-D is along w (the rod slides in the bearing), each rail passes through
-    A along u, and the proximal link joins B to C."""
+    """Top view of the paper's design at seeded random poses: the platform is
+    D1-D2-D3 at radius r from P, each rod (the link ending at D) runs along its
+    bearing's axis (the rod slides in the bearing), each rail passes through the base
+    point along the actuated joint's axis, and the proximal link joins B to C."""
     design = default_design()
     rng = np.random.default_rng(7)
     for _ in range(3):
         pose = np.array([*rng.uniform(-0.02, 0.02, 2), rng.uniform(-0.5, 0.5)])
-        pts = mechanism_points(design, pose)
+        views = mechanism_legs(design, pose)
         fig = plot_mechanism(design, pose)
         ax = fig.axes[0]
         lines = {ln.get_gid(): np.array(ln.get_xydata()) / 1e3 for ln in ax.get_lines()
@@ -116,22 +118,27 @@ def test_mechanism_drawing_is_the_modelled_geometry() -> None:
         poly = [p for p in ax.patches if p.get_gid() == "platform"][0]
         verts = np.array(poly.get_xy())[:3] / 1e3
         plt.close(fig)
-        np.testing.assert_allclose(verts, pts["D"], atol=1e-12)
+        d = np.array([v.points["D"] for v in views])
+        np.testing.assert_allclose(verts, d, atol=1e-12)  # D1-D2-D3 counter-clockwise
         radii = np.linalg.norm(verts - pose[:2], axis=1)
         np.testing.assert_allclose(radii, [leg.platform_radius for leg in design.legs],
                                    rtol=1e-12)
-        for i, leg in enumerate(design.legs):
-            u, w = pts["u"][i], pts["w"][i]
-            rod = lines[f"rod-{i + 1}"]
+        for i, (leg, view) in enumerate(zip(design.legs, views, strict=True), start=1):
+            assert view.chain is not None
+            guide, bearing = (e for e in view.chain if isinstance(e, Joint) and e.kind != "R")
+            u, w = guide.axis[:2], bearing.axis[:2]
+            rod = lines[f"link-{i}-2"]
             assert abs(_cross2(rod[1] - rod[0], w)) < 1e-12
-            rail = lines[f"rail-{i + 1}"]
+            np.testing.assert_allclose(rod[1], view.points["D"], atol=1e-12)
+            rail = lines[f"base-{i}"]
             a = np.array(leg.base_point)
             assert abs(_cross2(rail[0] - a, u)) < 1e-12
             assert abs(_cross2(rail[1] - rail[0], u)) < 1e-12
-            link = lines[f"proximal-{i + 1}"]
-            np.testing.assert_allclose(link, np.stack([pts["B"][i], pts["C"][i]]), atol=1e-12)
+            link = lines[f"link-{i}-1"]
+            np.testing.assert_allclose(link, np.stack([view.points["B"], view.points["C"]]),
+                                       atol=1e-12)
             # bearing C sits bearing_offset along w from the rail point under D
-            assert abs((pts["C"][i] - a) @ w - leg.bearing_offset) < 1e-12
+            assert abs((view.points["C"] - a) @ w - leg.bearing_offset) < 1e-12
 
 
 MAGIC = {".png": b"\x89PNG\r\n\x1a\n", ".pdf": b"%PDF", ".svg": b"<svg"}

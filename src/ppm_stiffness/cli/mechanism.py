@@ -14,7 +14,7 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
 )
 
-HELP = "top view of the manipulator at a pose: base points, rails, carriages, links, platform"
+HELP = "top view of the manipulator at a pose: base rails or pivots, links, joints, platform"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -23,8 +23,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_figure_output(parser)
     parser.add_argument(
         "--allow-unreachable", action="store_true",
-        help="draw a pose outside the strokes or rod-length ranges (flagged in the title) "
-        "instead of refusing it",
+        help="draw a pose outside the legs' limits (each violated limit named in the title; "
+        "legs without an inverse-kinematics solution left out) instead of refusing it",
     )
 
 

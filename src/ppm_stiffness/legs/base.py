@@ -21,14 +21,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import UnreachablePoseError
-from ppm_stiffness.legs.chain import Element, actuator_screw
+from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
 from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive
 
 
@@ -38,6 +38,31 @@ class Coordinate:
 
     label: str
     unit: str
+
+
+@dataclass(frozen=True)
+class BaseFeature:
+    """What a leg is fixed to on the base, for pictures (fixed in F_b).
+
+    Attributes
+    ----------
+    kind : {"rail", "pivot"}
+        A rail for a base prismatic joint, a pivot for a base revolute.
+    point : ndarray (3,) [m]
+        Absolute position in F_b: the rail's origin (actuator coordinate 0) or the
+        pivot.
+    axis : ndarray (3,)
+        Unit rail direction in F_b (a rail); zero for a pivot.
+    stroke : tuple of float or None
+        A rail: the range of positions along ``axis`` from ``point`` [m] that the
+        actuator travels. An actuated pivot: the range of the actuated angle from the
+        x axis of F_b [rad]. None when the leg's limits say nothing of the base joint.
+    """
+
+    kind: Literal["rail", "pivot"]
+    point: FloatArray
+    axis: FloatArray
+    stroke: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -153,6 +178,22 @@ class LegModel(PartModel):
     def actuator_screw(self, leg_pose: LegPose) -> FloatArray:
         """Unit twist of the actuated joint (..., 6): ``G = screw . w_leg``."""
         return actuator_screw(self.chain(leg_pose))
+
+    def base_feature(self, leg_pose: LegPose) -> BaseFeature:
+        """What the leg is fixed to on the base (:class:`BaseFeature`), for pictures.
+
+        The default reads the first joint of the chain at the first pose of
+        ``leg_pose``: a prismatic joint gives a rail through its point along its axis,
+        any other a pivot at its point, without a stroke. Leg types override it to
+        give the rail's origin and the actuator's stroke.
+        """
+        first = next(e for e in self.chain(leg_pose) if isinstance(e, Joint))
+        pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 3)[0]
+        point = np.asarray(first.point, dtype=float).reshape(-1, 3)[0] + planar(pose[:2])
+        if first.kind == "P":
+            axis = np.asarray(first.axis, dtype=float).reshape(-1, 3)[0]
+            return BaseFeature("rail", point, axis / np.linalg.norm(axis))
+        return BaseFeature("pivot", point, np.zeros(3))
 
     def actuator_units(self) -> tuple[str, str, str]:
         """Units of the actuator's force, displacement and stiffness."""

@@ -1,23 +1,42 @@
-"""Top view of a P-P-R manipulator at a pose: what the model contains.
+"""Top view of a planar parallel manipulator at a pose: what the model contains.
 
-Drawn in the base frame F_b, in millimetres, equal aspect:
+Works for every leg type: everything drawn comes from the legs' inverse kinematics
+(:meth:`~ppm_stiffness.legs.base.LegModel.solve`), joint chains
+(:meth:`~ppm_stiffness.legs.base.LegModel.chain`), base features
+(:meth:`~ppm_stiffness.legs.base.LegModel.base_feature`) and limits. Drawn in the base
+frame F_b, in millimetres, equal aspect:
 
-- base points A_i (ground triangles) and the rail of each actuator: the line through
-  A_i along u_i, solid over the actuator stroke inside the view, dotted beyond;
-- the carriage: from the rail point A_i + (rho_i + guide_offset_u) u_i to the guide
-  block B_i (square), where the five guide springs act;
-- the proximal link B_i-C_i (thick), the bearing at C_i (a short sleeve along w_i);
-- the rod C_i-D_i (the free length that bends), the platform triangle D1-D2-D3,
-  its centre P and the platform frame F_p; the base frame F_b at the origin;
-- leg numbers next to A_i.
+- the **base feature** of each leg: a rail (the line through its origin along its
+  direction, dotted across the view, a light band over the actuator stroke with ticks
+  at its ends) for a base prismatic joint; a pivot (a ground triangle) for a base
+  revolute, with an arc over the actuated angle's stroke when it is the actuator;
+- the leg's named points joined in order (thin grey: rigid connections such as a
+  carriage, where no link is modelled) and its **links** as bars, one style per link
+  name (``proximal``, ``distal``, ...);
+- its **joints**, one symbol per kind: revolute R a white circle, prismatic P a
+  square with a slider bar along its axis, cylindrical C a diamond with a sleeve along
+  its axis; the actuated joint has a gold ring;
+- the **platform** polygon D1..Dn, its centre **P** with the platform axes x_p, y_p,
+  the tool point T when the design has one, the base axes x_b, y_b at O (omitted when
+  P is at O), and the name of each point with its leg number.
 
-Artists carry gids (``platform``, ``rail-<i>``, ``proximal-<i>``, ``rod-<i>``) so
-the plotted data can be read back. The title reports the actuator coordinates and rod
-lengths, and says if the pose is outside the strokes or rod-length ranges.
+The title gives the pose and the joint coordinates of every leg; at a pose outside
+the legs' limits (:meth:`~ppm_stiffness.legs.base.LegModel.limits`) it says which limit
+each leg violates, and a leg whose inverse kinematics has no solution is not drawn
+(its base feature is) and is named.
+
+Artists carry gids so the plotted data can be read back (mm): ``platform`` (polygon),
+``base-<i>`` (rail line or pivot), ``stroke-<i>`` (stroke band or arc),
+``link-<i>-<j>`` (the j-th link of leg i, from 1), ``joint-<i>-<j>`` (the j-th joint),
+``rigid-<i>-<k>`` (points k to k+1 of leg i joined without a link), ``P`` and
+``tool``.
 """
 
 from __future__ import annotations
 
+import textwrap
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -25,6 +44,8 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, planar
+from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.model import workspace_centre
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -32,50 +53,107 @@ if TYPE_CHECKING:  # pragma: no cover
 
 MM = 1e3
 LEG_COLOURS = ("tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan")
+#: Marker of each joint kind: revolute, prismatic, cylindrical.
+JOINT_MARKERS = {"R": "o", "P": "s", "C": "D"}
+JOINT_NAMES = {"R": "revolute joint R", "P": "prismatic joint P", "C": "cylindrical joint C"}
+#: Styles of the links, by the order in which their names first appear.
+LINK_STYLES: tuple[dict[str, Any], ...] = (
+    {"lw": 6.0, "alpha": 0.55, "solid_capstyle": "round"},
+    {"lw": 2.2, "alpha": 0.95, "solid_capstyle": "round"},
+    {"lw": 3.5, "alpha": 0.75, "solid_capstyle": "round", "ls": "--"},
+)
 
 
-def mechanism_points(design: Design, pose: ArrayLike) -> dict[str, FloatArray]:
-    """Absolute points of every leg at one pose (F_b, [m]).
+@dataclass(frozen=True)
+class LegView:
+    """One leg at one pose, ready to draw (absolute positions in F_b, [m]).
 
-    Returns
-    -------
-    dict
-        ``A``, ``B``, ``C``, ``D``, ``R`` (rail point under the carriage), ``u``, ``w``:
-        arrays (n_legs, 2); ``P``: (2,); ``rho`` and ``rod``: (n_legs,) [m].
+    Attributes
+    ----------
+    index : int
+        Leg number, from 1.
+    leg_pose : LegPose
+        The leg's inverse kinematics at the pose (points relative to P).
+    points : dict of str to ndarray (2,)
+        The named points of ``leg_pose`` in F_b, base to platform [m].
+    chain : sequence of Joint and Link, or None
+        The joint chain at the pose; None when the inverse kinematics has no solution.
+    base : BaseFeature
+    violations : list of str
+        The violated limits (display units), or the missing IK solution.
     """
+
+    index: int
+    leg_pose: LegPose
+    points: dict[str, FloatArray]
+    chain: Sequence[Element] | None
+    base: BaseFeature
+    violations: list[str]
+
+    @property
+    def solvable(self) -> bool:
+        """The inverse kinematics has a solution (the leg is drawn)."""
+        return self.chain is not None
+
+
+def _display(value: float, si_unit: str) -> tuple[float, str]:
+    """An SI joint coordinate in the picture's units: m -> mm, rad -> deg."""
+    return (value * MM, "mm") if si_unit == "m" else (float(np.degrees(value)), "deg")
+
+
+def limit_violations(leg: LegModel, leg_pose: LegPose) -> list[str]:
+    """Every limit of ``leg`` violated at one pose, e.g. ``"rod free length 35.0 mm
+    outside [1.0, 30.0] mm"``; ``["no inverse-kinematics solution"]`` if unsolvable."""
+    if not bool(np.all(leg_pose.solvable)):
+        return ["no inverse-kinematics solution (not drawn)"]
+    out = []
+    for name, (lo, hi) in leg.limits().items():
+        q = float(leg_pose.coordinates[name])
+        if not lo <= q <= hi:
+            c = leg.COORDINATES[name]
+            v, unit = _display(q, c.unit)
+            a, _ = _display(lo, c.unit)
+            b, _ = _display(hi, c.unit)
+            out.append(f"{c.label} {v:.2f} {unit} outside [{a:.2f}, {b:.2f}] {unit}")
+    return out
+
+
+def mechanism_legs(design: Design, pose: ArrayLike) -> list[LegView]:
+    """Every leg of ``design`` at one pose (x [m], y [m], phi [rad]), reachable or not."""
     p = np.asarray(pose, dtype=float)
-    geoms = [leg.solve(p) for leg in design.legs]
-    pos = p[:2]
-    a = np.array([leg.base_point for leg in design.legs], dtype=float)
-    u = np.array([leg.directions()[0][:2] for leg in design.legs])
-    w = np.array([leg.directions()[1][:2] for leg in design.legs])
-    rho = np.array([float(g.coordinates["rho"]) for g in geoms])
-    gu = np.array([leg.guide_offset_u for leg in design.legs])
-    return {
-        "A": a,
-        "B": np.array([g.points["B"][:2] for g in geoms]) + pos,
-        "C": np.array([g.points["C"][:2] for g in geoms]) + pos,
-        "D": np.array([g.points["D"][:2] for g in geoms]) + pos,
-        "R": a + (rho + gu)[:, None] * u,
-        "u": u,
-        "w": w,
-        "P": pos.copy(),
-        "rho": rho,
-        "rod": np.array([float(g.coordinates["rod"]) for g in geoms]),
-    }
+    origin = planar(p[:2])
+    out = []
+    for i, leg in enumerate(design.legs, start=1):
+        lp = leg.solve(p)
+        solvable = bool(np.all(lp.solvable))
+        out.append(LegView(
+            index=i,
+            leg_pose=lp,
+            points={k: np.asarray(v + origin)[:2] for k, v in lp.points.items()},
+            chain=leg.chain(lp) if solvable else None,
+            base=leg.base_feature(lp),
+            violations=limit_violations(leg, lp),
+        ))
+    return out
 
 
-def _reachability_note(design: Design, pts: dict[str, FloatArray]) -> str:
-    bad = []
-    for i, leg in enumerate(design.legs):
-        if not leg.stroke[0] <= pts["rho"][i] <= leg.stroke[1]:
-            bad.append(f"leg {i + 1} outside its stroke")
-        if not leg.rod_length_range[0] <= pts["rod"][i] <= leg.rod_length_range[1]:
-            bad.append(f"leg {i + 1} rod length out of range")
-    return "UNREACHABLE: " + ", ".join(bad) if bad else ""
+def platform_order(d: FloatArray, centre: FloatArray) -> list[int]:
+    """Indices of the platform points D_i counter-clockwise around P, from D_1."""
+    rel = np.asarray(d) - np.asarray(centre)
+    order = [int(k) for k in np.argsort(np.arctan2(rel[:, 1], rel[:, 0]))]
+    start = order.index(0)
+    return order[start:] + order[:start]
 
 
-def _rail_extent(
+def tool_position(design: Design, pose: ArrayLike) -> FloatArray:
+    """The tool point in F_b at ``pose`` (x, y) [m]."""
+    p = np.asarray(pose, dtype=float)
+    c, s = np.cos(p[2]), np.sin(p[2])
+    t = np.asarray(design.tool_point[:2], dtype=float)
+    return np.asarray(p[:2] + np.array([c * t[0] - s * t[1], s * t[0] + c * t[1]]))
+
+
+def _line_extent(
     a: FloatArray, u: FloatArray, lo: FloatArray, hi: FloatArray
 ) -> tuple[float, float]:
     """Parameter interval of the line a + s u inside the box [lo, hi] (2D)."""
@@ -88,21 +166,36 @@ def _rail_extent(
     return float(s0), float(s1)
 
 
+def _stroke_points(base: BaseFeature, radius: float) -> FloatArray | None:
+    """The drawn stroke [m]: the rail segment (2, 2), or an arc (n, 2) of ``radius``."""
+    if base.stroke is None:
+        return None
+    a = np.asarray(base.point, dtype=float)[:2]
+    if base.kind == "rail":
+        u = np.asarray(base.axis, dtype=float)[:2]
+        return np.asarray(a + np.outer(base.stroke, u))
+    t = np.linspace(base.stroke[0], base.stroke[1], 60)
+    return np.asarray(a + radius * np.stack([np.cos(t), np.sin(t)], axis=-1))
+
+
 def plot_mechanism(
     design: Design,
     pose: ArrayLike | None = None,
     title: str | None = None,
     ax: Any = None,
 ) -> Figure:
-    """Top view of the manipulator at ``pose`` (F_b, mm, equal aspect).
+    """Top view of the manipulator at ``pose`` (F_b, mm, equal aspect; module doc).
 
     Parameters
     ----------
     design : Design
+        Any architecture.
     pose : array_like, shape (3,), optional
         (x [m], y [m], phi [rad]); default the workspace centre. An unreachable pose
-        is drawn all the same and flagged in the title.
+        is drawn all the same and flagged in the title; legs without an
+        inverse-kinematics solution are left out and named.
     title : str, optional
+        First lines of the title (default: the design name and the pose).
     ax : matplotlib Axes, optional
         Draw into this axes instead of a new figure.
 
@@ -114,88 +207,93 @@ def plot_mechanism(
     from matplotlib.patches import Polygon
 
     p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    pts = mechanism_points(design, p)
+    views = mechanism_legs(design, p)
     if ax is None:
-        fig = plt.figure(figsize=(9.0, 8.0))
+        fig = plt.figure(figsize=(11.0, 8.0))
         ax = fig.add_subplot()
     else:
         fig = ax.figure
-    n = len(design.legs)
-    a, b, c, d, r = (pts[k] * MM for k in ("A", "B", "C", "D", "R"))
-    u, w = pts["u"], pts["w"]
-    centre = pts["P"] * MM
-    allp = np.vstack([a, b, c, d, r, centre[None], np.zeros((1, 2))])
+    centre = p[:2] * MM
+    tool = tool_position(design, p) * MM
+    has_tool = bool(np.any(np.asarray(design.tool_point[:2]) != 0.0))
+
+    # the view: every point, base feature and stroke, P and O
+    pivot_r = 0.5 * max(leg.platform_radius for leg in design.legs)  # stroke arc [m]
+    cloud = [centre[None], np.zeros((1, 2))]
+    for v in views:
+        cloud.append(np.asarray(v.base.point)[None, :2] * MM)
+        st = _stroke_points(v.base, pivot_r)
+        if st is not None:
+            cloud.append(st * MM)
+        if v.solvable:
+            cloud.append(np.array(list(v.points.values())) * MM)
+    if has_tool:
+        cloud.append(tool[None])
+    allp = np.vstack(cloud)
     span = float(np.max(allp.max(axis=0) - allp.min(axis=0)))
-    lo, hi = allp.min(axis=0) - 0.12 * span, allp.max(axis=0) + 0.12 * span
-    unit = 0.06 * span  # size of frame arrows and sleeves [mm]
+    lo, hi = allp.min(axis=0) - 0.1 * span, allp.max(axis=0) + 0.1 * span
+    unit = 0.05 * span  # size of frame arrows, sliders and sleeves [mm]
 
-    # platform
-    ax.add_patch(Polygon(d, closed=True, facecolor="0.85", edgecolor="0.15", lw=2.0,
-                         zorder=3, label="platform D1-D2-D3", gid="platform"))
-    for i in range(n):
-        col = LEG_COLOURS[i % len(LEG_COLOURS)]
-        leg = design.legs[i]
-        # rail: dotted over the view, solid over the stroke
-        s0, s1 = _rail_extent(a[i], u[i], lo, hi)
-        ends = a[i] + np.outer([s0, s1], u[i])
-        ax.plot(*ends.T, color=col, ls=":", lw=1.0, alpha=0.7, zorder=1, gid=f"rail-{i + 1}")
-        st0, st1 = max(s0, leg.stroke[0] * MM), min(s1, leg.stroke[1] * MM)
-        if st0 < st1:
-            seg = a[i] + np.outer([st0, st1], u[i])
-            ax.plot(*seg.T, color=col, lw=4.0, alpha=0.25, solid_capstyle="butt", zorder=1,
-                    label="rail (actuator stroke)" if i == 0 else None)
-        for s_end in leg.stroke:
-            if s0 <= s_end * MM <= s1:
-                e = a[i] + s_end * MM * u[i]
-                nrm = np.array([-u[i][1], u[i][0]]) * 0.3 * unit
-                ax.plot(*np.stack([e - nrm, e + nrm]).T, color=col, lw=1.5, zorder=2)
-        # base point
-        ax.scatter(*a[i], marker="^", s=90, color=col, edgecolor="k", zorder=5,
-                   label="base point A" if i == 0 else None)
-        ax.annotate(f"leg {i + 1}\nA{i + 1}", a[i], xytext=(8, -22), textcoords="offset points",
-                    fontsize=9, color=col, fontweight="bold")
-        # carriage: rail point -> guide block B
-        ax.plot(*np.stack([r[i], b[i]]).T, color="0.35", lw=1.5, zorder=2,
-                label="carriage" if i == 0 else None)
-        ax.scatter(*r[i], marker="|", s=120, color="0.35", zorder=4)
-        ax.scatter(*b[i], marker="s", s=70, color=col, edgecolor="k", zorder=5,
-                   label="guide block B" if i == 0 else None)
-        ax.annotate(f"B{i + 1}", b[i], xytext=(5, 5), textcoords="offset points", fontsize=8)
-        # proximal link B -> C
-        ax.plot(*np.stack([b[i], c[i]]).T, color=col, lw=5.0, alpha=0.55, gid=f"proximal-{i + 1}",
-                solid_capstyle="round", zorder=3, label="proximal link B-C" if i == 0 else None)
-        # bearing sleeve at C along w
-        sleeve = np.stack([c[i] - 0.5 * unit * w[i], c[i] + 0.5 * unit * w[i]])
-        ax.plot(*sleeve.T, color="k", lw=7.0, alpha=0.8, solid_capstyle="butt", zorder=4,
-                label="bearing C" if i == 0 else None)
-        ax.annotate(f"C{i + 1}", c[i], xytext=(5, -12), textcoords="offset points", fontsize=8)
-        # rod C -> D
-        ax.plot(*np.stack([c[i], d[i]]).T, color="0.1", lw=1.8, zorder=4, gid=f"rod-{i + 1}",
-                label="rod C-D" if i == 0 else None)
-        ax.scatter(*d[i], marker="o", s=30, color="w", edgecolor="k", zorder=6)
-        out = d[i] - centre
-        out = 14.0 * out / max(float(np.linalg.norm(out)), 1e-12)
-        ax.annotate(f"D{i + 1}", d[i], xytext=tuple(out), textcoords="offset points",
-                    fontsize=8, ha="center", va="center")
+    # platform polygon (the legs' D points, counter-clockwise around P)
+    d_all = np.array([np.asarray(leg.platform_point(p[2]))[:2] for leg in design.legs]) * MM
+    d_all = d_all + centre
+    order = platform_order(d_all, centre)
+    ax.add_patch(Polygon(d_all[order], closed=True, facecolor="0.85", edgecolor="0.15", lw=2.0,
+                         zorder=3, gid="platform",
+                         label="platform " + "-".join(f"D{k + 1}" for k in order)))
 
-    # platform frame at P and base frame at O
-    phi = float(p[2])
-    rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
-    frames = [(centre, rot, "p", "k")]
-    if float(np.linalg.norm(centre)) > 0.5 * unit:  # F_b apart from F_p
-        frames.insert(0, (np.zeros(2), np.eye(2), "b", "0.5"))
-        ax.annotate("O", (0.0, 0.0), xytext=(-10, -10), textcoords="offset points",
-                    fontsize=9, color="0.5")
-    for origin, axes, name, col in frames:
-        for j, lab in enumerate(("x", "y")):
-            ax.annotate("", origin + unit * axes[:, j], origin,
-                        arrowprops={"arrowstyle": "-|>", "color": col, "lw": 1.2}, zorder=7)
-            ax.annotate(f"${lab}_{name}$", origin + 1.15 * unit * axes[:, j], fontsize=9,
-                        color=col, ha="center", va="center")
-    ax.scatter(*centre, marker="+", s=80, color="k", zorder=8)
-    at_origin = float(np.linalg.norm(centre)) <= 0.5 * unit
-    ax.annotate("P = O" if at_origin else "P", centre, xytext=(-8, -12),
-                textcoords="offset points", fontsize=9, ha="right")
+    labelled: set[str] = set()
+
+    def once(label: str) -> str | None:
+        if label in labelled:
+            return None
+        labelled.add(label)
+        return label
+
+    link_names: list[str] = []
+    for v in views:
+        i = v.index
+        col = LEG_COLOURS[(i - 1) % len(LEG_COLOURS)]
+        _draw_base(ax, v.base, i, col, lo, hi, unit, pivot_r * MM, once)
+        # "leg i" beside the base feature, away from P
+        a = np.asarray(v.base.point)[:2] * MM
+        out = a - centre
+        out = 24.0 * out / max(float(np.linalg.norm(out)), 1e-12)
+        ax.annotate(f"leg {i}", a, xytext=tuple(out), textcoords="offset points", fontsize=9,
+                    color=col, fontweight="bold", ha="center", va="center", zorder=9)
+        if v.chain is None:
+            continue
+        links = [e for e in v.chain if isinstance(e, Link)]
+        pts = np.array(list(v.points.values())) * MM
+        rigid = [k for k in range(len(pts) - 1) if not _is_link(pts[k], pts[k + 1], links, centre)]
+        for k in rigid:
+            ax.plot(*pts[k:k + 2].T, color="0.35", lw=1.3, zorder=2, gid=f"rigid-{i}-{k + 1}",
+                    label=once("rigid connection (no link modelled)"))
+        for j, link in enumerate(links, start=1):
+            if link.name not in link_names:
+                link_names.append(link.name)
+            style = LINK_STYLES[link_names.index(link.name) % len(LINK_STYLES)]
+            seg = np.stack([np.asarray(link.start)[:2], np.asarray(link.end)[:2]]) * MM + centre
+            colour = col if style["lw"] > 5 else "0.1"
+            ax.plot(*seg.T, color=colour, zorder=4, gid=f"link-{i}-{j}",
+                    label=once(f"{link.name or 'link'} link"), **style)
+        joints = [e for e in v.chain if isinstance(e, Joint)]
+        for j, joint in enumerate(joints, start=1):
+            _draw_joint(ax, joint, i, j, col, centre, unit, once)
+        for name, pt in v.points.items():
+            q = pt * MM
+            rel = q - centre
+            off = (7.0, 7.0) if name != "D" else tuple(
+                14.0 * rel / max(float(np.linalg.norm(rel)), 1e-12))
+            ax.annotate(f"{name}{i}", q, xytext=off, textcoords="offset points", fontsize=7,
+                        color="0.15", ha="center", va="center", zorder=9)
+
+    _draw_frames(ax, p, centre, unit)
+    ax.scatter(*centre, marker="+", s=90, color="k", zorder=8, gid="P", label="P")
+    if has_tool:
+        ax.scatter(*tool, marker="*", s=110, color="gold", edgecolor="k", zorder=8, gid="tool",
+                   label="tool point T")
+        ax.annotate("T", tool, xytext=(7, -9), textcoords="offset points", fontsize=9)
 
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -203,15 +301,119 @@ def plot_mechanism(
     ax.set_xlabel("x [mm] (F_b)")
     ax.set_ylabel("y [mm] (F_b)")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8, framealpha=0.9)
-    note = _reachability_note(design, pts)
-    head = title or (
-        f"{design.name}\npose x = {p[0] * MM:.2f} mm, y = {p[1] * MM:.2f} mm, "
-        f"phi = {np.degrees(p[2]):.2f} deg"
-    )
-    joints = ", ".join(
-        f"rho{i + 1} = {pts['rho'][i] * MM:.1f}" for i in range(n)
-    ) + " mm; rods " + ", ".join(f"{x * MM:.1f}" for x in pts["rod"]) + " mm"
-    ax.set_title(head + "\n" + joints + (f"\n{note}" if note else ""), fontsize=9,
-                 color="tab:red" if note else "k")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.9,
+              borderaxespad=0.0)
+    ax.set_title(_title(design, p, views, title), fontsize=9,
+                 color="tab:red" if any(v.violations for v in views) else "k")
     return fig
+
+
+def _is_link(a: FloatArray, b: FloatArray, links: list[Link], centre: FloatArray) -> bool:
+    """Whether the segment a-b [mm, F_b] is one of the links (either way round)."""
+    for link in links:
+        s = np.asarray(link.start)[:2] * MM + centre
+        e = np.asarray(link.end)[:2] * MM + centre
+        tol = 1e-9 * max(float(np.linalg.norm(e - s)), 1.0)
+        if (np.allclose(a, s, atol=tol) and np.allclose(b, e, atol=tol)) or (
+                np.allclose(a, e, atol=tol) and np.allclose(b, s, atol=tol)):
+            return True
+    return False
+
+
+def _title(design: Design, p: FloatArray, views: list[LegView], head: str | None) -> str:
+    """Pose, the joint coordinates of every leg, and what is out of range."""
+    lines = [head or (
+        f"{design.name} ({design.architecture})\npose x = {p[0] * MM:.2f} mm, "
+        f"y = {p[1] * MM:.2f} mm, phi = {np.degrees(p[2]):.2f} deg"
+    )]
+    names: list[str] = []
+    units: dict[str, str] = {}
+    for leg in design.legs:
+        for name, c in leg.COORDINATES.items():
+            if name not in names:
+                names.append(name)
+                units[name] = c.unit
+    parts = []
+    for name in names:
+        vals = []
+        for v in views:
+            q = v.leg_pose.coordinates.get(name)
+            vals.append("–" if q is None or not v.solvable
+                        else f"{_display(float(q), units[name])[0]:.1f}")
+        parts.append(f"{name} [{_display(0.0, units[name])[1]}] = ({', '.join(vals)})")
+    lines.append("; ".join(parts))
+    bad = [f"leg {v.index}: " + ", ".join(v.violations) for v in views if v.violations]
+    if bad:
+        lines += textwrap.wrap("UNREACHABLE: " + "; ".join(bad), 110)
+    return "\n".join(lines)
+
+
+def _draw_base(ax: Any, base: BaseFeature, i: int, col: str, lo: FloatArray, hi: FloatArray,
+               unit: float, pivot_r: float, once: Any) -> None:
+    """A rail (line across the view, stroke band, end ticks) or a pivot (and arc) [mm]."""
+    a = np.asarray(base.point, dtype=float)[:2] * MM
+    stroke = _stroke_points(base, pivot_r / MM)
+    if base.kind == "rail":
+        u = np.asarray(base.axis, dtype=float)[:2]
+        s0, s1 = _line_extent(a, u, lo, hi)
+        ax.plot(*(a + np.outer([s0, s1], u)).T, color=col, ls=":", lw=1.0, alpha=0.7,
+                zorder=1, gid=f"base-{i}")
+        ax.scatter(*a, marker="x", s=25, color=col, zorder=2,
+                   label=once("rail origin (actuator coordinate 0)"))
+        if stroke is not None:
+            seg = stroke * MM
+            ax.plot(*seg.T, color=col, lw=5.0, alpha=0.3, solid_capstyle="butt", zorder=1,
+                    gid=f"stroke-{i}", label=once("rail over the actuator stroke"))
+            nrm = np.array([-u[1], u[0]]) * 0.3 * unit
+            for e in seg:
+                ax.plot(*np.stack([e - nrm, e + nrm]).T, color=col, lw=1.5, zorder=2)
+        return
+    ax.scatter(*a, marker="^", s=160, color=col, edgecolor="k", hatch="///", zorder=5,
+               gid=f"base-{i}", label=once("base pivot"))
+    if stroke is not None:
+        arc = stroke * MM
+        ax.plot(*arc.T, color=col, lw=4.0, alpha=0.35, solid_capstyle="butt", zorder=1,
+                gid=f"stroke-{i}", label=once("actuated angle's stroke"))
+        for e in (arc[0], arc[-1]):
+            r = (e - a) / max(float(np.linalg.norm(e - a)), 1e-12) * 0.3 * unit
+            ax.plot(*np.stack([e - r, e + r]).T, color=col, lw=1.5, zorder=2)
+
+
+def _draw_joint(ax: Any, joint: Joint, i: int, j: int, col: str, centre: FloatArray,
+                unit: float, once: Any) -> None:
+    """A joint's symbol at its point [mm]: slider/sleeve along the axis, ring if actuated."""
+    q = np.asarray(joint.point, dtype=float)[:2] * MM + centre
+    e = np.asarray(joint.axis, dtype=float)[:2]
+    if joint.kind in ("P", "C") and float(np.linalg.norm(e)) > 1e-9:
+        e = e / np.linalg.norm(e)
+        bar = np.stack([q - 0.45 * unit * e, q + 0.45 * unit * e])
+        ax.plot(*bar.T, color="k" if joint.kind == "C" else col, lw=7.0, alpha=0.8,
+                solid_capstyle="butt", zorder=5)
+    size = {"R": 45, "P": 70, "C": 55}[joint.kind]
+    face = "w" if joint.kind == "R" else col
+    ax.scatter(*q, marker=JOINT_MARKERS[joint.kind], s=size, color=face, edgecolor="k",
+               linewidth=1.0, zorder=7 if joint.kind == "R" else 6, gid=f"joint-{i}-{j}",
+               label=once(JOINT_NAMES[joint.kind]))
+    if joint.actuated:
+        ax.scatter(*q, marker="o", s=330, facecolor="none", edgecolor="gold", linewidth=2.5,
+                   zorder=5, label=once("actuated joint"))
+
+
+def _draw_frames(ax: Any, p: FloatArray, centre: FloatArray, unit: float) -> None:
+    """Platform axes at P and base axes at O (when apart) [mm]."""
+    phi = float(p[2])
+    rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+    frames = [(centre, rot, "p", "k")]
+    if float(np.linalg.norm(centre)) > 0.5 * unit:
+        frames.insert(0, (np.zeros(2), np.eye(2), "b", "0.5"))
+        ax.annotate("O", (0.0, 0.0), xytext=(-10, -10), textcoords="offset points",
+                    fontsize=9, color="0.5")
+    for origin, axes, name, col in frames:
+        for j, lab in enumerate(("x", "y")):
+            ax.annotate("", origin + unit * axes[:, j], origin,
+                        arrowprops={"arrowstyle": "-|>", "color": col, "lw": 1.2}, zorder=7)
+            ax.annotate(f"${lab}_{name}$", origin + 1.2 * unit * axes[:, j], fontsize=9,
+                        color=col, ha="center", va="center")
+    at_origin = float(np.linalg.norm(centre)) <= 0.5 * unit
+    ax.annotate("P = O" if at_origin else "P", centre, xytext=(-8, -12),
+                textcoords="offset points", fontsize=9, ha="right")

@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.eigenscrews import eigenscrews
-from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.errors import DesignError, InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, dump_design
 from ppm_stiffness.design.schema import leg_parameter_rows
 from ppm_stiffness.model import workspace_centre
@@ -204,23 +204,45 @@ def _decoupling_section(result: dict[str, Any], key: str) -> str:
     return "".join(parts)
 
 
-def _loaded_section(loaded: dict[str, Any], unloaded: dict[str, Any]) -> str:
+#: Shown unit and scale of an actuator displacement, by its SI unit.
+_DISPLACEMENT_DISPLAY = {"m": ("µm", 1e6), "rad": ("µrad", 1e6)}
+
+
+def _actuator_units(design: Design) -> list[tuple[str, str, float, str]]:
+    """Per leg: force unit, shown displacement unit and its scale, stiffness unit."""
+    out = []
+    for leg in design.legs:
+        force, disp, stiff = leg.actuator_units()
+        shown, scale = _DISPLACEMENT_DISPLAY.get(disp, (disp, 1.0))
+        out.append((force, shown, scale, stiff))
+    return out
+
+
+def _loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, Any]) -> str:
     w = loaded["wrench"]
     wrench_rows = [[_cell(w[j], f"loaded/wrench/{j}", sig=4) for j in (3, 4, 5, 0, 1, 2)]]
     parts = [_table(["f<sub>x</sub> [N]", "f<sub>y</sub> [N]", "f<sub>z</sub> [N]",
                      "m<sub>x</sub> [N·m]", "m<sub>y</sub> [N·m]", "m<sub>z</sub> [N·m]"],
                     wrench_rows, caption="Applied wrench at P (axes of F<sub>b</sub>)")]
+    units = _actuator_units(design)
+    shared = len(set(units)) == 1  # one set of units: in the header, else per row
     rows = []
     for i in range(len(loaded["actuator_forces"])):
-        rows.append([f"leg {i + 1}",
-                     _cell(loaded["actuator_forces"][i], f"loaded/actuator_forces/{i}", sig=4),
-                     _cell(loaded["actuator_displacements"][i],
-                           f"loaded/actuator_displacements/{i}", scale=1e6, sig=4),
-                     _cell(unloaded["actuator_stiffness"][i], f"unloaded/actuator_stiffness/{i}"),
-                     _cell(loaded["actuator_stiffness"][i], f"loaded/actuator_stiffness/{i}")])
-    parts.append(_table(["actuator", "force G [N]", "displacement δ [µm]",
-                         "K<sub>act</sub> unloaded [N/m]", "K<sub>act</sub> loaded [N/m]"],
-                        rows, caption="Actuators under the wrench (eq. 20–21)"))
+        force, disp, scale, stiff = units[i]
+        row = [f"leg {i + 1}",
+               _cell(loaded["actuator_forces"][i], f"loaded/actuator_forces/{i}", sig=4),
+               _cell(loaded["actuator_displacements"][i],
+                     f"loaded/actuator_displacements/{i}", scale=scale, sig=4),
+               _cell(unloaded["actuator_stiffness"][i], f"unloaded/actuator_stiffness/{i}"),
+               _cell(loaded["actuator_stiffness"][i], f"loaded/actuator_stiffness/{i}")]
+        rows.append(row if shared else row + [f"{force}, {disp}, {stiff}"])
+    force, disp, _, stiff = units[0]
+    head = (["actuator", f"force G [{force}]", f"displacement δ [{disp}]",
+             f"K<sub>act</sub> unloaded [{stiff}]", f"K<sub>act</sub> loaded [{stiff}]"]
+            if shared else
+            ["actuator", "force G", "displacement δ", "K<sub>act</sub> unloaded",
+             "K<sub>act</sub> loaded", "units (G, δ, K<sub>act</sub>)"])
+    parts.append(_table(head, rows, caption="Actuators under the wrench (eq. 20–21)"))
     parts.append(_stiffness_table(loaded, "loaded", "K under the wrench, at P (compare eq. 33)"))
     return "".join(parts)
 
@@ -313,10 +335,14 @@ def build_report(
 
     map_figs: list[tuple[float, str, str, str]] = []
     n_maps = len(MAP_PHIS_DEG) * len(MAP_ACTUATORS)
+    unsupported = _maps_unsupported(design)
     for m, (phi_deg, acts) in enumerate(
         (ph, ac) for ph in MAP_PHIS_DEG for ac in MAP_ACTUATORS
     ):
         step(4, m / n_maps)
+        if unsupported:
+            map_figs.append((phi_deg, acts, "", f"no map: {_esc(unsupported)}"))
+            continue
 
         def inner(done_poses: int, total_poses: int, m: int = m) -> None:
             step(4, (m + done_poses / max(total_poses, 1)) / n_maps)
@@ -330,7 +356,7 @@ def build_report(
         title = (f"φ = {phi_deg:g}°, actuators at the {'maximum' if acts == 'max' else 'minimum'}"
                  " stiffness")
         uri = figure_data_uri(plot_stiffness_maps(smap, title=title))
-        map_figs.append((phi_deg, acts, uri, _map_summary(smap)))
+        map_figs.append((phi_deg, acts, uri, _map_summary(design, smap)))
     finish(4)
     if progress is not None:
         progress("done", 1.0)
@@ -338,10 +364,31 @@ def build_report(
                      grid, source)
 
 
-def _map_summary(smap: Any) -> str:
+def _maps_unsupported(design: Design) -> str:
+    """Why the batched stiffness maps cannot evaluate ``design``, or "" if they can.
+
+    The maps use an exact reduced form of each leg (:mod:`ppm_stiffness.maps.reduced_leg`);
+    a leg it cannot reduce gets a note in the report instead of a map, and the rest of
+    the report is built all the same.
+    """
+    from ppm_stiffness.maps.reduced_leg import reduce_design
+
+    try:
+        reduce_design(design)
+    except (DesignError, AttributeError) as exc:
+        return (f"the batched map evaluation (ppm_stiffness.maps) does not support the legs "
+                f"of this {design.architecture} yet ({exc})")
+    return ""
+
+
+def _map_summary(design: Design, smap: Any) -> str:
     """Actuator stiffness of the map and the range of k_phi, k_x, k_y over it."""
-    k_act = np.asarray(smap.actuator_stiffness, dtype=float)
-    act_txt = (f"actuator stiffness {format_number(float(np.nanmin(k_act)), 5)} N/m"
+    k_act = np.asarray(smap.actuator_stiffness, dtype=float).reshape(-1, len(design.legs))
+    by_unit: dict[str, list[float]] = {}
+    for i, (_, _, _, stiff) in enumerate(_actuator_units(design)):
+        by_unit.setdefault(stiff, []).append(float(np.nanmin(k_act[:, i])))
+    act_txt = ("actuator stiffness "
+               + ", ".join(f"{format_number(min(v), 5)} {u}" for u, v in by_unit.items())
                + (f" (tangent stiffness under {smap.reference_force:g} N, eq. 21)"
                   if getattr(smap, "reference_force", None) else " (locked)"))
     rows = []
@@ -377,8 +424,10 @@ def _assemble(design: Design, pose: np.ndarray, unloaded: dict[str, Any],
     sections = [
         ("design", "Design parameters", _design_section(design)),
         ("mechanism", "The mechanism at the pose",
-         _figure(mech_uri, "Top view in F<sub>b</sub> [mm]: base points A, rails, carriages, "
-                 "guide blocks B, proximal links B–C, bearings C, rods C–D, platform and P.",
+         _figure(mech_uri, f"Top view of the {_esc(design.architecture)} in F<sub>b</sub> "
+                 "[mm]: each leg's base rail (over the actuator stroke) or base pivot, its "
+                 "links and joints (R circle, P square with slider, C diamond with sleeve; "
+                 "the actuated joint ringed), the platform, P and the frames.",
                  "fig-mechanism")),
         ("stiffness", "Cartesian stiffness matrix K (unloaded)",
          "<p>w = K t at P with the axes of F<sub>b</sub>; t = (φ, u) [rad, m], w = (m, f) "
@@ -394,7 +443,7 @@ def _assemble(design: Design, pose: np.ndarray, unloaded: dict[str, Any],
         ("decoupling", "Decoupling and principal stiffnesses (eq. 28–32)",
          _decoupling_section(unloaded, "unloaded")),
         ("loaded", f"Loaded case: {wrench_txt} (eq. 33–35, Table 5)",
-         _loaded_section(loaded, unloaded)
+         _loaded_section(design, loaded, unloaded)
          + "<h3>Principal stiffnesses under the wrench</h3>"
          + _principal_cards(loaded, "loaded")
          + _springs_table(loaded, "loaded", "Screw springs under the wrench (Table 5)")

@@ -8,8 +8,8 @@ Each screw spring ``s_i`` (:mod:`ppm_stiffness.core.eigenscrews`) is drawn as
   for a negative one; its radius and colour grow with the spring constant ``k_i``;
 - a label ``s_i`` with ``k_i`` [kN/m] and the pitch ``h_i`` [mm/rad].
 
-The platform triangle D1-D2-D3 and the legs (guide block B, proximal link B-C,
-bearing C, rod C-D) are drawn in the plane z = 0 at the same pose. Everything is
+The platform polygon D1..Dn and the legs (their links and joints, from each leg's
+joint chain, any architecture) are drawn in the plane z = 0 at the same pose. Everything is
 relative to P with the axes of F_b, in millimetres, like the stiffness matrix.
 
 The spring-axis lines carry the gid ``"spring-axis-<i>"`` and the helices
@@ -136,15 +136,19 @@ def _clip_segment(
 def _draw_mechanism_plane(
     ax: Any, design: Design, pose: FloatArray, lo: FloatArray, hi: FloatArray, legs: bool
 ) -> None:
-    """Platform triangle and legs (B, C, D relative to P, z = 0, mm) clipped to the box."""
-    geoms = [leg.solve(pose) for leg in design.legs]
-    d = np.array([g.points["D"] for g in geoms]) * MM
-    tri = np.vstack([d, d[:1]])
+    """Platform polygon and legs (links, joints; relative to P, z = 0, mm), clipped."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    ax.add_collection3d(Poly3DCollection([d], facecolor="0.8", alpha=0.35, edgecolor="none"))
-    ax.plot(tri[:, 0], tri[:, 1], np.zeros(len(tri)), color="0.2", lw=2.0,
-            label=f"platform D1-...-D{len(d)}" if len(d) > 3 else "platform D1-D2-D3")
+    from ppm_stiffness.visuals.mechanism import platform_order
+
+    geoms = [leg.solve(pose) for leg in design.legs]
+    d = np.array([g.points["D"] for g in geoms]) * MM
+    order = platform_order(d[:, :2], np.zeros(2))
+    poly = d[order]
+    ring = np.vstack([poly, poly[:1]])
+    ax.add_collection3d(Poly3DCollection([poly], facecolor="0.8", alpha=0.35, edgecolor="none"))
+    ax.plot(ring[:, 0], ring[:, 1], np.zeros(len(ring)), color="0.2", lw=2.0,
+            label="platform " + "-".join(f"D{k + 1}" for k in order))
     styles = ({"color": "tab:blue", "lw": 2.5, "alpha": 0.6},
               {"color": "0.45", "lw": 1.5, "alpha": 0.9})
     labelled: set[str] = set()
@@ -162,7 +166,8 @@ def _draw_mechanism_plane(
                 labelled.add(link.name)
                 ax.plot(*seg.T, label=label, **styles[min(j, 1)])
         for joint in leg.chain(g):
-            if isinstance(joint, Joint) and joint.name != "platform_revolute":
+            # the joints at the platform point would hide its label
+            if isinstance(joint, Joint) and not np.allclose(joint.point, g.points["D"]):
                 point = np.asarray(joint.point) * MM
                 if np.all(point >= lo) and np.all(point <= hi):
                     ax.scatter(*point, marker=_MARKERS[joint.kind], s=20, color="0.3")
@@ -194,7 +199,7 @@ def plot_screw_springs(
         radius (75 mm for the paper's machine), 75 mm without a design.
     title : str, optional
     show_legs : bool
-        Draw the legs (B, C, D) as well as the platform.
+        Draw the legs (links and joints) as well as the platform.
 
     Returns
     -------
@@ -213,7 +218,8 @@ def plot_screw_springs(
     r_max = 0.08 * length * MM
     segments = spring_axis_segments(springs, length) * MM
 
-    # the box shown: springs, platform, bearings C and P, plus a margin
+    # the box shown: springs, platform, P and each leg's point before the platform (the
+    # bearing C of a P-P-R, the elbow of an R-R-R), plus a margin
     pts = [segments.reshape(-1, 3), np.zeros((1, 3))]
     geoms = []
     p0 = np.zeros(3)
@@ -222,7 +228,7 @@ def plot_screw_springs(
         geoms = [leg.solve(p0) for leg in design.legs]
         pts += [np.array([g.points["D"] for g in geoms]) * MM]
         if show_legs:
-            pts += [np.array([g.points["C"] for g in geoms]) * MM]
+            pts += [np.array([list(g.points.values())[-2] for g in geoms]) * MM]
     allp = np.vstack(pts)
     margin = r_max + 0.1 * length * MM
     lo, hi = allp.min(axis=0) - margin, allp.max(axis=0) + margin

@@ -25,7 +25,15 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
-from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, cross_z, planar, unit_planar
+from ppm_stiffness.legs.base import (
+    BaseFeature,
+    Coordinate,
+    LegModel,
+    LegPose,
+    cross_z,
+    planar,
+    unit_planar,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     BearingModel,
@@ -81,6 +89,11 @@ class PPRLeg(LegModel):
     def directions(self) -> tuple[FloatArray, FloatArray]:
         """Rail direction u and rod direction w (unit, F_b)."""
         return unit_planar(self.alpha), unit_planar(self.alpha + self.beta)
+
+    def base_feature(self, leg_pose: LegPose) -> BaseFeature:
+        """The rail through ``base_point`` along u, over the stroke (pose-independent)."""
+        return BaseFeature("rail", planar(np.asarray(self.base_point)), self.directions()[0],
+                           (float(self.stroke[0]), float(self.stroke[1])))
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke, "rod": self.rod_length_range}

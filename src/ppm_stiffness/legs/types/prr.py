@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
-from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -70,6 +70,11 @@ class PRRLeg(LegModel):
 
     def rail_direction(self) -> FloatArray:
         return unit_planar(self.alpha)
+
+    def base_feature(self, leg_pose: LegPose) -> BaseFeature:
+        """The rail through ``base_point`` along u, over the stroke (pose-independent)."""
+        return BaseFeature("rail", planar(np.asarray(self.base_point)), self.rail_direction(),
+                           (float(self.stroke[0]), float(self.stroke[1])))
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke}

@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS
-from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -75,6 +75,11 @@ class RRRLeg(LegModel):
         if self.stroke[1] - self.stroke[0] >= 2 * np.pi:
             raise ValueError("stroke must span less than one turn")
         return self
+
+    def base_feature(self, leg_pose: LegPose) -> BaseFeature:
+        """The actuated pivot at ``base_point`` with the stroke of theta (pose-independent)."""
+        return BaseFeature("pivot", planar(np.asarray(self.base_point)), np.zeros(3),
+                           (float(self.stroke[0]), float(self.stroke[1])))
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"theta": self.stroke}
