@@ -47,7 +47,7 @@ Actuator states of a map (``actuators``), each leg with its own actuator law
     (3-PPR) the locked statics are batched (the split is determinate); for any other
     design (more than 3 legs, or the general path) each reachable pose calls
     ``loaded_state(design, wrench, pose).actuator_stiffness`` in a Python loop (about
-    1-3 ms per pose), so wrench maps of those designs are slow on large grids.
+    2-5 ms per pose), so wrench maps of those designs are slow on large grids.
 """
 
 from __future__ import annotations
