@@ -13,9 +13,14 @@ Measured side by side in one run, on the built-in design at phi = 0 with locked 
   (``chain.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
   replaces;
 - the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses)
-  map, and of the same process before the map (imports only).
+  map, and of the same process before the map (imports only);
+- the general batched path (``batch.evaluate_poses(..., path="general")``: IK, chain
+  springs, bordered inverse, exact singularity test, principal stiffnesses) on random
+  poses over each shipped design's workspace box at phi = 0, one figure per
+  architecture (20 000 poses, ``--quick``: 4000; best of two).
 
-The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N peak_mb_1e7=N``.
+The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N peak_mb_1e7=N
+general_<design>_poses_per_s=N ...``.
 Run: ``.venv/bin/python benchmarks/bench_map.py [--quick]``.
 """
 
@@ -33,11 +38,14 @@ import numpy as np
 
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.decoupling import decouple
-from ppm_stiffness.design import default_design
+from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.maps import batch
-from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map
+from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map, workspace_bounds
 from ppm_stiffness.model import stiffness_at_pose
+
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
+GENERAL_DESIGNS = ("paper_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr")
 
 # Peak resident memory of the child itself: VmHWM of /proc/self/status (reset by exec);
 # ru_maxrss is not, on Linux it can carry the parent's high-water mark into the child.
@@ -125,6 +133,20 @@ def time_general_numpy(n: int) -> float:
     return n / best
 
 
+def time_general_path(design: Design, n: int) -> float:
+    """Poses per second of the general batched path, best of two."""
+    box = workspace_bounds(design, 0.0)
+    rng = np.random.default_rng(2)
+    poses = np.stack([rng.uniform(box[0], box[1], n), rng.uniform(box[2], box[3], n),
+                      np.zeros(n)], axis=-1)
+    best = float("inf")
+    for _ in range(2):
+        t = time.perf_counter()
+        batch.evaluate_poses(design, poses, path="general")
+        best = min(best, time.perf_counter() - t)
+    return n / best
+
+
 def peak_memory(grid: int) -> dict[str, float]:
     env = dict(os.environ)
     out = subprocess.run(
@@ -167,8 +189,17 @@ def main(argv: list[str] | None = None) -> int:
     print(f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
           f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
           f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)")
+    n_gen = 4000 if args.quick else 20_000
+    general = {}
+    for name in GENERAL_DESIGNS:
+        design = (default_design() if name == "paper_3ppr"
+                  else load_design(os.path.join(EXAMPLES, f"{name}.toml")))
+        general[name] = time_general_path(design, n_gen)
+        print(f"general path, {design.architecture} ({name}), {n_gen} poses: "
+              f"{general[name]:,.0f} poses/s")
     print(f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
-          f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f}")
+          f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f} "
+          + " ".join(f"general_{k}_poses_per_s={v:.0f}" for k, v in general.items()))
     return 0
 
 

@@ -14,6 +14,7 @@ import pytest
 from helpers import wide_design
 from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import (
+    DesignError,
     InputDataError,
     SingularConfigurationError,
     UnreachablePoseError,
@@ -167,5 +168,5 @@ def test_principal_from_matrices_equals_decouple_on_single_pose_matrices() -> No
 def test_bad_inputs_raise_library_errors() -> None:
     with pytest.raises(InputDataError):
         batch.evaluate_poses(DESIGN, np.zeros((4, 2)))
-    with pytest.raises(Exception, match="actuator stiffness"):
+    with pytest.raises(DesignError, match="actuator stiffness"):
         batch.evaluate_poses(DESIGN, np.zeros((4, 3)), [1.0, -2.0, 3.0])

@@ -23,7 +23,10 @@ from ppm_stiffness.cli.common import (
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
 
-HELP = "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7)"
+HELP = (
+    "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7), "
+    "any architecture"
+)
 
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
@@ -45,7 +48,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--reference-force", type=float, default=DEFAULT_REFERENCE_FORCE, metavar="N",
-        help=f"actuator force that defines 'min' [N] (default {DEFAULT_REFERENCE_FORCE:g})",
+        help="actuator load that defines 'min', each leg on its own law [N, or N·m for a "
+        f"rotary actuator] (default {DEFAULT_REFERENCE_FORCE:g})",
     )
     parser.add_argument(
         "--grid", type=int, default=200, metavar="N", help="N x N grid points (default 200)"
@@ -133,10 +137,12 @@ def run(args: argparse.Namespace) -> int:
             f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
         )
     k_lo, k_hi = smap.actuator_stiffness
+    units = sorted({leg.actuator_units()[2] for leg in design.legs})
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
-        + (f" (reference force {args.reference_force:g} N)" if state == "min" else "")
-        + f"; actuator stiffness [N/m]: {np.array2string(k_lo, precision=6)}"
+        + (f" (reference load {args.reference_force:g})" if state == "min" else "")
+        + f"; actuator stiffness [{' or '.join(units)}]: "
+        + np.array2string(k_lo, precision=6)
         + ("" if np.allclose(k_lo, k_hi, equal_nan=True)
            else f" to {np.array2string(k_hi, precision=6)}")
     )

@@ -45,6 +45,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 FloatArray = NDArray[np.float64]
+#: Boolean arrays (masks: reachable, valid, ...).
+BoolArray = NDArray[np.bool_]
 
 #: The 6x6 permutation that swaps the rotational and translational halves (eq. 6).
 GAMMA: FloatArray = np.block(

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -194,6 +194,27 @@ class LegModel(PartModel):
             axis = np.asarray(first.axis, dtype=float).reshape(-1, 3)[0]
             return BaseFeature("rail", point, axis / np.linalg.norm(axis))
         return BaseFeature("pivot", point, np.zeros(3))
+
+    # -- optional capabilities (generic default: not offered) ------------------------
+    def reduced_form(self) -> Any | None:
+        """An exact reduced form of the leg for fast batched maps, or None.
+
+        A leg type that has one returns an object the maps know how to evaluate
+        (:mod:`ppm_stiffness.maps.batch`); the default, None, sends the maps to the
+        general path (IK, joint chain and bordered inverse at every pose).
+        """
+        return None
+
+    def limit_half_planes(self, phi: float) -> tuple[FloatArray, FloatArray] | None:
+        """The joint limits at orientation ``phi`` as half-planes, or None.
+
+        When every joint coordinate with limits is affine in the platform position
+        (x, y) at fixed phi, a leg type returns ``(normals (n, 2), offsets (n,))`` such
+        that the pose (x, y, phi) is within limits iff ``normals @ (x, y) <= offsets``
+        [m]; the workspace bounds are then exact (:mod:`ppm_stiffness.maps.workspace`).
+        The default, None, means no such form (bounds come from sampling).
+        """
+        return None
 
     def actuator_units(self) -> tuple[str, str, str]:
         """Units of the actuator's force, displacement and stiffness."""

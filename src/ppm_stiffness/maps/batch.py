@@ -1,40 +1,51 @@
-"""Batched stiffness, decoupling and principal stiffnesses of planar P-P-R designs.
+"""Batched stiffness, decoupling and principal stiffnesses of planar designs.
 
-The single-pose path (:mod:`ppm_stiffness.model`) builds 22 spring screws per leg and
-inverts a 9x9 bordered matrix. For a map of 10^6 poses that costs ~60 us per pose even
-when batched with numpy, dominated by building the (..., 6, 22) screws and the
-(..., 22, 22) compliances. This module evaluates the *same* model from a reduced form
-that is exact for P-P-R legs:
+Two paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.model`,
+:func:`ppm_stiffness.core.decoupling.decouple` with ``method="paper"``):
 
-The reduced form of a leg lives in :mod:`ppm_stiffness.maps.reduced_leg`:
+**The general path** (:func:`general_stiffness`, any architecture). Per chunk of poses
+and per leg: the batched inverse kinematics ``leg.solve(poses)``, the reachability mask
+``leg.reachable`` (IK solvable and every joint coordinate within its limits), and only
+at the reachable poses the joint chain ``leg.chain``, its virtual springs
+(:func:`ppm_stiffness.legs.chain.leg_springs`) and the bordered inverse of eq. (1)
+(:func:`ppm_stiffness.core.solver.bordered_stiffness`); K is the sum over legs
+(N, 6, 6). Poses where a leg's IK has no solution never reach the solver, so no NaN
+leaks into the results: they are masked. A chunk whose batched bordered inverse fails
+is redone pose by pose and the failing poses are masked. Memory: about 6 kB per pose
+and leg (the (m, m) spring compliances, m ~ 22-28), bounded by
+:data:`GENERAL_CHUNK` poses per chunk. Cost: ~50 us per pose (benchmarks/bench_map.py).
 
-1. Everything in a leg is rigidly attached to its rod, seen from the platform point D:
-   the bearing C sits at ``-L w`` from D (L the rod free length), the guide block and
-   the proximal link are a constant offset further away, the directions u, w, z never
-   change. Expressed at D (axes of F_b) the leg's spring compliance is therefore a
-   cubic polynomial in L plus the actuator term: ``C_D(L) = sum_k P_k L^k + e e^T / k_act``
-   (guide, proximal link and bearing contribute up to L^2 through their lever arms,
-   the rod cantilever up to L^3).
-2. The passive joints seen from D (rotation about w through C, translation along w,
-   revolute at D) do not depend on the pose, so neither does the basis W_D of the
-   wrenches the leg transmits (reciprocal to the passive joints). The leg stiffness is
-   the reduced form of eq. (1): ``K_i = W (W^T C W)^{-1} W^T`` with ``W = G(d) W_D`` the
-   basis moved from D to P (``d = D - P`` depends on phi only).
+**The reduced path** (P-P-R legs). When every leg offers an exact reduced form
+(:meth:`ppm_stiffness.legs.base.LegModel.reduced_form`, today the P-P-R leg:
+:mod:`ppm_stiffness.legs.types._ppr_reduced`), the same model is evaluated in closed
+form, about 100x faster:
+
+1. Everything in a P-P-R leg is rigidly attached to its rod, seen from the platform
+   point D: the leg's spring compliance at D is a cubic polynomial in the rod free
+   length L plus the actuator term, ``C_D(L) = sum_k P_k L^k + e e^T / k_act``.
+2. The passive joints seen from D do not depend on the pose, so neither does the basis
+   W_D of the wrenches the leg transmits: ``K_i = W (W^T C W)^{-1} W^T`` with
+   ``W = G(d) W_D`` the basis moved from D to P (``d = D - P`` depends on phi only).
 3. A planar design splits into in-plane (phi_z, x, y) and out-of-plane
-   (phi_x, phi_y, z) motions: per leg ``W^T C W`` is a scalar (the compliance along
-   the one in-plane force the leg transmits) plus a 2x2 block. Inverting them is a
-   division and a 2x2 adjugate.
+   (phi_x, phi_y, z) motions: per leg ``W^T C W`` is a scalar plus a 2x2 block.
 
-The polynomial coefficients are computed once per design *from the general model
-itself* (:func:`ppm_stiffness.legs.ppr.leg_springs` at two rod lengths, the rod block of
-:func:`ppm_stiffness.core.beam.cantilever_compliance` interpolated at four lengths), so the
-two paths cannot drift apart silently; tests compare them to 1e-10 relative.
+The polynomial coefficients are computed once per design from the general model
+itself, so the two paths cannot drift apart silently; tests compare them to 1e-9 on
+the length-balanced K, and both to the single-pose path to 1e-10.
 
-Decoupling and principal stiffnesses follow :func:`ppm_stiffness.core.decoupling.decouple`
-with ``method="paper"`` in closed form for the planar block structure: ``d_z = 0``,
-``k_phi = K'_rr[2, 2]`` and ``(k_x, k_y)`` the eigenvalues of the in-plane 2x2 block of
-K_tt, each assigned to the axis its eigenvector is closest to (as
-:func:`~ppm_stiffness.core.decoupling.principal_axes`).
+**Principal stiffnesses** (both paths). For a planar K (in-plane and out-of-plane
+blocks uncoupled, as every shipped leg type gives) the paper's decoupling has a closed
+form (:func:`principal_from_entries`): ``d_z = 0``, ``k_phi = K'_rr[2, 2]`` and
+``(k_x, k_y)`` the eigenvalues of the in-plane 2x2 block of K_tt, each assigned to the
+axis its eigenvector is closest to (as
+:func:`~ppm_stiffness.core.decoupling.principal_axes`). A K that is not planar to
+1e-12 (length-balanced) is decoupled pose by pose with
+:func:`~ppm_stiffness.core.decoupling.decouple`.
+
+**Singularity mask** (both paths): the criterion of
+:func:`ppm_stiffness.model.check_nonsingular`, the eigenvalues of the length-balanced
+K (:func:`ppm_stiffness.core.conventions.length_balanced`), valid iff finite,
+``lambda_max > 0`` and ``lambda_min > SINGULARITY_TOLERANCE * lambda_max``.
 
 Poses are arrays (..., 3) = (x [m], y [m], phi [rad]); matrices are at P with the axes
 of F_b in the order of :mod:`ppm_stiffness.core.conventions`.
@@ -43,32 +54,57 @@ of F_b in the order of :mod:`ppm_stiffness.core.conventions`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import (
     LENGTH_SCALE,
+    BoolArray,
     FloatArray,
     hat,
     length_balanced,
     vect,
 )
-from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.core.decoupling import decouple
+from ppm_stiffness.core.errors import (
+    DesignError,
+    InputDataError,
+    SingularConfigurationError,
+)
+from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs.base import LegPose
+from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.maps.reduced_leg import (
     IN_PLANE,
     OUT_OF_PLANE,
     ReducedLeg,
     reduce_design,
     reduce_leg,
+    reduced_design,
 )
 from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 
-__all__ = ["IN_PLANE", "OUT_OF_PLANE", "ReducedLeg", "reduce_design", "reduce_leg"]
+__all__ = [
+    "IN_PLANE",
+    "OUT_OF_PLANE",
+    "ReducedLeg",
+    "reduce_design",
+    "reduce_leg",
+    "reduced_design",
+]
 
-#: Rotations are balanced at 0.1 m in the singularity test, as in model.check_nonsingular.
+#: Poses per chunk of the general path (about 6 kB per pose and leg of temporaries).
+GENERAL_CHUNK = 4096
+#: Poses per chunk of the reduced path (about 1 kB per pose).
+REDUCED_CHUNK = 65536
+#: Largest length-balanced in-plane/out-of-plane coupling, relative to the largest
+#: entry, for which K counts as planar (closed-form decoupling).
+PLANAR_TOLERANCE = 1e-12
+
+Path = Literal["auto", "reduced", "general"]
 
 
 class PlanarEntries(NamedTuple):
@@ -108,20 +144,9 @@ def _horner(coeffs: FloatArray, x: FloatArray) -> FloatArray:
 def leg_kinematics(
     leg: ReducedLeg, x: ArrayLike, y: ArrayLike, phi: ArrayLike
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Platform point ``d = D - P`` (x, y parts), actuator coordinate and rod length.
-
-    Same expressions as :meth:`ppm_stiffness.legs.types.ppr.PPRLeg.solve` (the 2x2
-    solve ``D - A = rho u + (bearing_offset + rod) w``); arrays broadcast.
-    """
-    ang = leg.psi + np.asarray(phi, dtype=float)
-    dx = -leg.radius * np.cos(ang)
-    dy = -leg.radius * np.sin(ang)
-    px = (np.asarray(x, dtype=float) + dx) - leg.base_point[0]
-    py = (np.asarray(y, dtype=float) + dy) - leg.base_point[1]
-    det = leg.u[0] * leg.w[1] - leg.u[1] * leg.w[0]
-    rho = (px * leg.w[1] - py * leg.w[0]) / det
-    rod = (leg.u[0] * py - leg.u[1] * px) / det - leg.bearing_offset
-    return dx, dy, np.asarray(rho), np.asarray(rod)
+    """Platform point ``d = D - P`` (x, y parts), actuator coordinate and rod length
+    [m] of a reduced leg (:meth:`ReducedLeg.kinematics`); arrays broadcast."""
+    return leg.kinematics(x, y, phi)
 
 
 def planar_entries(
@@ -130,14 +155,15 @@ def planar_entries(
     y: ArrayLike,
     phi: ArrayLike,
     actuator_stiffness: ArrayLike,
-) -> tuple[PlanarEntries, FloatArray]:
+) -> tuple[PlanarEntries, BoolArray]:
     """Stiffness entries and reachability at poses given as broadcastable arrays.
 
     Parameters
     ----------
     legs : from :func:`reduce_design`
     x, y, phi : array_like, broadcastable [m, m, rad]
-    actuator_stiffness : array_like, shape (n_legs,) or broadcastable (..., n_legs) [N/m]
+    actuator_stiffness : array_like, shape (n_legs,) or broadcastable (..., n_legs)
+        [N/m] (the P-P-R actuators are linear).
 
     Returns
     -------
@@ -147,16 +173,10 @@ def planar_entries(
     k_act = np.asarray(actuator_stiffness, dtype=float)
     ph = np.asarray(phi, dtype=float)
     acc: list[FloatArray | float] = [0.0] * 12
-    reachable: FloatArray | bool = True
+    reachable: BoolArray = np.array(True)
     for i, leg in enumerate(legs):
-        dx, dy, rho, rod = leg_kinematics(leg, x, y, ph)
-        reachable = (
-            reachable
-            & (rho >= leg.stroke[0])
-            & (rho <= leg.stroke[1])
-            & (rod >= leg.rod_length_range[0])
-            & (rod <= leg.rod_length_range[1])
-        )
+        dx, dy, rho, rod = leg.kinematics(x, y, ph)
+        reachable = reachable & leg.within_limits(rho, rod)
         # in-plane: one transmitted force; its wrench moved from D to P
         mz, fx, fy = leg.in_basis
         q = (mz + dx * fy - dy * fx, fx, fy)
@@ -266,7 +286,7 @@ def _block_lower_bound(
     return bound, trace
 
 
-def nonsingular_from_entries(e: PlanarEntries) -> FloatArray:
+def nonsingular_from_entries(e: PlanarEntries) -> BoolArray:
     """Boolean array: False where :func:`ppm_stiffness.model.check_nonsingular` raises.
 
     A cheap sufficient test (``lambda_min >= det / tr^2`` per positive definite 3x3 block,
@@ -292,9 +312,27 @@ def nonsingular_from_entries(e: PlanarEntries) -> FloatArray:
     unsure = finite & ~sure
     if np.any(unsure):
         k = assemble(PlanarEntries(*(np.asarray(v)[unsure] for v in e)))
-        ks = length_balanced(k)
-        eig = np.linalg.eigvalsh(ks)
-        result[unsure] = eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1]
+        result[unsure] = _eigen_test(k)
+    return result
+
+
+def _eigen_test(stiffness: FloatArray) -> BoolArray:
+    """The test of :func:`ppm_stiffness.model.check_nonsingular` on finite K (n, 6, 6)."""
+    eig = np.linalg.eigvalsh(length_balanced(stiffness))
+    return np.asarray(
+        (eig[..., -1] > 0) & (eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1])
+    )
+
+
+def nonsingular_from_matrices(stiffness: ArrayLike) -> BoolArray:
+    """Boolean array (...): False exactly where :func:`ppm_stiffness.model.check_nonsingular`
+    raises (non-finite K, or the length-balanced eigenvalue ratio at or below
+    ``SINGULARITY_TOLERANCE``); any K (..., 6, 6), planar or not."""
+    k = np.asarray(stiffness, dtype=float)
+    finite = np.all(np.isfinite(k), axis=(-2, -1))
+    result = np.zeros(finite.shape, dtype=bool)
+    if np.any(finite):
+        result[finite] = _eigen_test(k[finite])
     return result
 
 
@@ -304,7 +342,7 @@ def actuator_forces_batch(
     y: ArrayLike,
     phi: ArrayLike,
     wrench: ArrayLike,
-    locked_stiffness: float,
+    locked_stiffness: ArrayLike,
 ) -> FloatArray:
     """Actuator forces [N] under ``wrench`` (m_x..f_z at P, F_b), shape (..., n_legs).
 
@@ -312,10 +350,16 @@ def actuator_forces_batch(
     proportion to the locked leg stiffnesses, ``w_i = K_i K^{-1} w``; the actuator
     carries ``u_i . f_i``. Only the in-plane part of each leg's wrench has a force
     along u, so a 3x3 in-plane solve per pose suffices.
+
+    ``locked_stiffness`` is a scalar or one value per leg (n_legs,) [N/m]. The split is
+    the statics of the locked manipulator: right for a non-redundant design (3 legs,
+    each transmitting one in-plane force: the split is determinate and does not depend
+    on the stiffness values); a redundant design needs the loaded statics of
+    :func:`ppm_stiffness.statics.loading.loaded_state`.
     """
     w = np.asarray(wrench, dtype=float)
     n = len(legs)
-    k_lock = np.full(n, locked_stiffness)
+    k_lock = np.broadcast_to(np.asarray(locked_stiffness, dtype=float), (n,))
     e, _ = planar_entries(legs, x, y, phi, k_lock)
     a, b, c, d_, f, g = e.k22, e.k23, e.k24, e.k33, e.k34, e.k44
     rhs = (w[2], w[3], w[4])
@@ -329,15 +373,128 @@ def actuator_forces_batch(
         (c02 * rhs[0] + c12 * rhs[1] + c22 * rhs[2]) / det,
     )
     forces = []
-    for leg in legs:
-        dx, dy, _, rod = leg_kinematics(leg, x, y, phi)
+    for i, leg in enumerate(legs):
+        dx, dy, _, rod = leg.kinematics(x, y, phi)
         mz, fx, fy = leg.in_basis
         q = (mz + dx * fy - dy * fx, fx, fy)
-        s_in = _horner(leg.in_poly, rod) + leg.in_actuator**2 / locked_stiffness
+        s_in = _horner(leg.in_poly, rod) + leg.in_actuator**2 / k_lock[i]
         lam = (q[0] * t[0] + q[1] * t[1] + q[2] * t[2]) / s_in
         forces.append(lam * (fx * leg.u[0] + fy * leg.u[1]))
     shape = np.broadcast_shapes(np.shape(x), np.shape(y), np.shape(phi))
     return np.stack([np.broadcast_to(fv, shape) for fv in forces], axis=-1)
+
+
+def _take(leg_pose: LegPose, index: np.ndarray) -> LegPose:
+    """The poses ``index`` of a leg pose with one batch axis."""
+    return LegPose(
+        poses=leg_pose.poses[index],
+        points={k: v[index] for k, v in leg_pose.points.items()},
+        coordinates={k: v[index] for k, v in leg_pose.coordinates.items()},
+        solvable=np.broadcast_to(leg_pose.solvable, leg_pose.poses.shape[:-1])[index],
+    )
+
+
+def _leg_stiffness_or_nan(compliance6: FloatArray, passive: FloatArray) -> FloatArray:
+    """:func:`bordered_stiffness` of a batch (n, ...); NaN for the poses whose bordered
+    matrix is singular (redone pose by pose when the batched inverse fails)."""
+    try:
+        return bordered_stiffness(compliance6, passive)
+    except SingularConfigurationError:
+        out = np.full(compliance6.shape[:-2] + (6, 6), np.nan)
+        for n in range(compliance6.shape[0]):
+            try:
+                out[n] = bordered_stiffness(compliance6[n], passive[n])
+            except SingularConfigurationError:
+                continue
+        return out
+
+
+def general_stiffness(
+    design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
+) -> tuple[FloatArray, BoolArray]:
+    """Stiffness at poses by the general model (any leg type), one chunk.
+
+    Parameters
+    ----------
+    design : Design
+    poses : array_like, shape (n, 3)
+        (x [m], y [m], phi [rad]) of P in F_b.
+    actuator_stiffness : array_like, shape (n, n_legs) or (n_legs,)
+        Per pose and leg [N/m, or N·m/rad for a rotary actuator].
+
+    Returns
+    -------
+    stiffness : ndarray (n, 6, 6)
+        K at P, axes of F_b (SI); zero where not reachable, NaN where a leg's bordered
+        matrix is singular.
+    reachable : ndarray of bool (n,)
+        Every leg's IK solvable and its joint coordinates within limits.
+    """
+    p = np.asarray(poses, dtype=float)
+    n = p.shape[0]
+    n_legs = len(design.legs)
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n, n_legs))
+    leg_poses = [leg.solve(p) for leg in design.legs]
+    reach = np.ones(n, dtype=bool)
+    for leg, lp in zip(design.legs, leg_poses, strict=True):
+        reach &= np.asarray(leg.reachable(lp), dtype=bool)
+    total = np.zeros((n, 6, 6))
+    index = np.flatnonzero(reach)
+    if index.size == 0:
+        return total, reach
+    sub = np.zeros((index.size, 6, 6))
+    for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
+        springs = leg_springs(leg.chain(_take(lp, index)), k_act[index, i])
+        c6 = leg_compliance_at_platform(springs.screws, springs.compliance)
+        sub += _leg_stiffness_or_nan(c6, springs.passive)
+    total[index] = sub
+    return total, reach
+
+
+def is_planar(stiffness: ArrayLike) -> BoolArray:
+    """Mask (...): K has no in-plane/out-of-plane coupling, to :data:`PLANAR_TOLERANCE`
+    relative to its largest entry, on the length-balanced matrix."""
+    kb = length_balanced(stiffness)
+    mixed = kb[..., list(IN_PLANE), :][..., list(OUT_OF_PLANE)]
+    scale = np.max(np.abs(kb), axis=(-2, -1))
+    return np.asarray(np.max(np.abs(mixed), axis=(-2, -1)) <= PLANAR_TOLERANCE * scale)
+
+
+def principal_from_matrices(stiffness: ArrayLike) -> Principal:
+    """The paper's decoupling and principal stiffnesses of matrices (n, 6, 6).
+
+    Closed form (:func:`principal_from_entries`) where K is planar (:func:`is_planar`);
+    elsewhere :func:`~ppm_stiffness.core.decoupling.decouple` pose by pose (k_phi =
+    f_rr[2], k_x, k_y, k_z = f_tt). Only finite matrices should be passed.
+    """
+    k = np.asarray(stiffness, dtype=float)
+    with np.errstate(all="ignore"):
+        pr = principal_from_entries(entries_from_matrices(k))
+    planar = is_planar(k)
+    if np.all(planar):
+        return pr
+    fields = [np.array(v, dtype=float, copy=True) for v in pr]
+    for n in np.flatnonzero(~planar):
+        dec = decouple(k[n], "paper")
+        values = (dec.d[0], dec.d[1], dec.rotational_values[2], *dec.translational_values)
+        for field, value in zip(fields, values, strict=True):
+            field[n] = value
+    return Principal(*fields)
+
+
+def select_path(design: Design, path: Path = "auto") -> tuple[ReducedLeg, ...] | None:
+    """The reduced legs to use, or None for the general path.
+
+    ``"auto"``: the reduced path when every leg offers it; ``"general"``: always the
+    general path; ``"reduced"``: the reduced path or :class:`DesignError`.
+    """
+    if path == "general":
+        return None
+    if path == "reduced":
+        return reduce_design(design)
+    if path == "auto":
+        return reduced_design(design)
+    raise InputDataError(f"path must be 'auto', 'reduced' or 'general', got {path!r}")
 
 
 @dataclass(frozen=True)
@@ -347,28 +504,80 @@ class BatchResult:
     Attributes
     ----------
     valid : ndarray of bool
-        Reachable (strokes, rod ranges) and nonsingular (model.check_nonsingular).
+        Reachable (joint limits) and nonsingular (model.check_nonsingular).
     reachable : ndarray of bool
+        Every leg's IK solvable and its joint coordinates within limits.
     k_phi, k_x, k_y : numpy.ma.MaskedArray
         Principal stiffnesses [N·m/rad, N/m, N/m], masked where not valid.
     d : ndarray (..., 3) [m]
         The paper's decoupling shift (zero where not valid).
     stiffness : ndarray (..., 6, 6) or None
         The matrices (zero where not valid), when asked for.
+    path : {"reduced", "general"}
+        Which path computed them.
     """
 
-    valid: FloatArray
-    reachable: FloatArray
+    valid: BoolArray
+    reachable: BoolArray
     k_phi: np.ma.MaskedArray
     k_x: np.ma.MaskedArray
     k_y: np.ma.MaskedArray
     d: FloatArray
     stiffness: FloatArray | None
+    path: str = "reduced"
 
 
-def _masked(values: FloatArray, valid: FloatArray) -> np.ma.MaskedArray:
+def _masked(values: FloatArray, valid: BoolArray) -> np.ma.MaskedArray:
     data = np.where(valid, values, np.nan)
     return np.ma.MaskedArray(data, mask=~valid, fill_value=np.nan)
+
+
+def _per_pose_actuator_stiffness(
+    design: Design, actuator_stiffness: ArrayLike | None, batch: tuple[int, ...], n: int
+) -> FloatArray:
+    """Actuator stiffness (n, n_legs) from None (locked), (n_legs,) or (..., n_legs)."""
+    n_legs = len(design.legs)
+    if actuator_stiffness is None:
+        return np.broadcast_to(actuator_stiffness_vector(design, None), (n, n_legs))
+    k_in = np.asarray(actuator_stiffness, dtype=float)
+    try:
+        k_act = np.broadcast_to(k_in, batch + (n_legs,)).reshape(n, n_legs)
+    except ValueError:
+        raise DesignError(
+            f"actuator stiffness of shape {k_in.shape} does not fit {n} poses "
+            f"of {n_legs} legs"
+        ) from None
+    if not np.all(np.isfinite(k_act)) or np.any(k_act <= 0):
+        raise DesignError("actuator stiffness must be finite and > 0")
+    return k_act
+
+
+def evaluate_chunk(
+    design: Design,
+    legs: tuple[ReducedLeg, ...] | None,
+    poses: FloatArray,
+    actuator_stiffness: FloatArray,
+) -> tuple[FloatArray, BoolArray, BoolArray, Principal]:
+    """One chunk of poses (n, 3) with actuator stiffness (n, n_legs) or (n_legs,).
+
+    Returns
+    -------
+    stiffness : ndarray (n, 6, 6) [SI]
+    reachable, valid : ndarray of bool (n,)
+    principal : Principal, arrays (n,) (meaningless where not valid)
+    """
+    if legs is not None:
+        x, y, ph = poses[:, 0], poses[:, 1], poses[:, 2]
+        with np.errstate(all="ignore"):
+            e, reach = planar_entries(legs, x, y, ph, actuator_stiffness)
+            pr = principal_from_entries(e)
+        valid = reach & nonsingular_from_entries(e)
+        return assemble(e), reach, valid, pr
+    k, reach = general_stiffness(design, poses, actuator_stiffness)
+    valid = reach & nonsingular_from_matrices(k)
+    safe = np.where(valid[:, None, None], k, np.eye(6))  # no NaN into the closed forms
+    pr = principal_from_matrices(safe)
+    return k, reach, valid, pr
 
 
 def evaluate_poses(
@@ -377,21 +586,26 @@ def evaluate_poses(
     actuator_stiffness: ArrayLike | None = None,
     *,
     matrices: bool = False,
-    chunk_size: int = 65536,
+    chunk_size: int | None = None,
+    path: Path = "auto",
 ) -> BatchResult:
     """Stiffness, paper decoupling and principal stiffnesses at many poses.
 
     Parameters
     ----------
     design : Design
+        Any architecture.
     poses : array_like, shape (..., 3)
         (x [m], y [m], phi [rad]) of P in F_b.
     actuator_stiffness : array_like, shape (n_legs,) or (..., n_legs), optional
-        [N/m]; the locked value when None.
+        [N/m, or N·m/rad for a rotary actuator]; each leg's locked value when None.
     matrices : bool
         Also return the 6x6 matrices (memory: 288 bytes per pose).
-    chunk_size : int
-        Poses evaluated at once (bounds the temporary memory).
+    chunk_size : int, optional
+        Poses evaluated at once (bounds the temporary memory); default
+        :data:`REDUCED_CHUNK` or :data:`GENERAL_CHUNK` by the path.
+    path : {"auto", "reduced", "general"}
+        :func:`select_path`.
 
     Returns
     -------
@@ -399,44 +613,40 @@ def evaluate_poses(
         Same numbers as :func:`ppm_stiffness.model.stiffness_at_pose` and
         :func:`ppm_stiffness.core.decoupling.decouple` (to rounding), masked where the
         single-pose path raises.
+
+    Raises
+    ------
+    InputDataError
+        Poses not of shape (..., 3) or not finite; unknown path.
+    DesignError
+        Actuator stiffnesses of the wrong shape or not finite and positive; or
+        ``path="reduced"`` for a design whose legs offer no reduced form.
     """
     p = np.asarray(poses, dtype=float)
     if p.shape[-1:] != (3,):
         raise InputDataError(f"poses must have shape (..., 3), got {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise InputDataError("poses must be finite")
     batch = p.shape[:-1]
     flat = p.reshape(-1, 3)
     n = flat.shape[0]
-    n_legs = len(design.legs)
-    if actuator_stiffness is None:
-        k_act = np.broadcast_to(actuator_stiffness_vector(design, None), (n, n_legs))
-    else:
-        k_in = np.asarray(actuator_stiffness, dtype=float)
-        try:
-            k_act = np.broadcast_to(k_in, batch + (n_legs,)).reshape(n, n_legs)
-        except ValueError:
-            raise DesignError(
-                f"actuator stiffness of shape {k_in.shape} does not fit {n} poses "
-                f"of {n_legs} legs"
-            ) from None
-        if not np.all(np.isfinite(k_act)) or np.any(k_act <= 0):
-            raise DesignError("actuator stiffness must be finite and > 0 N/m")
-    legs = reduce_design(design)
+    k_act = _per_pose_actuator_stiffness(design, actuator_stiffness, batch, n)
+    legs = select_path(design, path)
+    if chunk_size is None:
+        chunk_size = REDUCED_CHUNK if legs is not None else GENERAL_CHUNK
+    step = max(int(chunk_size), 1)
     valid = np.zeros(n, dtype=bool)
     reach = np.zeros(n, dtype=bool)
     out = np.zeros((5, n))
     mats = np.zeros((n, 6, 6)) if matrices else None
-    for start in range(0, n, max(int(chunk_size), 1)):
-        sl = slice(start, min(start + chunk_size, n))
-        x, y, ph = flat[sl, 0], flat[sl, 1], flat[sl, 2]
-        with np.errstate(all="ignore"):
-            e, r = planar_entries(legs, x, y, ph, k_act[sl])
-            pr = principal_from_entries(e)
-        ok = r & nonsingular_from_entries(e)
+    for start in range(0, n, step):
+        sl = slice(start, min(start + step, n))
+        k, r, ok, pr = evaluate_chunk(design, legs, flat[sl], k_act[sl])
         valid[sl], reach[sl] = ok, r
         for row, values in enumerate((pr.k_phi, pr.k_x, pr.k_y, pr.d_x, pr.d_y)):
             out[row, sl] = values
         if mats is not None:
-            mats[sl] = np.where(ok[:, None, None], assemble(e), 0.0)
+            mats[sl] = np.where(ok[:, None, None], k, 0.0)
     d = np.zeros((n, 3))
     d[:, 0] = np.where(valid, out[3], 0.0)
     d[:, 1] = np.where(valid, out[4], 0.0)
@@ -448,6 +658,7 @@ def evaluate_poses(
         k_y=_masked(out[2], valid).reshape(batch),
         d=d.reshape(batch + (3,)),
         stiffness=None if mats is None else mats.reshape(batch + (6, 6)),
+        path="general" if legs is None else "reduced",
     )
 
 

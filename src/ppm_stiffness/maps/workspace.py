@@ -1,25 +1,53 @@
-"""Constant-orientation workspace and stiffness maps (paper Figures 6-7).
+"""Constant-orientation workspace and stiffness maps (paper Figures 6-7), any architecture.
 
-The workspace at orientation phi is the set of platform positions (x, y) whose inverse
-kinematics keeps every actuator coordinate inside its ``stroke`` and every rod free
-length inside its ``rod_length_range`` (design file, per leg), and whose stiffness
-matrix is not (nearly) singular by the criterion of
-:func:`ppm_stiffness.model.check_nonsingular`. For P-P-R legs both joint values are
-affine in (x, y) at fixed phi, so the workspace is a convex polygon; the map grid spans
-its bounding box and masks what lies outside.
+The workspace at orientation phi is the set of platform positions (x, y) where every
+leg's inverse kinematics has a solution with its joint coordinates inside their limits
+(:meth:`ppm_stiffness.legs.base.LegModel.reachable`: strokes, rod ranges, actuator
+angles), and whose stiffness matrix is not (nearly) singular by the criterion of
+:func:`ppm_stiffness.model.check_nonsingular`. The map grid spans the bounding box of
+the joint-limit workspace (:func:`workspace_bounds`) and masks what lies outside.
 
-Actuator states of a map (``actuators``):
+Workspace bounds, two methods:
+
+exact (half-planes)
+    When every leg states its joint limits at fixed phi as half-planes in (x, y)
+    (:meth:`~ppm_stiffness.legs.base.LegModel.limit_half_planes`; the P-P-R leg: its
+    stroke and rod length are affine in (x, y)), the workspace is a convex polygon and
+    its bounding box comes from its vertices (exact to rounding).
+sampled (any leg type)
+    Reachability is sampled on a 101 x 101 grid over a square around the workspace
+    centre whose half-size starts at twice the largest distance from P to a named leg
+    point (the base joints, typically) and doubles until no reachable sample touches
+    the square's edge; the grid is then resampled twice on the box of its reachable
+    samples (one cell wider each side). Each side of that box is refined by zooming:
+    the strip between the outermost reachable column and the one before it, limited
+    to the rows reachable near it, is resampled 32 times finer across (sliding
+    outwards when the finer rows find reachable poses beyond it), :data:`_ZOOM_LEVELS`
+    times. The result is an inner box (its extremes are reachable poses). Against a
+    brute-force 1501 x 1501 sweep of the shipped 3-RPR, 3-PRR and 3-RRR at phi = 0 and
+    0.3 rad it contains the sweep's box and exceeds it by at most 1.0 sweep step
+    (0.12 mm on a ~170 mm box) (tests/test_workspace_bounds.py). A part of the
+    workspace narrower than one coarse cell (1 % of the box) and disconnected from the
+    rest may be missed. It costs 0.05-0.15 s per orientation.
+
+Actuator states of a map (``actuators``), each leg with its own actuator law
+(``design.legs[i].actuator``: linear [N/m] or rotary [N·m/rad]):
 
 ``"max"``
-    every actuator locked: ``design.actuator.locked_stiffness`` (eq. 21, small loads).
+    every actuator locked: ``leg.actuator.locked_stiffness`` (eq. 21, small loads).
 ``"min"``
-    every actuator at the tangent stiffness of eq. (20)-(21) under the reference force
-    ``reference_force`` (default :data:`DEFAULT_REFERENCE_FORCE` = 10 N). The paper
-    does not state its minimum; see docs/maps.md.
+    every actuator at the tangent stiffness of eq. (20)-(21) of its own law under the
+    reference load ``reference_force`` (default :data:`DEFAULT_REFERENCE_FORCE` = 10, in
+    N for a linear actuator and N·m for a rotary one). The paper does not state its
+    minimum; see docs/maps.md.
 ``"wrench"``
     the loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z at P, F_b) at each
     pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
-    statics of the locked manipulator, then eq. (20)-(21).
+    statics, then eq. (20)-(21). For a 3-leg design whose legs offer the reduced form
+    (3-PPR) the locked statics are batched (the split is determinate); for any other
+    design (more than 3 legs, or the general path) each reachable pose calls
+    ``loaded_state(design, wrench, pose).actuator_stiffness`` in a Python loop (about
+    2-5 ms per pose), so wrench maps of those designs are slow on large grids.
 """
 
 from __future__ import annotations
@@ -32,68 +60,192 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.conventions import BoolArray, FloatArray
+from ppm_stiffness.core.errors import (
+    DesignError,
+    InputDataError,
+    SingularConfigurationError,
+    UnreachablePoseError,
+)
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
+from ppm_stiffness.model import locked_actuator_stiffness
 from ppm_stiffness.statics import actuator as act
 
-#: Reference actuator force [N] that defines the "min" actuator state.
+#: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
 DEFAULT_REFERENCE_FORCE = 10.0
-#: Poses evaluated at once by :func:`stiffness_map` (bounds the temporary memory).
-DEFAULT_CHUNK = 65536
+#: Poses evaluated at once by :func:`stiffness_map` on the reduced path (memory bound);
+#: the general path uses :data:`ppm_stiffness.maps.batch.GENERAL_CHUNK`.
+DEFAULT_CHUNK = batch.REDUCED_CHUNK
 #: Relative inward margin of the grid so that no grid point lies on a joint limit.
 _EDGE_MARGIN = 1e-9
+#: Sampled bounds: coarse grid points per axis, zoom levels, points across per zoom.
+_COARSE = 101
+_ZOOM_LEVELS = 6
+_ZOOM = 33
+#: Sampled bounds: resamplings of the coarse grid on the box of its reachable samples.
+_TIGHTEN = 2
+#: Sampled bounds: most doublings of the search square before giving up.
+_MAX_DOUBLINGS = 12
 
 ACTUATOR_STATES = ("max", "min", "wrench")
 
 
-def _half_planes(
-    legs: tuple[batch.ReducedLeg, ...], phi: float
-) -> tuple[FloatArray, FloatArray]:
-    """Joint limits at ``phi`` as half-planes ``normals @ (x, y) <= offsets``."""
+def reachable_positions(
+    design: Design, x: ArrayLike, y: ArrayLike, phi: float
+) -> BoolArray:
+    """Mask of the positions (x, y) [m] (broadcastable) within every leg's joint
+    limits at orientation ``phi`` [rad] (IK solvable, coordinates in range)."""
+    xb, yb = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    poses = np.stack([xb, yb, np.full(xb.shape, float(phi))], axis=-1)
+    ok = np.ones(xb.shape, dtype=bool)
+    for leg in design.legs:
+        ok &= np.asarray(leg.reachable(leg.solve(poses)), dtype=bool)
+    return ok
+
+
+def _half_plane_bounds(design: Design, phi: float) -> FloatArray | None:
+    """Exact bounding box from the legs' half-planes, None if a leg offers none."""
     normals, offsets = [], []
-    for leg in legs:
-        dx, dy, rho0, rod0 = batch.leg_kinematics(leg, 0.0, 0.0, phi)
-        for direction, value0, (lo, hi) in (
-            (leg.u, rho0, leg.stroke),
-            (leg.w, rod0, leg.rod_length_range),
-        ):
-            normals += [direction, -direction]
-            offsets += [hi - float(value0), float(value0) - lo]
-    return np.array(normals), np.array(offsets)
+    for leg in design.legs:
+        planes = leg.limit_half_planes(phi)
+        if planes is None:
+            return None
+        normals.append(planes[0])
+        offsets.append(planes[1])
+    a, b = np.concatenate(normals), np.concatenate(offsets)
+    vertices = []
+    n = len(b)
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(b))))
+    for i in range(n):
+        for j in range(i + 1, n):
+            m = a[[i, j]]
+            if abs(np.linalg.det(m)) < 1e-12 * np.linalg.norm(m[0]) * np.linalg.norm(m[1]):
+                continue
+            p = np.linalg.solve(m, b[[i, j]])
+            if np.all(a @ p <= b + tol):
+                vertices.append(p)
+    if not vertices:
+        raise UnreachablePoseError(
+            f"no reachable position at phi = {np.degrees(phi):.2f} deg: the joint limits "
+            "of the design exclude this orientation"
+        )
+    v = np.array(vertices)
+    return np.array([v[:, 0].min(), v[:, 0].max(), v[:, 1].min(), v[:, 1].max()])
 
 
-def workspace_bounds(
-    design: Design, phi: float = 0.0, legs: tuple[batch.ReducedLeg, ...] | None = None
-) -> FloatArray:
+def _search_half_size(design: Design, phi: float) -> float:
+    """Largest distance [m] from P to a named leg point at the workspace centre."""
+    ws = design.workspace
+    centre = np.array([ws.centre_x, ws.centre_y, phi])
+    size = 0.0
+    for leg in design.legs:
+        for point in leg.solve(centre).points.values():
+            value = float(np.linalg.norm(point))
+            if np.isfinite(value):
+                size = max(size, value)
+    return size if size > 0 else 1.0
+
+
+def _zoom_min(
+    reach: Callable[[FloatArray, FloatArray], BoolArray],
+    us: FloatArray,
+    vs: FloatArray,
+    mask: BoolArray,
+) -> float:
+    """Smallest u of the reachable set, refined from a sampled mask (nv, nu) whose
+    first column has no reachable sample."""
+    level = 0
+    while level < _ZOOM_LEVELS:
+        i0 = int(np.flatnonzero(mask.any(axis=0))[0])
+        if i0 == 0:
+            # reachable on the window's first column at rows the coarser grid did not
+            # sample: the window slides one width towards smaller u
+            width = float(us[-1] - us[0])
+            us = np.linspace(us[0] - width, us[0], us.size)
+            mask = reach(us[None, :], vs[:, None])
+            if not mask.any():
+                break
+            continue
+        level += 1
+        near = mask[:, i0] | mask[:, min(i0 + 1, us.size - 1)]
+        rows = np.flatnonzero(near)
+        r0, r1 = max(int(rows[0]) - 2, 0), min(int(rows[-1]) + 2, vs.size - 1)
+        span = r1 - r0
+        # keep the previous rows on the new grid: the known reachable sample stays on it
+        per = max(1, min(-(-(_ZOOM - 1) // max(span, 1)), 2000 // max(span, 1)))
+        vs = np.linspace(vs[r0], vs[r1], span * per + 1) if span > 0 else vs[r0 : r0 + 1]
+        us = np.linspace(us[i0 - 1], us[i0], _ZOOM)
+        mask = reach(us[None, :], vs[:, None])
+    return float(us[int(np.flatnonzero(mask.any(axis=0))[0])])
+
+
+def _sampled_bounds(design: Design, phi: float) -> FloatArray:
+    """Bounding box of the joint-limit workspace by sampling and zooming (module doc)."""
+    ws = design.workspace
+    cx, cy = ws.centre_x, ws.centre_y
+    half = 2.0 * _search_half_size(design, phi)
+    for _ in range(_MAX_DOUBLINGS):
+        xs = np.linspace(cx - half, cx + half, _COARSE)
+        ys = np.linspace(cy - half, cy + half, _COARSE)
+        mask = reachable_positions(design, xs[None, :], ys[:, None], phi)
+        if not mask.any():
+            xs = np.linspace(cx - half, cx + half, 4 * _COARSE)
+            ys = np.linspace(cy - half, cy + half, 4 * _COARSE)
+            mask = reachable_positions(design, xs[None, :], ys[:, None], phi)
+            if not mask.any():
+                raise UnreachablePoseError(
+                    f"no reachable position at phi = {np.degrees(phi):.2f} deg within "
+                    f"{half * 1e3:.4g} mm of the workspace centre: the joint limits of "
+                    "the design exclude this orientation"
+                )
+        if not (mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any()):
+            break
+        half *= 2.0
+    else:
+        raise DesignError(
+            f"the workspace at phi = {np.degrees(phi):.2f} deg reaches beyond "
+            f"{half * 1e3:.4g} mm from its centre: check the joint limits"
+        )
+
+    for _ in range(_TIGHTEN):
+        # resample the box of the reachable samples, one cell wider on each side
+        dx, dy = xs[1] - xs[0], ys[1] - ys[0]
+        cols, rows = np.flatnonzero(mask.any(axis=0)), np.flatnonzero(mask.any(axis=1))
+        xs = np.linspace(xs[cols[0]] - dx, xs[cols[-1]] + dx, _COARSE)
+        ys = np.linspace(ys[rows[0]] - dy, ys[rows[-1]] + dy, _COARSE)
+        mask = reachable_positions(design, xs[None, :], ys[:, None], phi)
+
+    def reach_xy(sx: float, sy: float, swap: bool) -> Callable[[FloatArray, FloatArray], BoolArray]:
+        def f(u: FloatArray, v: FloatArray) -> BoolArray:
+            a, b = (v, u) if swap else (u, v)
+            return reachable_positions(design, sx * a, sy * b, phi)
+        return f
+
+    x_min = _zoom_min(reach_xy(1.0, 1.0, False), xs, ys, mask)
+    x_max = -_zoom_min(reach_xy(-1.0, 1.0, False), -xs[::-1], ys, mask[:, ::-1])
+    y_min = _zoom_min(reach_xy(1.0, 1.0, True), ys, xs, mask.T)
+    y_max = -_zoom_min(reach_xy(1.0, -1.0, True), -ys[::-1], xs, mask.T[:, ::-1])
+    return np.array([x_min, x_max, y_min, y_max])
+
+
+def workspace_bounds(design: Design, phi: float = 0.0, legs: object = None) -> FloatArray:
     """Bounding box (x_min, x_max, y_min, y_max) [m] of the joint-limit workspace at phi.
 
-    ``legs`` (from :func:`ppm_stiffness.maps.batch.reduce_design`) saves recomputing them.
+    Exact from half-planes when every leg offers them, sampled otherwise (module doc).
+    ``legs`` is accepted for compatibility and ignored.
 
     Raises
     ------
     UnreachablePoseError
-        If no position satisfies every stroke and rod-length limit at this orientation.
+        If no position satisfies every joint limit at this orientation.
     """
-    a, b = _half_planes(batch.reduce_design(design) if legs is None else legs, float(phi))
-    vertices = []
-    n = len(b)
-    for i in range(n):
-        for j in range(i + 1, n):
-            m = a[[i, j]]
-            if abs(np.linalg.det(m)) < 1e-12:
-                continue
-            p = np.linalg.solve(m, b[[i, j]])
-            if np.all(a @ p <= b + 1e-12):
-                vertices.append(p)
-    if not vertices:
-        raise UnreachablePoseError(
-            f"no reachable position at phi = {np.degrees(phi):.2f} deg: the strokes and "
-            "rod length ranges of the design exclude this orientation"
-        )
-    v = np.array(vertices)
-    return np.array([v[:, 0].min(), v[:, 0].max(), v[:, 1].min(), v[:, 1].max()])
+    del legs
+    phi = float(phi)
+    if not np.isfinite(phi):
+        raise InputDataError("phi must be finite")
+    box = _half_plane_bounds(design, phi)
+    return _sampled_bounds(design, phi) if box is None else box
 
 
 def workspace_grid(
@@ -101,17 +253,18 @@ def workspace_grid(
     phi: float = 0.0,
     grid: int | tuple[int, int] = 200,
     bounds: ArrayLike | None = None,
-    legs: tuple[batch.ReducedLeg, ...] | None = None,
+    legs: object = None,
 ) -> tuple[FloatArray, FloatArray]:
     """Grid axes x (nx,), y (ny,) [m] over ``bounds`` or the workspace bounding box.
 
     The box is shrunk by a relative 1e-9 so that no grid point sits exactly on a limit.
+    ``legs`` is accepted for compatibility and ignored.
     """
     nx, ny = (grid, grid) if isinstance(grid, (int, np.integer)) else grid
     if int(nx) < 2 or int(ny) < 2:
         raise InputDataError(f"a map grid needs at least 2 x 2 points, got {nx} x {ny}")
     if bounds is None:
-        box = workspace_bounds(design, phi, legs)
+        box = workspace_bounds(design, phi)
         margin = _EDGE_MARGIN * max(box[1] - box[0], box[3] - box[2], 1e-6)
         box = box + np.array([margin, -margin, margin, -margin])
     else:
@@ -123,11 +276,14 @@ def workspace_grid(
     return np.linspace(box[0], box[1], int(nx)), np.linspace(box[2], box[3], int(ny))
 
 
-def minimum_actuator_stiffness(design: Design, reference_force: float) -> float:
-    """The "min" actuator stiffness [N/m]: eq. (20)-(21) under ``reference_force`` [N]."""
+def minimum_actuator_stiffness(design: Design, reference_force: float) -> FloatArray:
+    """The "min" actuator stiffness of each leg (n_legs,) [N/m or N·m/rad]: eq.
+    (20)-(21) of the leg's own law under ``reference_force`` [N or N·m]."""
     if not np.isfinite(reference_force) or reference_force <= 0:
         raise InputDataError(f"reference force must be finite and > 0 N, got {reference_force}")
-    return float(act.stiffness_from_force(design.actuator, reference_force))
+    return np.array([
+        float(act.stiffness_from_force(leg.actuator, reference_force)) for leg in design.legs
+    ])
 
 
 @dataclass(frozen=True)
@@ -148,7 +304,7 @@ class StiffnessMap:
         The k arrays are masked exactly where this is False (``mask == ~reachable``).
     actuators : str
         "max", "min" or "wrench".
-    actuator_stiffness : ndarray (2, n_legs) [N/m]
+    actuator_stiffness : ndarray (2, n_legs) [N/m, or N·m/rad for a rotary actuator]
         Smallest and largest actuator stiffness of each leg over the workspace (equal
         rows when uniform, always so for "max" and "min").
     wrench : ndarray (6,) or None
@@ -164,7 +320,7 @@ class StiffnessMap:
     k_phi: np.ma.MaskedArray
     k_x: np.ma.MaskedArray
     k_y: np.ma.MaskedArray
-    reachable: FloatArray
+    reachable: BoolArray
     actuators: str
     actuator_stiffness: FloatArray
     wrench: FloatArray | None = None
@@ -172,7 +328,7 @@ class StiffnessMap:
     design_name: str = ""
 
     @property
-    def mask(self) -> FloatArray:
+    def mask(self) -> BoolArray:
         """True where the maps are masked (outside the workspace), numpy convention."""
         return np.asarray(~self.reachable)
 
@@ -278,6 +434,25 @@ def load_npz(path: str | Path) -> StiffnessMap:
         )
 
 
+def _wrench_actuator_stiffness(
+    design: Design, wrench: FloatArray, poses: FloatArray, reachable: BoolArray
+) -> tuple[FloatArray, BoolArray]:
+    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), one
+    :func:`~ppm_stiffness.statics.loading.loaded_state` per reachable pose (a Python
+    loop); the second array is False where the loaded state is singular. Unreachable
+    poses get the locked values (they are masked anyway)."""
+    from ppm_stiffness.statics.loading import loaded_state
+
+    k_act = np.tile(locked_actuator_stiffness(design), (poses.shape[0], 1))
+    ok = np.array(reachable, dtype=bool, copy=True)
+    for n in np.flatnonzero(reachable):
+        try:
+            k_act[n] = loaded_state(design, wrench, poses[n]).actuator_stiffness
+        except SingularConfigurationError:
+            ok[n] = False
+    return k_act, ok
+
+
 def stiffness_map(
     design: Design,
     phi: float = 0.0,
@@ -288,9 +463,10 @@ def stiffness_map(
     *,
     bounds: ArrayLike | None = None,
     reference_force: float = DEFAULT_REFERENCE_FORCE,
-    chunk_size: int = DEFAULT_CHUNK,
+    chunk_size: int | None = None,
+    path: batch.Path = "auto",
 ) -> StiffnessMap:
-    """Maps of k_phi, k_x, k_y over the workspace at constant orientation.
+    """Maps of k_phi, k_x, k_y over the workspace at constant orientation, any design.
 
     Parameters
     ----------
@@ -298,19 +474,27 @@ def stiffness_map(
     phi : float
         Platform orientation [rad].
     actuators : {"max", "min", "wrench"}
-        Actuator state (module docstring).
+        Actuator state (module docstring); each leg uses its own actuator law.
     grid : int or (nx, ny)
         Grid points along x and y.
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P, axes of F_b; for "wrench" only.
+        Except for 3-leg designs on the reduced path, every reachable grid pose is a
+        call of :func:`~ppm_stiffness.statics.loading.loaded_state` (a Python loop).
     progress : callable(done, total), optional
         Called after each chunk with the number of poses done and the total.
     bounds : array_like (4,), optional
         (x_min, x_max, y_min, y_max) [m]; default the workspace bounding box.
     reference_force : float
-        [N], defines the "min" state.
-    chunk_size : int
-        Poses per chunk (memory bound: about 1 kB per pose of chunk).
+        [N, or N·m for a rotary actuator], defines the "min" state.
+    chunk_size : int, optional
+        Poses per chunk (memory bound: about 1 kB per pose on the reduced path, 6 kB
+        per pose and leg on the general path); default
+        :data:`~ppm_stiffness.maps.batch.REDUCED_CHUNK` or
+        :data:`~ppm_stiffness.maps.batch.GENERAL_CHUNK`.
+    path : {"auto", "reduced", "general"}
+        :func:`ppm_stiffness.maps.batch.select_path`: the reduced P-P-R form when every
+        leg offers it ("auto"), or the general path for any leg type.
 
     Returns
     -------
@@ -319,7 +503,8 @@ def stiffness_map(
     Raises
     ------
     InputDataError
-        Unknown actuator state, wrench missing or given for another state, bad grid.
+        Unknown actuator state, wrench missing or given for another state, bad grid,
+        a load that moves an actuator beyond its stroke.
     UnreachablePoseError
         No reachable position at this orientation (and no ``bounds`` given).
     """
@@ -332,19 +517,24 @@ def stiffness_map(
     phi = float(phi)
     if not np.isfinite(phi):
         raise InputDataError("phi must be finite")
-    legs = batch.reduce_design(design)
-    x, y = workspace_grid(design, phi, grid, bounds, legs)
-    n_legs = len(legs)
-    law = design.actuator
+    legs = batch.select_path(design, path)
+    x, y = workspace_grid(design, phi, grid, bounds)
+    n_legs = len(design.legs)
+    laws = [leg.actuator for leg in design.legs]
+    k_locked = locked_actuator_stiffness(design)
     w = None if wrench is None else validate_wrench(wrench)
     ref: float | None = None
     if actuators == "max":
-        k_const: FloatArray | None = np.full(n_legs, law.locked_stiffness)
+        k_const: FloatArray | None = k_locked
     elif actuators == "min":
         ref = float(reference_force)
-        k_const = np.full(n_legs, minimum_actuator_stiffness(design, ref))
+        k_const = minimum_actuator_stiffness(design, ref)
     else:
         k_const = None
+    # the batched locked statics split the load right only for a non-redundant design
+    batched_wrench = legs is not None and n_legs == 3
+    if chunk_size is None:
+        chunk_size = batch.REDUCED_CHUNK if legs is not None else batch.GENERAL_CHUNK
     ny, nx = y.size, x.size
     rows = max(1, int(chunk_size) // nx)
     k_phi, k_x, k_y = (np.empty((ny, nx)) for _ in range(3))
@@ -355,29 +545,50 @@ def stiffness_map(
     for j0 in range(0, ny, rows):
         j1 = min(j0 + rows, ny)
         yc = y[j0:j1, None]
-        with np.errstate(all="ignore"):
-            if k_const is None:
-                assert w is not None
-                forces = batch.actuator_forces_batch(
-                    legs, xr, yc, phi, w, law.locked_stiffness
-                )
-                check_actuator_travel(design, act.displacement_from_force(law, forces))
-                k_act = act.stiffness_from_force(law, forces)
-            else:
-                k_act = k_const
-            entries, reach = batch.planar_entries(legs, xr, yc, phi, k_act)
-            pr = batch.principal_from_entries(entries)
-        ok = reach & batch.nonsingular_from_entries(entries)
-        valid[j0:j1] = ok
-        k_phi[j0:j1], k_x[j0:j1], k_y[j0:j1] = pr.k_phi, pr.k_x, pr.k_y
+        shape = (j1 - j0, nx)
+        poses = np.stack(
+            [np.broadcast_to(xr, shape), np.broadcast_to(yc, shape), np.full(shape, phi)],
+            axis=-1,
+        ).reshape(-1, 3)
+        loaded_ok: BoolArray | None = None
+        if k_const is not None:
+            k_act: FloatArray = np.broadcast_to(k_const, (poses.shape[0], n_legs))
+        elif batched_wrench:
+            assert w is not None and legs is not None
+            with np.errstate(all="ignore"):
+                forces = batch.actuator_forces_batch(legs, xr, yc, phi, w, k_locked)
+            forces = np.broadcast_to(forces, shape + (n_legs,)).reshape(-1, n_legs)
+            delta = np.stack([act.displacement_from_force(law, forces[:, i])
+                              for i, law in enumerate(laws)], axis=-1)
+            check_actuator_travel(design, delta)
+            k_act = np.stack([act.stiffness_from_displacement(law, delta[:, i])
+                              for i, law in enumerate(laws)], axis=-1)
+        else:
+            assert w is not None
+            reach = reachable_positions(design, poses[:, 0], poses[:, 1], phi)
+            k_act, loaded_ok = _wrench_actuator_stiffness(design, w, poses, reach)
+        if legs is not None and k_const is not None:
+            # the reduced form broadcasts over the grid axes (no per-pose copies)
+            with np.errstate(all="ignore"):
+                entries, reach_g = batch.planar_entries(legs, xr, yc, phi, k_const)
+                pr = batch.principal_from_entries(entries)
+            ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
+        else:
+            _, _, ok, pr = batch.evaluate_chunk(design, legs, poses, k_act)
+        if loaded_ok is not None:
+            ok = ok & loaded_ok
+        valid[j0:j1] = ok.reshape(shape)
+        k_phi[j0:j1] = np.reshape(pr.k_phi, shape)
+        k_x[j0:j1] = np.reshape(pr.k_x, shape)
+        k_y[j0:j1] = np.reshape(pr.k_y, shape)
         if k_const is None and np.any(ok):
-            ka = np.broadcast_to(k_act, ok.shape + (n_legs,))[ok]
+            ka = k_act[ok]
             k_lo = np.minimum(k_lo, ka.min(axis=0))
             k_hi = np.maximum(k_hi, ka.max(axis=0))
         if progress is not None:
             progress(j1 * nx, ny * nx)
     if k_const is not None:
-        k_lo = k_hi = k_const
+        k_lo = k_hi = np.asarray(k_const, dtype=float)
     if not np.any(valid):
         k_lo = k_hi = np.full(n_legs, np.nan)
 

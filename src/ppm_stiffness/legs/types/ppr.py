@@ -18,13 +18,14 @@ rigid when absent, as in the paper).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
+from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs.base import (
     BaseFeature,
     Coordinate,
@@ -132,3 +133,32 @@ class PPRLeg(LegModel):
                   else self.platform_revolute.stiffnesses(),
                   name="platform_revolute"),
         ]
+
+    def reduced_form(self) -> Any | None:
+        """The exact reduced form of :mod:`._ppr_reduced` (None when the leg does not
+        have the structure it assumes, e.g. a compliant platform revolute)."""
+        from ppm_stiffness.legs.types._ppr_reduced import reduce_ppr_leg
+
+        try:
+            return reduce_ppr_leg(self)
+        except DesignError:
+            return None
+
+    def limit_half_planes(self, phi: float) -> tuple[FloatArray, FloatArray] | None:
+        """Stroke and rod-length limits at ``phi`` as half-planes in (x, y) [m].
+
+        With ``r = D - A`` (D moves with P at fixed phi), ``rho = (r x w)_z / det`` and
+        ``bearing_offset + rod = (u x r)_z / det``, ``det = (u x w)_z``: both affine in
+        (x, y) with gradients ``(w_y, -w_x) / det`` and ``(-u_y, u_x) / det``.
+        """
+        u, w = self.directions()
+        det = float(cross_z(u, w))
+        grads = (np.array([w[1], -w[0]]) / det, np.array([-u[1], u[0]]) / det)
+        at_origin = self.solve(np.array([0.0, 0.0, float(phi)]))
+        normals, offsets = [], []
+        for grad, name in zip(grads, ("rho", "rod"), strict=True):
+            lo, hi = self.limits()[name]
+            q0 = float(at_origin.coordinates[name])
+            normals += [grad, -grad]
+            offsets += [hi - q0, q0 - lo]
+        return np.array(normals), np.array(offsets)

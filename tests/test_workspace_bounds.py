@@ -1,0 +1,83 @@
+"""Workspace bounds of every architecture against a brute-force reachability sweep."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from helpers import wide_design
+from ppm_stiffness.core.errors import UnreachablePoseError
+from ppm_stiffness.design import Design, default_design, design_from_dict, load_design
+from ppm_stiffness.maps import workspace
+from ppm_stiffness.maps.workspace import reachable_positions, workspace_bounds
+
+ROOT = Path(__file__).parents[1]
+#: Brute-force sweep points per axis.
+N_SWEEP = 1201
+
+
+def brute_box(design: Design, phi: float, around: np.ndarray) -> tuple[np.ndarray, float]:
+    """Box of the reachable sweep points over ``around`` padded by 10 %, and the step."""
+    pad = 0.1 * max(around[1] - around[0], around[3] - around[2])
+    xs = np.linspace(around[0] - pad, around[1] + pad, N_SWEEP)
+    ys = np.linspace(around[2] - pad, around[3] + pad, N_SWEEP)
+    mask = reachable_positions(design, xs[None, :], ys[:, None], phi)
+    assert not (mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any())
+    cols, rows = np.flatnonzero(mask.any(axis=0)), np.flatnonzero(mask.any(axis=1))
+    box = np.array([xs[cols[0]], xs[cols[-1]], ys[rows[0]], ys[rows[-1]]])
+    return box, float(max(xs[1] - xs[0], ys[1] - ys[0]))
+
+
+def assert_matches_sweep(design: Design, phi: float, box: np.ndarray, steps: float) -> None:
+    ref, step = brute_box(design, phi, box)
+    outward = np.array([-1.0, 1.0, -1.0, 1.0]) * (box - ref)
+    # the box contains every reachable sweep point, and exceeds the sweep's box by less
+    # than ``steps`` sweep steps (what a sweep can miss near the extremes)
+    assert np.all(outward >= -1e-12), outward / step
+    assert np.all(outward <= steps * step), outward / step
+
+
+@pytest.mark.parametrize("name", ["3rpr", "3prr", "3rrr"])
+@pytest.mark.parametrize("phi", [0.0, 0.3])
+def test_sampled_bounds_match_a_brute_force_sweep(name: str, phi: float) -> None:
+    """Measured: 0.12-1.0 sweep steps outward; 1.5 steps allowed."""
+    design = load_design(ROOT / "examples" / f"{name}.toml")
+    assert all(leg.limit_half_planes(phi) is None for leg in design.legs)
+    box = workspace_bounds(design, phi)
+    assert_matches_sweep(design, phi, box, 1.5)
+    # each side is touched: reachable poses within 1e-4 of the box size inside it
+    inward = 1e-4 * np.ptp(box)
+    for side, value in enumerate(box):
+        at = value + (inward if side % 2 == 0 else -inward)
+        lo, hi = (box[2], box[3]) if side < 2 else (box[0], box[1])
+        line = np.linspace(lo, hi, 100001)
+        xx, yy = (np.full_like(line, at), line) if side < 2 else (line, np.full_like(line, at))
+        assert reachable_positions(design, xx, yy, phi).any()
+
+
+@pytest.mark.parametrize("name", ["paper", "symmetric_3ppr", "redundant_4ppr"])
+def test_exact_half_plane_bounds_match_a_brute_force_sweep(name: str) -> None:
+    design = default_design() if name == "paper" else load_design(
+        ROOT / "examples" / f"{name}.toml")
+    for phi in (0.0, 0.3):
+        assert_matches_sweep(design, phi, workspace_bounds(design, phi), 2.0)
+
+
+def test_half_planes_hold_for_a_rod_oblique_to_its_rail() -> None:
+    """beta != 90 deg: the stroke's half-plane normal is not the rail direction; the
+    exact box must equal the one the sampling method finds (to its resolution)."""
+    data = wide_design().model_dump()
+    data["legs"][2]["beta"] = -1.2
+    design = design_from_dict(data)
+    box = workspace_bounds(design, 0.0)
+    sampled = workspace._sampled_bounds(design, 0.0)
+    np.testing.assert_allclose(sampled, box, atol=1e-9 * np.ptp(box))
+    assert_matches_sweep(design, 0.0, box, 2.0)
+
+
+def test_no_reachable_orientation_raises_for_sampled_bounds() -> None:
+    design = load_design(ROOT / "examples" / "3prr.toml")
+    with pytest.raises(UnreachablePoseError):
+        workspace_bounds(design, np.radians(170.0))
