@@ -278,6 +278,7 @@ def test_report_runs_on_the_other_examples(tmp_path: Path, name: str) -> None:
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     n = len(_design(name).legs)
     assert all(f"loaded/actuator_forces/{i}" in page for i in range(n))
+    assert "no map" not in page  # every architecture has its stiffness maps
 
 
 def test_architecture_figures_script(tmp_path: Path) -> None:

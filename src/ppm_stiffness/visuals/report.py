@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.eigenscrews import eigenscrews
-from ppm_stiffness.core.errors import DesignError, InputDataError, UnreachablePoseError
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, dump_design
 from ppm_stiffness.design.schema import leg_parameter_rows
 from ppm_stiffness.model import workspace_centre
@@ -335,14 +335,10 @@ def build_report(
 
     map_figs: list[tuple[float, str, str, str]] = []
     n_maps = len(MAP_PHIS_DEG) * len(MAP_ACTUATORS)
-    unsupported = _maps_unsupported(design)
     for m, (phi_deg, acts) in enumerate(
         (ph, ac) for ph in MAP_PHIS_DEG for ac in MAP_ACTUATORS
     ):
         step(4, m / n_maps)
-        if unsupported:
-            map_figs.append((phi_deg, acts, "", f"no map: {_esc(unsupported)}"))
-            continue
 
         def inner(done_poses: int, total_poses: int, m: int = m) -> None:
             step(4, (m + done_poses / max(total_poses, 1)) / n_maps)
@@ -362,23 +358,6 @@ def build_report(
         progress("done", 1.0)
     return _assemble(design, p, unloaded, loaded, mech_uri, spring_uris, defl_uri, map_figs,
                      grid, source)
-
-
-def _maps_unsupported(design: Design) -> str:
-    """Why the batched stiffness maps cannot evaluate ``design``, or "" if they can.
-
-    The maps use an exact reduced form of each leg (:mod:`ppm_stiffness.maps.reduced_leg`);
-    a leg it cannot reduce gets a note in the report instead of a map, and the rest of
-    the report is built all the same.
-    """
-    from ppm_stiffness.maps.reduced_leg import reduce_design
-
-    try:
-        reduce_design(design)
-    except (DesignError, AttributeError) as exc:
-        return (f"the batched map evaluation (ppm_stiffness.maps) does not support the legs "
-                f"of this {design.architecture} yet ({exc})")
-    return ""
 
 
 def _map_summary(design: Design, smap: Any) -> str:
