@@ -257,3 +257,23 @@ def test_tool_point_power_invariance_and_transport(name: str) -> None:
     twist_t = np.linalg.solve(k_t, wrench_t)
     np.testing.assert_allclose(res["twist"], twist_t, rtol=1e-6,
                                atol=1e-9 * np.max(np.abs(twist_t)))
+
+
+@pytest.mark.parametrize("name", ["paper_3ppr", "3rpr"])
+def test_map_at_a_tool_point_equals_the_single_pose_analysis(name: str) -> None:
+    """map's principal stiffnesses at a tool point are those of analyze at that point."""
+    from ppm_stiffness.maps.workspace import stiffness_map
+
+    design = SHIPPED[name]
+    tool = np.array([0.015, 0.01, 0.03])
+    phi = float(design.workspace.phi) + 0.1
+    smap = stiffness_map(design, phi=phi, grid=6, tool_point=tool)
+    iy, ix = np.argwhere(smap.reachable)[len(np.argwhere(smap.reachable)) // 2]
+    pose = np.array([smap.x[ix], smap.y[iy], phi])
+    res = analyze_design(design, pose, tool_point=tool)
+    assert float(smap.k_phi[iy, ix]) == pytest.approx(res["principal"]["rotational"]["values"][2],
+                                                      rel=1e-9)
+    assert float(smap.k_x[iy, ix]) == pytest.approx(
+        res["principal"]["translational"]["values"][0], rel=1e-9)
+    at_p = stiffness_map(design, phi=phi, grid=6)
+    assert not np.allclose(at_p.k_phi.compressed(), smap.k_phi.compressed(), rtol=1e-3)

@@ -13,12 +13,14 @@ from rich.table import Table
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
+    add_tool_point_argument,
     check_output_path,
     console,
     err_console,
     load_design_arg,
     parse_floats,
     parse_wrench,
+    tool_point_from_args,
 )
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
@@ -43,7 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--actuators", default="max", metavar="max|min|FX,FY,FZ,MX,MY,MZ",
         help="'max': actuators locked; 'min': tangent stiffness of eq. (21) under "
-        "--reference-force; or a wrench [N, N·m] at P (axes of F_b): the loaded state at "
+        "--reference-force; or a wrench [N, N·m] at the tool point (axes of F_b): the "
+        "loaded state at "
         "each pose (default: max); write --actuators=-5,0,... when FX is negative",
     )
     parser.add_argument(
@@ -59,6 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="grid extent [mm] (default: the workspace's bounding box at --phi); write "
         "--bounds=-20,10,-30,30 when the first number is negative",
     )
+    add_tool_point_argument(parser)
     parser.add_argument("--out", metavar="FIG", help="write the figure (.png, .svg or .pdf)")
     parser.add_argument("--data", metavar="FILE", help="write the map data (.csv or .npz, SI)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -124,11 +128,12 @@ def run(args: argparse.Namespace) -> int:
                 design, phi=phi, actuators=state, grid=args.grid, wrench=wrench,
                 progress=lambda done, total: bar.update(task, completed=done, total=total),
                 bounds=bounds, reference_force=args.reference_force,
+                tool_point=tool_point_from_args(args, design),
             )
     else:
         smap = stiffness_map(
             design, phi=phi, actuators=state, grid=args.grid, wrench=wrench, bounds=bounds,
-            reference_force=args.reference_force,
+            reference_force=args.reference_force, tool_point=tool_point_from_args(args, design),
         )
 
     if not np.any(smap.reachable):

@@ -60,7 +60,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import BoolArray, FloatArray
+from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
 from ppm_stiffness.core.errors import (
     DesignError,
     InputDataError,
@@ -69,7 +69,7 @@ from ppm_stiffness.core.errors import (
 )
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
-from ppm_stiffness.model import locked_actuator_stiffness
+from ppm_stiffness.model import locked_actuator_stiffness, tool_offset
 from ppm_stiffness.statics import actuator as act
 
 #: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
@@ -465,6 +465,7 @@ def stiffness_map(
     reference_force: float = DEFAULT_REFERENCE_FORCE,
     chunk_size: int | None = None,
     path: batch.Path = "auto",
+    tool_point: ArrayLike | None = None,
 ) -> StiffnessMap:
     """Maps of k_phi, k_x, k_y over the workspace at constant orientation, any design.
 
@@ -495,6 +496,10 @@ def stiffness_map(
     path : {"auto", "reduced", "general"}
         :func:`ppm_stiffness.maps.batch.select_path`: the reduced P-P-R form when every
         leg offers it ("auto"), or the general path for any leg type.
+    tool_point : array_like (3,), optional
+        Platform frame [m]; ``design.tool_point`` if None. The principal stiffnesses are
+        those of K at that point (a wrench of the "wrench" state acts there too); the
+        grid and the mask are still those of P.
 
     Returns
     -------
@@ -518,11 +523,19 @@ def stiffness_map(
     if not np.isfinite(phi):
         raise InputDataError("phi must be finite")
     legs = batch.select_path(design, path)
+    tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
+    if tool.shape != (3,) or not np.all(np.isfinite(tool)):
+        raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
+    # at fixed phi the tool point sits at the same offset from P at every grid pose:
+    # K_T = A K A^T and w_P = A^-1 w_T with A = [[1, hat(P - T)], [0, 1]] (eq. 16)
+    at_tool = bool(np.any(tool))
+    shift = np.eye(6)
+    shift[:3, 3:] = hat(-tool_offset(np.array([0.0, 0.0, phi]), tool))
     x, y = workspace_grid(design, phi, grid, bounds)
     n_legs = len(design.legs)
     laws = [leg.actuator for leg in design.legs]
     k_locked = locked_actuator_stiffness(design)
-    w = None if wrench is None else validate_wrench(wrench)
+    w = None if wrench is None else np.linalg.solve(shift, validate_wrench(wrench))
     ref: float | None = None
     if actuators == "max":
         k_const: FloatArray | None = k_locked
@@ -567,14 +580,17 @@ def stiffness_map(
             assert w is not None
             reach = reachable_positions(design, poses[:, 0], poses[:, 1], phi)
             k_act, loaded_ok = _wrench_actuator_stiffness(design, w, poses, reach)
-        if legs is not None and k_const is not None:
+        if legs is not None and k_const is not None and not at_tool:
             # the reduced form broadcasts over the grid axes (no per-pose copies)
             with np.errstate(all="ignore"):
                 entries, reach_g = batch.planar_entries(legs, xr, yc, phi, k_const)
                 pr = batch.principal_from_entries(entries)
             ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
         else:
-            _, _, ok, pr = batch.evaluate_chunk(design, legs, poses, k_act)
+            k_p, _, ok, pr = batch.evaluate_chunk(design, legs, poses, k_act)
+            if at_tool:
+                k_t = shift @ np.where(ok[:, None, None], k_p, np.eye(6)) @ shift.T
+                pr = batch.principal_from_matrices(k_t)
         if loaded_ok is not None:
             ok = ok & loaded_ok
         valid[j0:j1] = ok.reshape(shape)
