@@ -535,7 +535,8 @@ def stiffness_map(
     n_legs = len(design.legs)
     laws = [leg.actuator for leg in design.legs]
     k_locked = locked_actuator_stiffness(design)
-    w = None if wrench is None else np.linalg.solve(shift, validate_wrench(wrench))
+    w = None if wrench is None else np.asarray(
+        np.linalg.solve(shift, validate_wrench(wrench)), dtype=float)
     ref: float | None = None
     if actuators == "max":
         k_const: FloatArray | None = k_locked
@@ -622,7 +623,7 @@ def stiffness_map(
         reachable=valid,
         actuators=actuators,
         actuator_stiffness=np.stack([k_lo, k_hi]),
-        wrench=w,
+        wrench=None if wrench is None else validate_wrench(wrench),
         reference_force=ref,
         design_name=design.name,
     )
