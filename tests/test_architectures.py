@@ -277,3 +277,43 @@ def test_map_at_a_tool_point_equals_the_single_pose_analysis(name: str) -> None:
         res["principal"]["translational"]["values"][0], rel=1e-9)
     at_p = stiffness_map(design, phi=phi, grid=6)
     assert not np.allclose(at_p.k_phi.compressed(), smap.k_phi.compressed(), rtol=1e-3)
+
+
+# ------------------------------------------------------------------- working modes
+@pytest.mark.parametrize("name", ["3prr", "3rrr"])
+def test_both_working_modes_solve_the_loop_closure(name: str) -> None:
+    """Each branch gives a configuration that closes the leg's loop (link lengths met),
+    and the two branches differ: P-R-R puts D ahead of / behind the carriage along the
+    rail, R-R-R puts the elbow left / right of the line A -> D."""
+    from ppm_stiffness.legs.chain import Link
+
+    design = SHIPPED[name]
+    pose = np.array([0.01, -0.005, 0.05])
+    for leg in design.legs:
+        sides = []
+        for branch in (1, -1):
+            other = leg.model_copy(update={"branch": branch})
+            lp = other.solve(pose)
+            assert bool(lp.solvable)
+            links = [e for e in other.chain(lp) if isinstance(e, Link)]
+            lengths = [float(np.linalg.norm(np.asarray(e.end) - np.asarray(e.start)))
+                       for e in links]
+            expected = ([leg.link_length] if name == "3prr"
+                        else [leg.proximal_length, leg.distal_length])
+            np.testing.assert_allclose(lengths, expected, rtol=0, atol=1e-12)
+            d, c = lp.points["D"], lp.points["C"]
+            if name == "3prr":
+                sides.append(float((d - c) @ other.rail_direction()))
+            else:
+                a = lp.points["A"]
+                sides.append(float(np.cross(d - a, c - a)[2]))
+        assert sides[0] > 0 > sides[1]
+
+
+def test_out_of_reach_pose_is_refused() -> None:
+    from ppm_stiffness.core.errors import UnreachablePoseError
+
+    with pytest.raises(UnreachablePoseError, match="out of the leg's reach"):
+        stiffness_at_pose(SHIPPED["3rrr"], [0.4, 0.0, 0.0])
+    with pytest.raises(UnreachablePoseError, match="outside"):
+        stiffness_at_pose(SHIPPED["3rpr"], [0.0, 0.2, 0.0])
