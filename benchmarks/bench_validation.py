@@ -6,7 +6,7 @@ Each model is warmed up once, then timed per pose as the best of ``--repeat`` ru
 batched virtual-joint figure evaluates all poses of a 1000-pose map in one call and
 divides by the number of poses (the way the maps use the model).
 
-    .venv/bin/python benchmarks/bench_validation.py [--repeat N]
+    .venv/bin/python benchmarks/bench_validation.py [--repeat N] [--design FILE]
 
 Needs the extra ``validate`` (PyNite).
 """
@@ -22,7 +22,7 @@ from functools import partial
 import numpy as np
 
 from ppm_stiffness.core.solver import cartesian_stiffness
-from ppm_stiffness.design import default_design
+from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
 from ppm_stiffness.validation.compare import BLOCKS, block_difference, validation_poses
@@ -38,9 +38,8 @@ def best_time(fn: Callable[[], object], repeat: int) -> float:
     return best
 
 
-def batched_vj_time_per_pose(n: int = 1000) -> float:
+def batched_vj_time_per_pose(design: Design, n: int = 1000) -> float:
     """Virtual-joint K at ``n`` poses in one batched call; seconds per pose."""
-    design = default_design()
     rng = np.random.default_rng(0)
     poses = workspace_centre(design) + rng.uniform(-1, 1, (n, 3)) * [0.005, 0.005, 0.05]
     def run() -> None:
@@ -54,9 +53,10 @@ def batched_vj_time_per_pose(n: int = 1000) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5, help="runs per pose (best kept)")
+    parser.add_argument("--design", help="design file (default: the built-in design)")
     args = parser.parse_args()
     pynite = require_pynite()
-    design = default_design()
+    design = default_design() if args.design is None else load_design(args.design)
     poses = validation_poses(design, 5, seed=0)
     stiffness_at_pose(design, poses[0])  # warm-up
     fe_stiffness_at_pose(design, poses[0])
@@ -77,7 +77,7 @@ def main() -> None:
               f"{np.degrees(pose[2]):8.3f} {tf * 1e3:8.1f} {tv * 1e3:8.3f} {tf / tv:6.0f} "
               f"{diff['planar']:9.2e} {diff['out_of_plane']:9.2e}")
     fe_mean, vj_mean = float(np.mean(t_fe)), float(np.mean(t_vj))
-    vj_batch = batched_vj_time_per_pose()
+    vj_batch = batched_vj_time_per_pose(design)
     print(f"mean time per pose: FE {fe_mean * 1e3:.1f} ms, virtual joints "
           f"{vj_mean * 1e3:.3f} ms (single pose), ratio FE/VJ = {fe_mean / vj_mean:.0f}")
     print(f"virtual joints batched over 1000 poses: {vj_batch * 1e6:.1f} us per pose, "

@@ -20,7 +20,7 @@ pytest.importorskip(
 
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core import beam, solver  # noqa: E402
-from ppm_stiffness.core.conventions import Z_AXIS, rotation_screw, translation_screw  # noqa: E402
+from ppm_stiffness.core.conventions import BALANCE, length_balanced  # noqa: E402
 from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
 from ppm_stiffness.legs import chain  # noqa: E402
 from ppm_stiffness.model import (  # noqa: E402
@@ -30,8 +30,6 @@ from ppm_stiffness.model import (  # noqa: E402
 )
 from ppm_stiffness.validation.compare import (  # noqa: E402
     BLOCKS,
-    TOLERANCES,
-    balanced,
     block_difference,
     compare_at_pose,
     cross_coupling,
@@ -45,10 +43,19 @@ from ppm_stiffness.validation.fe_model import (  # noqa: E402
 )
 
 DESIGN = default_design()
-#: Measured agreement (docs/validation.md): planar ~1e-7, out-of-plane ~3e-6, both
-#: from the platform's finite stiffness in the FE model; the bounds leave 10x margin.
-PLANAR_MEASURED = 1e-6
-OUT_OF_PLANE_MEASURED = 3e-5
+#: Measured agreement (docs/validation.md, built-in design, centre + 5 seeded poses):
+#: planar at most 1.5e-6, out-of-plane at most 3.0e-5 (the turned design with distinct
+#: springs of test_generic_orientation...: 5.2e-6 planar), both from the finite
+#: stiffness of the platform members and rigid joint directions
+#: (FESettings.rigid_stiffness = 1e11 N/m); the bounds are 2-3x the measured maxima.
+PLANAR_MEASURED = 1.5e-5
+OUT_OF_PLANE_MEASURED = 1e-4
+#: Reciprocity and planar/out-of-plane coupling of the FE solution: round-off of the
+#: 1e11 N/m penalty elements, measured at most 1.3e-7 and 2.1e-7 (non-monotonic in
+#: rigid_stiffness: 2e-15 at 1e8, 1.6e-9 at 1e9, 2e-7 at 1e11, so round-off).
+FE_ROUND_OFF = 1e-6
+#: One leg alone vs eq. (1): measured 2.1e-5 of the largest length-balanced entry.
+LEG_MEASURED = 1e-4
 
 
 @pytest.fixture(scope="module")
@@ -105,19 +112,21 @@ def test_fe_solution_is_reciprocal_and_planar(comparisons: list) -> None:
     """Maxwell-Betti: the FE compliance is symmetric; a planar mechanism's K has no
     planar/out-of-plane coupling, in the FE model as in the virtual-joint one."""
     for c in comparisons:
-        assert c.fe_asymmetry < 1e-8
-        assert c.fe_cross_coupling < 1e-12
+        assert c.fe_asymmetry < FE_ROUND_OFF
+        assert c.fe_cross_coupling < FE_ROUND_OFF
         assert cross_coupling(c.k_virtual_joint) < 1e-12
 
 
 def test_difference_is_the_platform_rigidity() -> None:
     """The only approximation of the FE model is the finite stiffness of the platform
-    members; making them 10x and 1000x stiffer shrinks the difference in proportion
-    (the cause switched off, the difference vanishes)."""
+    members and rigid joint directions; making them 10x and 1000x stiffer shrinks the
+    difference in proportion (measured: 1.3e-3, 1.3e-4, 1.3e-6 planar and 2.5e-2,
+    2.5e-3, 2.5e-5 out of plane at 1e8, 1e9, 1e11 N/m: the cause switched off, the
+    difference vanishes)."""
     pose = workspace_centre(DESIGN)
     k_vj = stiffness_at_pose(DESIGN, pose)
     diffs = []
-    for k_rig in (1e9, 1e10, 1e12):
+    for k_rig in (1e8, 1e9, 1e11):
         k_fe = fe_stiffness_at_pose(DESIGN, pose, settings=FESettings(rigid_stiffness=k_rig))
         diffs.append([block_difference(k_vj, k_fe.stiffness, b) for b in BLOCKS.values()])
     d = np.array(diffs)  # rows: rigidity; columns: planar, out-of-plane
@@ -185,22 +194,31 @@ def test_loaded_actuators_agree() -> None:
 @pytest.mark.parametrize("leg", [0, 1, 2])
 def test_leg_passive_directions_are_free_and_leg_matches(leg: int) -> None:
     """One leg alone in the FE model (P held, unit displacements): it resists no twist
-    of its passive joints (cylindrical at C, revolute at D) and equals the leg's
-    virtual-joint stiffness (eq. 1)."""
+    of its passive joints (here cylindrical at C, revolute at D; read from the chain)
+    and equals the leg's virtual-joint stiffness (eq. 1)."""
     pose = workspace_centre(DESIGN)
     k_fe = fe_leg_stiffness(DESIGN, leg, pose)
     k_vj = leg_stiffnesses_at_pose(DESIGN, pose)[leg]
-    g = DESIGN.legs[leg].solve(pose)
-    w = DESIGN.legs[leg].directions()[1]
-    passive = np.stack([rotation_screw(w, g.points["C"]), translation_screw(w),
-                        rotation_screw(Z_AXIS, g.points["D"])], axis=1)
-    scale = np.array([0.1] * 3 + [1.0] * 3)
-    kb = balanced(k_fe)
-    wrench = (k_fe @ passive) / scale[:, None]  # balanced units, N
+    assert_passive_free(DESIGN, leg, pose, k_fe)
+    np.testing.assert_allclose(length_balanced(k_fe), length_balanced(k_vj), rtol=0,
+                               atol=LEG_MEASURED * np.max(np.abs(length_balanced(k_vj))))
+
+
+def assert_passive_free(design: Design, leg: int, pose: np.ndarray, k_fe: np.ndarray) -> None:
+    """The wrench of a leg's FE stiffness on each unit twist of its passive joints
+    (from the chain) is below 1e-6 of |K| (balanced units). Measured 1.7e-7 on the
+    built-in design: a 9.8e-3 N reaction, round-off of the 1e11 N/m penalty elements
+    (the virtual-joint leg stiffness gives 0 by construction)."""
+    model = design.legs[leg]
+    joints = [e for e in model.chain(model.solve(pose))
+              if isinstance(e, chain.Joint) and not e.actuated]
+    passive = np.concatenate([chain.freedom_screws(j) for j in joints], axis=1)
+    assert passive.shape[1] >= 2
+    scale = 1.0 / BALANCE  # (L, L, L, 1, 1, 1): wrench and twist length-balanced
+    kb = length_balanced(k_fe)
+    wrench = (k_fe @ passive) / scale[:, None]
     twist = passive * scale[:, None]
-    assert np.max(np.abs(wrench)) < 1e-8 * np.max(np.abs(kb)) * np.max(np.abs(twist))
-    np.testing.assert_allclose(balanced(k_fe), balanced(k_vj), rtol=0,
-                               atol=1e-5 * np.max(np.abs(balanced(k_vj))))
+    assert np.max(np.abs(wrench)) < 1e-6 * np.max(np.abs(kb)) * np.max(np.abs(twist))
 
 
 # --- CLI -------------------------------------------------------------------------
@@ -216,8 +234,9 @@ def test_cli_validate_writes_csv(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert [r["block"] for r in rows] == ["planar", "out_of_plane"] * 2
     assert list(rows[0]) == ["pose_x_mm", "pose_y_mm", "phi_deg", "block", "max_rel_diff"]
     assert float(rows[0]["pose_x_mm"]) == 0.0 and float(rows[0]["phi_deg"]) == 0.0
+    bound = {"planar": PLANAR_MEASURED, "out_of_plane": OUT_OF_PLANE_MEASURED}
     for r in rows:
-        assert 0.0 <= float(r["max_rel_diff"]) < TOLERANCES[r["block"]] * 1e-3
+        assert 0.0 <= float(r["max_rel_diff"]) < bound[r["block"]]
 
 
 @pytest.mark.parametrize("argv", [["--poses", "-1"], ["--radius", "nan"], ["--angle", "-2"]])

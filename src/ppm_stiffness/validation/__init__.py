@@ -1,17 +1,19 @@
 """Independent validation of the virtual-joint model by a finite-element frame model.
 
 The manipulator is rebuilt at a pose as a 3D frame in PyNite (``pynitefea``, the
-optional extra ``validate``): links are Euler-Bernoulli frame members, the guide,
-actuator and bearing are spring elements, passive joints are member-end releases or
-missing spring components, and the stiffness at P comes from six unit-load cases.
-Only geometry (:func:`ppm_stiffness.legs.ppr.leg_geometry`) and the design's numbers are
-shared with the virtual-joint model; :mod:`ppm_stiffness.core.solver` and
-:mod:`ppm_stiffness.core.beam` are not used to build the FE model.
+optional extra ``validate``) from each leg's joint chain (:meth:`LegModel.chain`, any
+leg type): links are Euler-Bernoulli frame members, joint springs and actuators are
+spring elements between coincident nodes, passive joint freedoms are missing spring
+components or member-end releases, and the stiffness at P comes from six unit-load
+cases. Only the chain (points, axes, springs, sections) and the design's numbers are
+shared with the virtual-joint model; :mod:`ppm_stiffness.core.solver`,
+:func:`ppm_stiffness.core.beam.cantilever_compliance` and
+:func:`ppm_stiffness.legs.chain.leg_springs` are not used to build the FE model.
 
 Modules
 -------
 frame
-    PyNite building blocks: exact lumped springs, unit-load compliance (needs the extra).
+    PyNite building blocks: members, moment-only members, springs, unit-load compliance.
 fe_model
     The manipulator as a PyNite frame at a pose; K at P, one leg's K, a cantilever.
 compare

@@ -2,8 +2,9 @@
 
 The planar block is (phi_z, x, y) = indices (2, 3, 4), the out-of-plane block
 (phi_x, phi_y, z) = (0, 1, 5). Within a block, an entry is compared when it is at
-least ``ENTRY_THRESHOLD`` (1%) of the block's largest entry after balancing
-rotations and translations over ``LENGTH_SCALE`` (K_rr / L^2, K_rt / L, K_tt): in raw
+least ``ENTRY_THRESHOLD`` (1%) of the block's largest entry after length balancing
+(:func:`~ppm_stiffness.core.conventions.length_balanced`: K_rr / L^2, K_rt / L, K_tt
+with L = ``LENGTH_SCALE``): in raw
 SI units N·m/rad, N and N/m are not comparable and the rotational stiffness would
 never reach 1% of the translational one. The relative difference of an entry is
 ``|K_fe - K_vj| / |K_vj|`` (unit free); a block's figure is the largest over its
@@ -19,10 +20,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
-from ppm_stiffness.core.errors import PPMStiffnessError, UnreachablePoseError
+from ppm_stiffness.core.conventions import FloatArray, length_balanced
+from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError, UnreachablePoseError
+from ppm_stiffness.core.solver import cartesian_stiffness
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import stiffness_at_pose, workspace_centre
+from ppm_stiffness.model import (
+    check_nonsingular,
+    leg_springs_at_pose,
+    stiffness_at_pose,
+    workspace_centre,
+)
 from ppm_stiffness.validation.fe_model import FESettings, fe_stiffness_at_pose
 
 #: Indices of the blocks in the library's twist order (phi_x, phi_y, phi_z, x, y, z).
@@ -33,17 +40,9 @@ ENTRY_THRESHOLD = 0.01
 TOLERANCES: dict[str, float] = {"planar": 0.02, "out_of_plane": 0.05}
 
 
-def balanced(stiffness: ArrayLike, length_scale: float = LENGTH_SCALE) -> FloatArray:
-    """``K`` with rotational rows and columns divided by ``length_scale`` [m]; all
-    entries then in N/m. Shape (..., 6, 6)."""
-    k = np.asarray(stiffness, dtype=float)
-    s = np.array([length_scale] * 3 + [1.0] * 3)
-    return np.asarray(k / s[:, None] / s[None, :])
-
-
 def block_difference(
     reference: ArrayLike, other: ArrayLike, block: Sequence[int],
-    threshold: float = ENTRY_THRESHOLD, length_scale: float = LENGTH_SCALE,
+    threshold: float = ENTRY_THRESHOLD,
 ) -> float:
     """Largest relative difference of ``other`` to ``reference`` over one block.
 
@@ -55,7 +54,8 @@ def block_difference(
         Component indices of the block, e.g. ``BLOCKS["planar"]``.
     threshold : float
         Entries of ``reference`` below ``threshold`` times the block's largest
-        (after :func:`balanced`) are left out.
+        (after length balancing, :func:`~ppm_stiffness.core.conventions.length_balanced`)
+        are left out.
 
     Returns
     -------
@@ -63,16 +63,16 @@ def block_difference(
         ``max |other - reference| / |reference|`` over the compared entries.
     """
     idx = np.ix_(list(block), list(block))
-    a = balanced(reference, length_scale)[idx]
-    b = balanced(other, length_scale)[idx]
+    a = length_balanced(reference)[idx]
+    b = length_balanced(other)[idx]
     mask = np.abs(a) >= threshold * np.max(np.abs(a))
     return float(np.max(np.abs(b - a)[mask] / np.abs(a)[mask]))
 
 
-def cross_coupling(stiffness: ArrayLike, length_scale: float = LENGTH_SCALE) -> float:
+def cross_coupling(stiffness: ArrayLike) -> float:
     """Largest entry coupling the planar and out-of-plane blocks, relative to the
-    largest entry of K (balanced). Zero for a planar mechanism."""
-    kb = balanced(stiffness, length_scale)
+    largest entry of K (length-balanced). Zero for a planar mechanism."""
+    kb = length_balanced(stiffness)
     cross = kb[np.ix_(BLOCKS["planar"], BLOCKS["out_of_plane"])]
     return float(np.max(np.abs(cross)) / np.max(np.abs(kb)))
 
@@ -141,9 +141,10 @@ def sample_reachable_poses(
 ) -> FloatArray:
     """``n`` seeded poses around the workspace centre where the model is defined.
 
-    Poses are drawn uniformly in the box ``centre +- (radius, radius, angle)``; a
-    draw is kept when every leg is within its stroke and rod range and K is not
-    singular.
+    Poses are drawn uniformly in the box ``centre +- (radius, radius, angle)``, in
+    order; a draw is kept when every leg reaches it (:meth:`LegModel.solve` and
+    :meth:`LegModel.reachable`: inverse kinematics and joint limits, any leg type)
+    and K is not singular (:func:`ppm_stiffness.model.check_nonsingular`).
 
     Parameters
     ----------
@@ -167,17 +168,27 @@ def sample_reachable_poses(
     ------
     UnreachablePoseError
         If too few draws are reachable.
+    InputDataError
+        ``n`` negative, or ``radius`` / ``angle`` not finite and >= 0.
     """
+    if n < 0:
+        raise InputDataError(f"the number of poses must be >= 0, got {n}")
+    for name, value in (("radius", radius), ("angle", angle)):
+        if not np.isfinite(value) or value < 0:
+            raise InputDataError(f"{name} must be finite and >= 0, got {value}")
     rng = np.random.default_rng(seed)
-    centre = workspace_centre(design)
     half = np.array([radius, radius, angle])
+    draws = workspace_centre(design) + rng.uniform(-1.0, 1.0, (max_tries * max(n, 1), 3)) * half
+    ok = np.ones(len(draws), dtype=bool)
+    for leg in design.legs:
+        ok &= leg.reachable(leg.solve(draws))
     out: list[FloatArray] = []
-    for _ in range(max_tries * max(n, 1)):
+    for pose in draws[ok]:
         if len(out) == n:
             break
-        pose = centre + rng.uniform(-1.0, 1.0, 3) * half
         try:
-            stiffness_at_pose(design, pose)
+            k = cartesian_stiffness(leg_springs_at_pose(design, pose))
+            check_nonsingular(k)
         except PPMStiffnessError:
             continue
         out.append(pose)

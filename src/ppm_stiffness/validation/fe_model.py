@@ -2,52 +2,69 @@
 
 Why PyNite (``pynitefea``): its frame members are Euler-Bernoulli, the beam theory of
 the paper's eq. (3c), so the two models share their beam theory and differ only in
-how they are built and solved; member-end releases give the passive revolute
-exactly; two-node axial springs and released members give exact lumped springs.
-pyfe3d (Timoshenko beams, 6-component springs) would add shear deformation the
-virtual-joint model does not have, and its passive joints would be penalty springs.
+how they are built and solved; member-end releases and two-node axial springs give
+exact lumped springs. pyfe3d (Timoshenko beams, 6-component springs) would add shear
+deformation the virtual-joint model does not have.
 
 Model (coordinates: F_b axes, origin at P; PyNite's global X, Y, Z are our x, y, z)
 ----------------------------------------------------------------------------------
-Per leg, nodes B (carriage), Cp (proximal tip at C), Cr (rod root at C), D:
+Every leg is built from its joint chain (:meth:`LegModel.chain`, the same chain the
+virtual-joint model reads), walked from the base to the platform:
 
-* guide + actuator: six springs from B to the ground in the axes (u, y_B, z) at B:
-  translations (actuator along u, lateral along y_B, vertical along z) are PyNite
-  ``Spring3D`` elements from a grounded node on the spring's line to B; rotations
-  (roll about u, pitch about y_B, yaw about z) are *torsion-only* members (every end
-  force and bending moment released at B, so they transmit a pure torque about
-  their axis, stiffness ``G J / L``) from a grounded node on the axis to B;
-* proximal link: a frame member between Cp and B with the design's proximal section;
-* bearing: four zero-length springs between Cp and Cr in the axes (w, y_D, z) at C
-  (tilts about y_D and z, radial along y_D and z). A frame model has no zero-length
-  element, so each is two elements of twice the stiffness in series through an
-  auxiliary node on the spring's line or axis; the auxiliary node's other degrees of
-  freedom are held by the ground (supports or perpendicular springs that touch
-  nothing else). Nothing connects Cp and Cr along or about w: that is the passive
-  cylindrical joint (rod sliding and turning in the bearing);
-* rod: a frame member Cr -> D with the design's distal section;
-* platform: a stiff member P -> D with the moment about z released at D: the
-  passive revolute. This is the only approximation: the platform is rigid in the
-  virtual-joint model and ``rigid_stiffness`` times stiffer than 1 N/m here.
+* a **link** is an Euler-Bernoulli member from a node at its start to a node at its
+  end with the link's section (built as two halves, see ``FrameBuilder.segment``);
+* a **joint** joins the node before it (a grounded node for the first joint) to a
+  new node at the same point (the node after it). In the joint frame (e1, e2, e3) of
+  :mod:`ppm_stiffness.legs.chain`, each of the six relative motions (rotations about
+  e1, e2, e3, translations along e1, e2, e3) is free (a passive freedom: no
+  element), a spring (a hardware spring, or the actuator along the actuated joint's
+  freedom) or rigid (no hardware spring given: a spring of the ``rigid`` scale);
+  - rotations: two *moment-only* members (all end forces released at a common
+    auxiliary node X, translations of X supported) from the two nodes to X along
+    the frame axis normal to the plane; their local axes are the joint frame, so
+    their ``GJ/L, EI_y/L, EI_z/L`` (each twice the spring, in series) are the three
+    rotational springs; a free rotation is also released at X on the first member;
+  - translations: per constrained or actuated direction, two axial ``Spring3D`` of
+    twice the stiffness in series through an auxiliary node Y on the line through
+    the joint point along that direction; Y's other freedoms are held by supports
+    and a grounded spring that acts on nothing else;
+* a link that does not start at the previous joint's point, or a joint away from the
+  previous link's end, is joined by a stiff member (a rigid body in the chain);
+* the **platform**: a stiff member from the last joint's node to P.
 
-All spring realisations are exact in linear analysis (a two-node axial spring and a
-released member add stiffness only along their own line or axis). The stiffness at
-P comes from six unit-load cases at P (moments, then forces, along the base axes):
-the displacements are the compliance columns, ``K = inv(C)``.
+Every spring realisation is exact in linear analysis. The approximations are the
+finite stiffness of the platform members and of the rigid joint directions, both
+set by ``FESettings.rigid_stiffness`` (translations: that value [N/m]; rotations:
+that value times ``LENGTH_SCALE**2`` [N·m/rad]); the difference to the virtual-joint
+model scales as its inverse. The stiffness at P comes from six unit-load cases at P
+(moments, then forces, along the base axes): the displacements are the compliance
+columns, ``K = inv(C)``.
+
+Only the chain (points, axes, springs, sections) and the design's numbers are
+shared with the virtual-joint model: :mod:`ppm_stiffness.core.solver`,
+:func:`ppm_stiffness.core.beam.cantilever_compliance` and
+:func:`ppm_stiffness.legs.chain.leg_springs` are not used.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import Z_AXIS, FloatArray, length_balanced_compliance
+from ppm_stiffness.core.conventions import (
+    LENGTH_SCALE,
+    Z_AXIS,
+    FloatArray,
+    length_balanced_compliance,
+)
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import locked_actuator_stiffness, solve_legs
+from ppm_stiffness.design.schema import leg_label
+from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis
+from ppm_stiffness.model import actuator_stiffness_vector, solve_legs
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
     REACTIONS,
@@ -58,7 +75,6 @@ from ppm_stiffness.validation.frame import (
     node_vector,
     require_pynite,
     unit_scales,
-    unit_vector,
 )
 
 __all__ = [
@@ -68,8 +84,19 @@ __all__ = [
     "fe_cantilever_compliance",
     "fe_leg_stiffness",
     "fe_stiffness_at_pose",
+    "joint_stiffness",
     "require_pynite",
 ]
+
+#: Relative motions of a joint in its frame: 0-2 rotations about e1, e2, e3, 3-5
+#: translations along e1, e2, e3. Constrained ones, in the order of the hardware
+#: springs (:mod:`ppm_stiffness.legs.chain`), and freedoms (the actuated one first).
+CONSTRAINED_MOTIONS: dict[str, tuple[int, ...]] = {
+    "P": (0, 1, 2, 4, 5), "C": (1, 2, 4, 5), "R": (1, 2, 3, 4, 5),
+}
+FREE_MOTIONS: dict[str, tuple[int, ...]] = {"P": (3,), "C": (0, 3), "R": (0,)}
+#: Two points closer than this are the same point [m].
+_SAME_POINT = 1e-9
 
 
 @dataclass(frozen=True)
@@ -83,8 +110,8 @@ class FEResult:
     compliance : ndarray, shape (6, 6)
         Displacements of P under the six unit loads (columns), as solved.
     asymmetry : float
-        ``max|C - C^T|`` relative to ``max|C|`` after balancing rotations and
-        translations over 0.1 m (Maxwell-Betti reciprocity check of the solution).
+        ``max|C - C^T|`` relative to ``max|C|`` after length balancing
+        (Maxwell-Betti reciprocity check of the solution).
     n_nodes, n_members, n_springs : int
         Size of the PyNite model.
     """
@@ -97,79 +124,232 @@ class FEResult:
     n_springs: int
 
 
-def _away_from(axis: FloatArray, other: FloatArray) -> FloatArray:
-    """``axis`` or ``-axis``, whichever does not point towards ``other``."""
-    return axis if float(axis @ other) <= 0.0 else -axis
+def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
+    """Stiffness of a joint's six relative motions in its frame, shape (6,).
+
+    Order: rotations about e1, e2, e3 [N·m/rad], translations along e1, e2, e3 [N/m].
+    0 is a free motion, ``inf`` a rigid one (a constrained direction without a
+    hardware spring, or an ``inf`` spring).
+
+    Raises
+    ------
+    DesignError
+        Springs of the wrong number or not positive.
+    """
+    k = np.zeros(6)
+    constrained = CONSTRAINED_MOTIONS[joint.kind]
+    if joint.springs is None:
+        k[list(constrained)] = np.inf
+    else:
+        springs = np.asarray(joint.springs, dtype=float)
+        if springs.shape != (len(constrained),) or np.any(~(springs > 0)):
+            raise DesignError(
+                f"FE model, joint {joint.name or joint.kind}: {len(constrained)} positive "
+                f"spring stiffnesses expected, got {springs}"
+            )
+        k[list(constrained)] = springs
+    if joint.actuated:
+        k[FREE_MOTIONS[joint.kind][0]] = actuator_stiffness
+    return k
 
 
-def _leg_points(design: Design, pose: FloatArray) -> list[dict[str, FloatArray]]:
-    """B, C, D, u, w of every leg relative to P (F_b axes); raises if unreachable."""
-    out = []
-    for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
-        u, w = leg.directions()
-        pts = lp.points
-        out.append({"b": pts["B"], "c": pts["C"], "d": pts["D"],
-                    "u": unit_vector(u), "w": unit_vector(w)})
-    return out
+@dataclass
+class _Planner:
+    """Where auxiliary nodes may go: off the in-plane members, one z line per point."""
+
+    segments: list[tuple[FloatArray, FloatArray]] = field(default_factory=list)
+    points: list[FloatArray] = field(default_factory=list)
+    joints_at: dict[tuple[int, int], int] = field(default_factory=dict)
+    springs_at: dict[tuple[int, int], int] = field(default_factory=dict)
+
+    @staticmethod
+    def key(point: FloatArray) -> tuple[int, int]:
+        return (round(float(point[0]) / _SAME_POINT), round(float(point[1]) / _SAME_POINT))
+
+    def clear(self, q: FloatArray, margin: float) -> bool:
+        """``q`` is farther than ``margin`` from every member and auxiliary node."""
+        for a, b in self.segments:
+            ab = b - a
+            t = float(np.clip((q - a) @ ab / (ab @ ab), 0.0, 1.0))
+            if np.linalg.norm(q - (a + t * ab)) <= margin:
+                return False
+        return all(np.linalg.norm(q - p) > margin for p in self.points)
+
+
+def _point(v: FloatArray) -> FloatArray:
+    p = np.asarray(v, dtype=float)
+    if p.shape != (3,):
+        raise DesignError(f"FE model: one pose at a time, got a point of shape {p.shape}")
+    return p
+
+
+def _along_z(axis: FloatArray) -> bool:
+    return bool(abs(abs(float(axis @ Z_AXIS)) - 1.0) < 1e-9)
+
+
+def _in_plane(axis: FloatArray) -> bool:
+    return bool(abs(float(axis @ Z_AXIS)) < 1e-9)
+
+
+def _rigid(fb: FrameBuilder) -> tuple[float, float]:
+    """Stiffness of a rigid joint direction: rotation [N·m/rad], translation [N/m]."""
+    k = fb.settings.rigid_stiffness
+    return k * LENGTH_SCALE**2, k
+
+
+def _add_joint_rotations(
+    fb: FrameBuilder, plan: _Planner, before: str, after: str, point: FloatArray,
+    frame: tuple[FloatArray, FloatArray, FloatArray], k_rot: FloatArray, label: str,
+) -> None:
+    """Rotational springs of a joint: two moment-only members through X (module doc)."""
+    if not np.any(k_rot != 0):
+        return
+    normal = [i for i in range(3) if _along_z(frame[i])]
+    if not normal:
+        raise DesignError(f"FE model, {label}: the joint frame has no axis normal to the plane")
+    i_x = normal[0]
+    i_y, i_z = (i_x + 1) % 3, (i_x + 2) % 3
+    key = plan.key(point)
+    slot = plan.joints_at.get(key, 0)
+    if slot >= 2:
+        raise DesignError(f"FE model, {label}: more than two joints at one point")
+    plan.joints_at[key] = slot + 1
+    sign = 1.0 if slot == 0 else -1.0
+    x_axis = sign * Z_AXIS
+    y_axis = frame[i_y]
+    rot_rigid = _rigid(fb)[0]
+    k = np.array([k_rot[i_x], k_rot[i_y], k_rot[i_z]])
+    free = (bool(k[0] == 0), bool(k[1] == 0), bool(k[2] == 0))
+    k = np.where(np.isinf(k), rot_rigid, k)
+    hold = float(np.max(k))  # the second member holds X about the free axes
+    x_node = fb.node(point + sign * fb.s * Z_AXIS, "X")
+    fb.support(x_node, "DX DY DZ")
+    # local z of a member along x_axis with local y = frame[i_y] is x_axis x y_axis
+    z_sign = float(np.cross(x_axis, y_axis) @ frame[i_z])
+    if abs(abs(z_sign) - 1.0) > 1e-9:
+        raise DesignError(f"FE model, {label}: joint frame is not orthonormal")
+    stiff = 2.0 * np.where(np.array(free), 1.0, k)
+    fb.moment_member(before, x_node, (x_axis, y_axis), stiff, free)
+    fb.moment_member(after, x_node, (x_axis, y_axis),
+                     2.0 * np.where(np.array(free), hold, k), (False, False, False))
+
+
+def _add_joint_translation(
+    fb: FrameBuilder, plan: _Planner, before: str, after: str, point: FloatArray,
+    axis: FloatArray, stiffness: float, label: str,
+) -> None:
+    """A translational spring along ``axis``: two Spring3D in series through Y."""
+    s = fb.s
+    if _along_z(axis):
+        key = plan.key(point)
+        n = plan.springs_at.get(key, 0)
+        plan.springs_at[key] = n + 1
+        # beyond the moment-only members (|z| <= s), alternately up and down
+        pos = point + (1.0 if n % 2 == 0 else -1.0) * (2 + n // 2) * s * Z_AXIS
+        y_node = fb.node(pos, "Y")
+        fb.support(y_node, "DX DY RX RY RZ")
+    elif _in_plane(axis):
+        pos = None
+        for step in range(1, 10_000):
+            for sign in (1.0, -1.0):
+                q = point + sign * step * s * axis
+                if plan.clear(q, 0.25 * s):
+                    pos = q
+                    break
+            if pos is not None:
+                break
+        if pos is None:  # pragma: no cover - needs members everywhere on the line
+            raise DesignError(f"FE model, {label}: no room for a spring node")
+        plan.points.append(pos)
+        y_node = fb.node(pos, "Y")
+        fb.support(y_node, "DZ RX RY RZ")
+        across = np.cross(Z_AXIS, axis)
+        holder = fb.ground(pos + s * (across + Z_AXIS) / np.sqrt(2.0))
+        fb.axial_spring(y_node, holder, stiffness)
+    else:
+        raise DesignError(
+            f"FE model, {label}: joint axes must lie in the plane or along z"
+        )
+    fb.axial_spring(before, y_node, 2.0 * stiffness)
+    fb.axial_spring(y_node, after, 2.0 * stiffness)
+
+
+def _add_joint(
+    fb: FrameBuilder, plan: _Planner, before: str, joint: Joint, k_act: float, label: str,
+) -> str:
+    """Add one joint after node ``before``; returns the node after it."""
+    point = _point(joint.point)
+    e1, e2, e3 = frame_from_axis(_point(joint.axis))
+    frame = (np.asarray(e1), np.asarray(e2), np.asarray(e3))
+    k = joint_stiffness(joint, k_act)
+    after = fb.node(point, "J")
+    _add_joint_rotations(fb, plan, before, after, point, frame, k[:3], label)
+    k_trans = np.where(np.isinf(k[3:]), _rigid(fb)[1], k[3:])
+    for i in range(3):
+        if k_trans[i] > 0:
+            _add_joint_translation(fb, plan, before, after, point, frame[i],
+                                   float(k_trans[i]), label)
+    return after
+
+
+def _plan_segments(chain: Sequence[Element], plan: _Planner) -> None:
+    """Record the in-plane members of a chain (links, rigid offsets, platform)."""
+    pos: FloatArray | None = None
+    for element in chain:
+        if isinstance(element, Link):
+            start, end = _point(element.start), _point(element.end)
+            if pos is not None and np.linalg.norm(start - pos) > _SAME_POINT:
+                plan.segments.append((pos, start))
+            plan.segments.append((start, end))
+            pos = end
+        else:
+            point = _point(element.point)
+            if pos is not None and np.linalg.norm(point - pos) > _SAME_POINT:
+                plan.segments.append((pos, point))
+            pos = point
+    if pos is not None:
+        plan.segments.append((pos, np.zeros(3)))
 
 
 def _add_leg(
-    fb: FrameBuilder, leg: Any, pts: dict[str, FloatArray], k_act: float,
-    platform_node: str | None, tag: str,
-) -> str:
-    """Add one leg; returns the name of its node D (rod tip)."""
-    s = fb.s
-    b, c, d, u, w = pts["b"], pts["c"], pts["d"], pts["u"], pts["w"]
-    z = Z_AXIS
-    if np.linalg.norm(c - b) < 10 * s or np.linalg.norm(d - c) <= 0.0:
-        raise DesignError(f"FE model, {tag}: proximal link or rod too short for the model")
-    # guide + actuator at B, grounded springs on the side away from the proximal link
-    nb = fb.node(b, f"B{tag}_")
-    u_out = _away_from(u, c - b)
-    y_out = _away_from(unit_vector(np.cross(z, u)), c - b)
-    g = leg.guide
-    fb.grounded_rotation(nb, b, u_out, g.roll, s)
-    fb.grounded_rotation(nb, b, y_out, g.pitch, s)
-    fb.grounded_rotation(nb, b, -z, g.yaw, s)
-    fb.grounded_translation(nb, b, u_out, k_act, 2 * s)
-    fb.grounded_translation(nb, b, y_out, g.lateral, 2 * s)
-    fb.grounded_translation(nb, b, -z, g.vertical, 2 * s)
-    # proximal link B -C, built from C (see link_rotation on why members start at C)
-    ncp = fb.node(c, f"Cp{tag}_")
-    fb.beam(ncp, nb, leg.proximal)
-    # bearing at C: Cp -> Cr, axes (w, y_D, z); nothing along/about w (cylindrical)
-    ncr = fb.node(c, f"Cr{tag}_")
-    lat = _away_from(unit_vector(np.cross(z, w)), b - c)
-    br = leg.bearing
-    fb.link_rotation(ncp, ncr, c, lat, br.tilt_lateral, s, (w, z))
-    fb.link_rotation(ncp, ncr, c, z, br.tilt_vertical, s, (w, -lat))
-    fb.link_translation(ncp, ncr, c, lat, br.radial_lateral, 2 * s, (w, z))
-    fb.link_translation(ncp, ncr, c, z, br.radial_vertical, 2 * s, (w, -lat))
-    # rod C -> D
-    nd = fb.node(d, f"D{tag}_")
-    fb.beam(ncr, nd, leg.distal)
-    if platform_node is not None:
-        _platform_member(fb, platform_node, nd, float(np.linalg.norm(d)))
-    return nd
-
-
-def _platform_member(fb: FrameBuilder, p_node: str, d_node: str, length: float) -> None:
-    """Stiff member P -> D, moment about z released at D (the passive revolute)."""
-    k = fb.settings.rigid_stiffness * fb.unit  # N/m -> N/unit
-    ell = length / fb.unit
-    name = fb._name("rigid")
-    fb.model.add_section(name, k * ell, k * ell**3 / 3, k * ell**3 / 3, k * ell**3)
-    fb.member(p_node, d_node, "unit", name, Rzj=True)
-
-
-def _actuator_stiffness(design: Design, actuator_stiffness: ArrayLike | None) -> FloatArray:
-    n = len(design.legs)
-    if actuator_stiffness is None:
-        return locked_actuator_stiffness(design)
-    k = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n,))
-    if not np.all(np.isfinite(k)) or np.any(k <= 0):
-        raise DesignError("actuator stiffness must be finite and > 0 N/m")
-    return np.asarray(k, dtype=float)
+    fb: FrameBuilder, plan: _Planner, chain: Sequence[Element], k_act: float,
+    p_node: str, label: str,
+) -> None:
+    """Add one leg's chain from the ground to node P (module doc)."""
+    if not chain or not isinstance(chain[0], Joint):
+        raise DesignError(f"FE model, {label}: the chain must start with a joint at the base")
+    current: str | None = None
+    pos = np.zeros(3)
+    for n, element in enumerate(chain):
+        name = f"{label}, {element.name or type(element).__name__.lower()} (element {n + 1})"
+        if isinstance(element, Link):
+            start, end = _point(element.start), _point(element.end)
+            if np.linalg.norm(end - start) <= _SAME_POINT:
+                raise DesignError(f"FE model, {name}: zero-length link")
+            if current is None:  # pragma: no cover - excluded above
+                raise DesignError(f"FE model, {label}: the chain must start with a joint")
+            if np.linalg.norm(start - pos) > _SAME_POINT:
+                offset = fb.node(start, "O")
+                fb.rigid(current, offset)
+                current = offset
+            tip = fb.node(end, "L")
+            fb.link(current, tip, element.section)
+            current, pos = tip, end
+        else:
+            point = _point(element.point)
+            if current is None:
+                before = fb.ground(point)
+            elif np.linalg.norm(point - pos) > _SAME_POINT:
+                before = fb.node(point, "O")
+                fb.rigid(current, before)
+            else:
+                before = current
+            current = _add_joint(fb, plan, before, element, k_act, name)
+            pos = point
+    assert current is not None
+    if np.linalg.norm(pos) <= _SAME_POINT:
+        raise DesignError(f"FE model, {label}: the platform point coincides with P")
+    fb.rigid(current, p_node)
 
 
 def build_model(
@@ -183,8 +363,9 @@ def build_model(
     design : Design
     pose : array_like, shape (3,)
         (x [m], y [m], phi [rad]); the model is built with its origin at P.
-    actuator_stiffness : array_like, optional
-        Per-leg actuator stiffness [N/m]; the locked value when None.
+    actuator_stiffness : array_like, shape (n_legs,) or scalar, optional
+        Per-leg actuator stiffness [N/m, or N·m/rad for a rotary actuator]; the
+        locked values when None.
     settings : FESettings, optional
     legs : tuple of int, optional
         Indices (from 0) of the legs to include; all when None.
@@ -193,16 +374,29 @@ def build_model(
     -------
     (FrameBuilder, str)
         The builder (its ``model`` is the PyNite model) and the name of node P.
+
+    Raises
+    ------
+    UnreachablePoseError, DesignError
     """
     st = settings or FESettings()
     p = np.asarray(pose, dtype=float)
-    k_act = _actuator_stiffness(design, actuator_stiffness)
-    fb = FrameBuilder(st)
-    p_node = fb.node(np.zeros(3), "P")
-    points = _leg_points(design, p)
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise DesignError(f"FE model: a pose is 3 finite numbers (x, y, phi), got {p}")
+    k_act = actuator_stiffness_vector(design, actuator_stiffness)
     chosen = range(len(design.legs)) if legs is None else legs
     for i in chosen:
-        _add_leg(fb, design.legs[i], points[i], float(k_act[i]), p_node, f"{i + 1}")
+        if not 0 <= i < len(design.legs):
+            raise DesignError(f"FE model: no leg {i} (the design has {len(design.legs)})")
+    leg_poses = solve_legs(design, p)
+    chains = {i: design.legs[i].chain(leg_poses[i]) for i in chosen}
+    plan = _Planner()
+    for chain in chains.values():
+        _plan_segments(chain, plan)
+    fb = FrameBuilder(st)
+    p_node = fb.node(np.zeros(3), "P")
+    for i, chain in chains.items():
+        _add_leg(fb, plan, chain, float(k_act[i]), p_node, leg_label(i))
     return fb, p_node
 
 

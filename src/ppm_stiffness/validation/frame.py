@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
 from ppm_stiffness.core.errors import SingularConfigurationError
 from ppm_stiffness.design import SectionModel
@@ -40,7 +41,6 @@ LOAD_CASES = ("MX", "MY", "MZ", "FX", "FY", "FZ")
 DISPLACEMENTS = ("RX", "RY", "RZ", "DX", "DY", "DZ")
 #: Reaction attributes of a PyNite node, in the library's wrench order.
 REACTIONS = ("RxnMX", "RxnMY", "RxnMZ", "RxnFX", "RxnFY", "RxnFZ")
-_END_FORCES_AND_BENDING = ("Dx", "Dy", "Dz", "Ry", "Rz")
 
 
 @dataclass(frozen=True)
@@ -65,7 +65,7 @@ class FESettings:
     """
 
     connector_length: float = 5e-3
-    rigid_stiffness: float = 1e12
+    rigid_stiffness: float = 1e11
     length_unit: float = 0.1
     check_stability: bool = True
 
@@ -119,7 +119,7 @@ class FrameBuilder:
         self.model.def_support(name, True, True, True, True, True, True)
         return name
 
-    def material(self, section: SectionModel) -> str:
+    def material(self, section: BeamSection | SectionModel) -> str:
         """Material and section of a design link; returns the common name."""
         name = self._name("link")
         l2, l4 = self.unit**2, self.unit**4
@@ -141,95 +141,106 @@ class FrameBuilder:
             self.model.def_releases(name, **releases)
         return name
 
-    def beam(self, i_node: str, j_node: str, section: SectionModel, **releases: bool) -> str:
+    def beam(
+        self, i_node: str, j_node: str, section: BeamSection | SectionModel, **releases: bool
+    ) -> str:
         """An Euler-Bernoulli link with the design's section (local z = global z)."""
         mat = self.material(section)
         return self.member(i_node, j_node, mat, mat, **releases)
 
-    def torsion_spring(self, i_node: str, j_node: str, stiffness: float, free_end: str) -> str:
-        """A member that transmits only the torque about its own axis.
+    # --- zero-length joints between coincident nodes ------------------------------
 
-        Every end force and both bending moments are released at ``free_end``
-        ('i' or 'j'), so the condensed element is ``GJ/L`` on the two end rotations
-        about the axis and nothing else. With G = 1, J = stiffness * L (model units).
+    def support(self, node: str, dofs: str) -> None:
+        """Hold ``node`` in the global degrees of freedom named in ``dofs`` (a subset
+        of ``"DX DY DZ RX RY RZ"``)."""
+        names = ("DX", "DY", "DZ", "RX", "RY", "RZ")
+        self.model.def_support(node, *(n in dofs.split() for n in names))
+
+    def position(self, node: str) -> FloatArray:
+        """Position of ``node`` [m]."""
+        n = self.model.nodes[node]
+        return np.array([n.X, n.Y, n.Z]) * self.unit
+
+    def segment(self, a: str, b: str, section: str, material: str) -> str:
+        """A straight member a-b as two members from each end to a new midpoint node.
+
+        PyNite splits a member at any node it finds strictly inside it; a node
+        coincident with the member's j-end may land at ``t < L`` after round-off, but
+        at the i-end ``t = 0`` exactly. Joints put twin nodes at both ends of a link,
+        so both halves start at an end. Two Euler-Bernoulli members with the same
+        section in series are the same beam (no load between them). Returns the
+        midpoint node.
+        """
+        mid = self.node(0.5 * (self.position(a) + self.position(b)), "H")
+        self.member(a, mid, material, section)
+        self.member(b, mid, material, section)
+        return mid
+
+    def link(self, a: str, b: str, section: BeamSection | SectionModel) -> str:
+        """An Euler-Bernoulli link a-b with the design's section (:meth:`segment`)."""
+        mat = self.material(section)
+        return self.segment(a, b, mat, mat)
+
+    def rigid(self, a: str, b: str) -> str:
+        """A stiff member a-b standing in for a rigid body (:meth:`segment`).
+
+        Axial EA/L and lateral 3EI/L^3 are ``settings.rigid_stiffness`` [N/m] and the
+        torsion GJ/L is ``rigid_stiffness * L^2`` [N·m/rad] over the whole length L.
+        """
+        k = self.settings.rigid_stiffness * self.unit  # N/m -> N/unit
+        ell = float(np.linalg.norm(self.position(b) - self.position(a))) / self.unit
+        name = self._name("rigid")
+        self.model.add_section(name, k * ell, k * ell**3 / 3, k * ell**3 / 3, k * ell**3)
+        return self.segment(a, b, name, "unit")
+
+    def moment_member(
+        self, i_node: str, j_node: str, axes: tuple[FloatArray, FloatArray],
+        stiffness: FloatArray, free: tuple[bool, bool, bool],
+    ) -> str:
+        """A member that transmits only a moment: rotational springs in its own axes.
+
+        Every end force is released at ``j_node``, so the shear is zero and the
+        moment constant along the member: after PyNite's static condensation the
+        element is ``diag(GJ, EI_y, EI_z) / L`` on the relative rotation of its ends
+        about its local (x, y, z) axes and nothing else (exact, Euler-Bernoulli).
 
         Parameters
         ----------
-        stiffness : float
-            [N·m/rad].
+        axes : (ndarray (3,), ndarray (3,))
+            Unit local x (along i -> j) and the wanted local y; the member is turned
+            about x until PyNite's local y is this axis.
+        stiffness : ndarray (3,)
+            About local x, y, z [N·m/rad], each > 0.
+        free : tuple of 3 bool
+            Moments about local x, y, z also released at ``j_node`` (no stiffness).
         """
-        xi = np.array([self.model.nodes[i_node].X, self.model.nodes[i_node].Y,
-                       self.model.nodes[i_node].Z])
-        xj = np.array([self.model.nodes[j_node].X, self.model.nodes[j_node].Y,
-                       self.model.nodes[j_node].Z])
-        length = float(np.linalg.norm(xj - xi))
-        section = self._name("tor")
-        # A, I only condition the condensation (EA/L = 1 N/m, 12EI/L^3 = 1 N/m).
-        k_model = stiffness / self.unit  # N·m/rad -> N·unit/rad
-        self.model.add_section(section, length, length**3 / 12, length**3 / 12,
-                               k_model * length)
-        releases = {f"{dof}{free_end}": True for dof in _END_FORCES_AND_BENDING}
-        return self.member(i_node, j_node, "unit", section, **releases)
+        x_axis, y_axis = axes
+        k = np.asarray(stiffness, dtype=float) / self.unit  # N·m/rad -> N·unit/rad
+        ell = float(np.linalg.norm(self.position(j_node) - self.position(i_node))) / self.unit
+        section = self._name("mom")
+        # G = E = 1: J = k_x L, I = k L; A only conditions the condensation (EA/L = 1).
+        self.model.add_section(section, ell, k[1] * ell, k[2] * ell, k[0] * ell)
+        name = self.member(i_node, j_node, "unit", section)
+        member = self.model.members[name]
+        rot = member.T()[:3, :3]
+        theta = np.arctan2(float(y_axis @ rot[2]), float(y_axis @ rot[1]))
+        member.rotation = float(np.degrees(theta))
+        rot = member.T()[:3, :3]
+        if abs(float(rot[1] @ y_axis)) < 1.0 - 1e-9 or abs(float(rot[0] @ x_axis)) < 1.0 - 1e-9:
+            raise SingularConfigurationError(  # pragma: no cover - a PyNite change
+                f"FE model: cannot align the local axes of member {name}"
+            )
+        releases = {"Dxj": True, "Dyj": True, "Dzj": True}
+        for dof, f in zip(("Rxj", "Ryj", "Rzj"), free, strict=True):
+            if f:
+                releases[dof] = True
+        self.model.def_releases(name, **releases)
+        return name
 
     def axial_spring(self, i_node: str, j_node: str, stiffness: float) -> str:
         """A two-node spring acting along the line between its nodes [N/m]."""
         k_model = stiffness * self.unit  # N/m -> N/unit
         return str(self.model.add_spring(self._name("S"), i_node, j_node, k_model))
-
-    # --- lumped springs at a point ------------------------------------------------
-
-    def grounded_translation(
-        self, node: str, point: FloatArray, axis: FloatArray, stiffness: float, offset: float
-    ) -> None:
-        """Spring ``stiffness`` [N/m] along ``axis`` between ground and ``node`` (at
-        ``point``); the grounded end sits at ``point + offset * axis``."""
-        self.axial_spring(self.ground(point + offset * axis), node, stiffness)
-
-    def grounded_rotation(
-        self, node: str, point: FloatArray, axis: FloatArray, stiffness: float, offset: float
-    ) -> None:
-        """Rotational spring ``stiffness`` [N·m/rad] about ``axis`` between ground and
-        ``node``; the grounded end sits at ``point + offset * axis``."""
-        self.torsion_spring(self.ground(point + offset * axis), node, stiffness, "j")
-
-    def link_translation(
-        self, n1: str, n2: str, point: FloatArray, axis: FloatArray, stiffness: float,
-        offset: float, others: tuple[FloatArray, FloatArray],
-    ) -> None:
-        """Zero-length spring along ``axis`` between coincident nodes ``n1``, ``n2``.
-
-        Two axial springs of ``2 * stiffness`` in series through an auxiliary node on
-        the spring's line (at ``point + offset * axis``); that node's rotations are
-        supported and its translations along ``others`` (both perpendicular to
-        ``axis``) held by grounded springs that act on nothing else.
-        """
-        pos = point + offset * axis
-        aux = self.node(pos, "A")
-        self.model.def_support(aux, False, False, False, True, True, True)
-        self.axial_spring(n1, aux, 2.0 * stiffness)
-        self.axial_spring(aux, n2, 2.0 * stiffness)
-        for e in others:
-            self.axial_spring(self.ground(pos - self.s * e), aux, stiffness)
-
-    def link_rotation(
-        self, n1: str, n2: str, point: FloatArray, axis: FloatArray, stiffness: float,
-        offset: float, others: tuple[FloatArray, FloatArray],
-    ) -> None:
-        """Zero-length rotational spring about ``axis`` between ``n1`` and ``n2``.
-
-        Two torsion-only members of ``2 * stiffness`` in series through an auxiliary
-        node at ``point + offset * axis``; its translations are supported and its
-        rotations about ``others`` held by grounded torsion springs.
-        """
-        pos = point + offset * axis
-        aux = self.node(pos, "X")
-        self.model.def_support(aux, True, True, True, False, False, False)
-        # both members start at the coincident nodes: PyNite splits a member at any
-        # node it finds strictly inside (0 < t < L), and t = 0 is exact at the i-end
-        self.torsion_spring(n1, aux, 2.0 * stiffness, "j")
-        self.torsion_spring(n2, aux, 2.0 * stiffness, "j")
-        for e in others:
-            self.torsion_spring(self.ground(pos - self.s * e), aux, stiffness, "j")
 
     def check_topology(self) -> None:
         """Raise if PyNite split a member at a node lying on it (unintended joint)."""
