@@ -142,14 +142,16 @@ def run(args: argparse.Namespace) -> int:
             f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
         )
     k_lo, k_hi = smap.actuator_stiffness
-    units = sorted({leg.actuator_units()[2] for leg in design.legs})
+    units = [leg.actuator_units()[2] for leg in design.legs]
+
+    def _values(k: np.ndarray) -> str:
+        return ", ".join(f"{v:.6g} {u}" for v, u in zip(k, units, strict=True))
+
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
         + (f" (reference load {args.reference_force:g})" if state == "min" else "")
-        + f"; actuator stiffness [{' or '.join(units)}]: "
-        + np.array2string(k_lo, precision=6)
-        + ("" if np.allclose(k_lo, k_hi, equal_nan=True)
-           else f" to {np.array2string(k_hi, precision=6)}")
+        + "; actuator stiffness: " + _values(k_lo)
+        + ("" if np.allclose(k_lo, k_hi, equal_nan=True) else f" to {_values(k_hi)}")
     )
     x, y = smap.x * 1e3, smap.y * 1e3
     console.print(
