@@ -271,3 +271,21 @@ def test_small_displacement_limits(capsys: pytest.CaptureFixture[str]) -> None:
     # a map under a load that drives an actuator past its stroke is refused like analyze
     assert "stroke" in _bad(capsys, "map", "--grid", "5", "--actuators=50,0,0,0,0,0")
     assert "empty" in _bad(capsys, "deflect", "--measurements", "")
+
+
+def test_method_least_squares_is_shown_first_and_json_keys_keep_their_meaning(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Before: --method least-squares printed the least-squares decoupling twice, never
+    the paper's, and put it under the JSON key 'decoupling'."""
+    assert main(["analyze", "--method", "least-squares"]) == 0
+    out = capsys.readouterr().out
+    heads = [line for line in out.splitlines() if line.startswith("Decoupling, method")]
+    assert heads == ["Decoupling, method 'least-squares'", "Decoupling, method 'paper'"]
+    assert main(["analyze", "--method", "least-squares", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["method"] == "least-squares"
+    assert data["decoupling"]["method"] == "paper"
+    assert data["decoupling_least_squares"]["method"] == "least-squares"
+    # the paper's eq. (29): d = (21.2, 24.1, 0) mm on the built-in design
+    np.testing.assert_allclose(data["decoupling"]["d"], [0.0212, 0.0241, 0.0], atol=1e-4)

@@ -72,11 +72,20 @@ def principal_dict(dec: Decoupling) -> dict[str, Any]:
 
 
 def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, Any]:
-    """Eigenscrews, decoupling (``method`` plus the least-squares shift) of a matrix."""
+    """Eigenscrews and both decouplings of a matrix.
+
+    The keys keep their meaning whatever ``method``: ``decoupling``/``principal`` are
+    the paper's eq. (19), ``decoupling_least_squares``/``principal_least_squares`` the
+    shift that minimises the coupling; ``method`` records which one was asked for (and
+    is shown first).
+    """
+    if method not in ("paper", "least-squares"):
+        raise InputDataError(f"unknown decoupling method {method!r}")
     k = np.asarray(stiffness, dtype=float)
-    dec = decouple(k, method)
+    dec = decouple(k, "paper")
     best = decouple(k, "least-squares")
     return {
+        "method": method,
         "stiffness_matrix": k.tolist(),
         "eigenscrews": eigenscrews_dict(eigenscrews(k)),
         "decoupling": decoupling_dict(dec),

@@ -165,8 +165,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         )
     c.print(s)
 
-    for key, pkey in (("decoupling", "principal"),
-                      ("decoupling_least_squares", "principal_least_squares")):
+    order = [("decoupling", "principal"),
+             ("decoupling_least_squares", "principal_least_squares")]
+    if result.get("method") == "least-squares":
+        order.reverse()
+    for key, pkey in order:
         dec, pr = result[key], result[pkey]
         c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
         c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z"), "{:.5g}"))

@@ -103,9 +103,9 @@ def run(args: argparse.Namespace) -> int:
         r.add_row(lab, *[f"{v:.3g}" for v in row])
     c.print(r)
     s = result.singular_values
+    condition = f"condition {s[0] / s[-1]:.3g}" if s[-1] > 0 else "condition infinite"
     c.print("singular values of the scaled Jacobian: "
-            + ", ".join(f"{v:.3g}" for v in s)
-            + f"  (condition {s[0] / s[-1]:.3g})" if s[-1] > 0 else "")
+            + ", ".join(f"{v:.3g}" for v in s) + f"  ({condition})")
     for direction in result.flat_directions():
         parts = ", ".join(f"{n} {v:+.3f}" for n, v in direction.items() if abs(v) > 0.05)
         c.print(f"[yellow]flat direction (target cannot tell apart):[/yellow] {parts}")
