@@ -289,3 +289,15 @@ def test_method_least_squares_is_shown_first_and_json_keys_keep_their_meaning(
     assert data["decoupling_least_squares"]["method"] == "least-squares"
     # the paper's eq. (29): d = (21.2, 24.1, 0) mm on the built-in design
     np.testing.assert_allclose(data["decoupling"]["d"], [0.0212, 0.0241, 0.0], atol=1e-4)
+
+
+def test_calibrate_prints_singular_values_when_one_is_zero(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The power-law k_a does not enter the unloaded K: its column of the Jacobian is
+    zero. Before, the whole singular-value line was dropped exactly then."""
+    code, out, _ = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
+                       "leg1.actuator.k_a,guide.yaw")
+    assert code == 0
+    line = next(s for s in out.splitlines() if s.startswith("singular values"))
+    assert line.endswith("(condition infinite)") and ", 0" in line
