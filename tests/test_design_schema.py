@@ -150,3 +150,21 @@ def test_old_module_paths_import_with_a_deprecation_warning(old: str, new: str) 
         module = importlib.import_module(old)
     assert module is importlib.import_module(new)
     assert module.__spec__ is not None and module.__spec__.name == new
+
+
+def test_public_api_names_and_version() -> None:
+    import importlib
+    import subprocess
+    import sys
+
+    import ppm_stiffness as pps
+
+    assert set(pps.__all__) == {"__version__", *pps._API}
+    importlib.import_module("ppm_stiffness.eigenscrews")  # the deprecated module path
+    assert callable(pps.eigenscrews)  # still the function, not the module
+    for name in pps.__all__:
+        assert getattr(pps, name) is not None
+    run = subprocess.run([sys.executable, "-m", "ppm_stiffness", "--version"],
+                         capture_output=True, text=True, check=True)
+    assert run.stdout.strip() == f"ppm-stiffness {pps.__version__}"
+    assert pps.__version__[0].isdigit()

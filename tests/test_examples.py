@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -54,11 +55,30 @@ def test_fast_batched_path_serves_other_designs(name: str) -> None:
     assert checked >= 20
 
 
-def test_readme_python_snippet_runs(capsys: pytest.CaptureFixture[str]) -> None:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
-    assert blocks, "README has a python block"
-    for block in blocks:
+def _python_blocks(path: Path) -> list[str]:
+    blocks = re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), re.S)
+    assert blocks, f"{path.name} has python blocks"
+    return blocks
+
+
+def test_readme_python_snippet_runs(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The README's example runs as written from the top folder, and prints K_phiphi
+    and (k_x, k_y, k_z) of the 3-RRR at its pose."""
+    monkeypatch.chdir(ROOT)
+    for block in _python_blocks(ROOT / "README.md"):
         exec(compile(block, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    design = load_design(ROOT / "examples" / "3rrr.toml")
+    k = stiffness_at_pose(design, [0.01, 0.0, 0.1])
+    assert lines[0] == f"{k[2, 2]} N·m/rad"
+    assert len(json.loads(lines[1])) == 3
+
+
+def test_api_page_runs(capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    for block in _python_blocks(ROOT / "docs" / "api.md"):
+        exec(compile(block, "docs/api.md", "exec"), {})
     out = capsys.readouterr().out
-    assert "193.5" in out  # k_phi of the built-in design, as eq. (32): 193.5 N·m/rad
+    assert "3-RRR" in out and "refused:" in out

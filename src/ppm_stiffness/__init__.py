@@ -4,8 +4,125 @@ The package follows the pipeline: ``design`` (schema, TOML) -> ``legs`` (joint c
 inverse kinematics, virtual springs) -> ``core`` (solver, eigenscrews, decoupling) ->
 ``statics`` (actuator law, loaded state, deflection) -> ``maps`` and ``fit`` ->
 ``validation``, ``visuals`` -> ``cli``.
+
+The public API is the names of ``__all__``, importable from here::
+
+    import ppm_stiffness as pps
+    design = pps.load_design("examples/3rrr.toml")
+    result = pps.analyze(design, pose=[0.01, 0.0, 0.1])
+
+They are loaded on first use, so ``import ppm_stiffness`` stays light (the CLI's
+``--help`` imports no numerical library beyond numpy).
 """
+
+from __future__ import annotations
+
+import importlib
+import sys
+import types
+from importlib import metadata
+from typing import TYPE_CHECKING, Any
 
 from ppm_stiffness import _moved
 
 _moved.install()
+
+try:
+    __version__: str = metadata.version("ppm-stiffness")
+except metadata.PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0+unknown"
+
+#: Public name -> (module, attribute).
+_API: dict[str, tuple[str, str]] = {
+    # designs
+    "Design": ("ppm_stiffness.design", "Design"),
+    "load_design": ("ppm_stiffness.design", "load_design"),
+    "default_design": ("ppm_stiffness.design", "default_design"),
+    "save_design": ("ppm_stiffness.design", "save_design"),
+    # one pose
+    "stiffness_at_pose": ("ppm_stiffness.model", "stiffness_at_pose"),
+    "stiffness_at_tool_point": ("ppm_stiffness.model", "stiffness_at_tool_point"),
+    "analyze": ("ppm_stiffness.analysis", "analyze_design"),
+    "eigenscrews": ("ppm_stiffness.core.eigenscrews", "eigenscrews"),
+    "decouple": ("ppm_stiffness.core.decoupling", "decouple"),
+    # under load
+    "loaded_state": ("ppm_stiffness.statics.loading", "loaded_state"),
+    "equilibrium": ("ppm_stiffness.statics.equilibrium", "equilibrium"),
+    "deflection_curve": ("ppm_stiffness.statics.deflection", "deflection_curve"),
+    "deflection_path": ("ppm_stiffness.statics.deflection", "deflection_path"),
+    # many poses
+    "evaluate_poses": ("ppm_stiffness.maps.batch", "evaluate_poses"),
+    "stiffness_map": ("ppm_stiffness.maps.workspace", "stiffness_map"),
+    # identification and validation
+    "calibrate": ("ppm_stiffness.fit.calibration", "calibrate"),
+    "compare_poses": ("ppm_stiffness.validation.compare", "compare_poses"),
+    # errors
+    "PPMStiffnessError": ("ppm_stiffness.core.errors", "PPMStiffnessError"),
+    "DesignError": ("ppm_stiffness.core.errors", "DesignError"),
+    "UnreachablePoseError": ("ppm_stiffness.core.errors", "UnreachablePoseError"),
+    "SingularConfigurationError": ("ppm_stiffness.core.errors", "SingularConfigurationError"),
+    "InputDataError": ("ppm_stiffness.core.errors", "InputDataError"),
+    "EquilibriumError": ("ppm_stiffness.core.errors", "EquilibriumError"),
+}
+
+__all__ = [
+    "__version__",
+    "Design", "load_design", "default_design", "save_design",
+    "stiffness_at_pose", "stiffness_at_tool_point", "analyze", "eigenscrews", "decouple",
+    "loaded_state", "equilibrium", "deflection_curve", "deflection_path",
+    "evaluate_poses", "stiffness_map", "calibrate", "compare_poses",
+    "PPMStiffnessError", "DesignError", "UnreachablePoseError",
+    "SingularConfigurationError", "InputDataError", "EquilibriumError",
+]
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public name on first use (PEP 562)."""
+    try:
+        module, attr = _API[name]
+    except KeyError:
+        raise AttributeError(f"module 'ppm_stiffness' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module), attr)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_API))
+
+
+class _Package(types.ModuleType):
+    """The package module: importing a deprecated submodule path of 0.1
+    (``ppm_stiffness.eigenscrews``) must not replace the public function of that name
+    (the import system sets the submodule as an attribute of its parent)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _API and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
+
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
+    from ppm_stiffness.analysis import analyze_design as analyze
+    from ppm_stiffness.core.decoupling import decouple
+    from ppm_stiffness.core.eigenscrews import eigenscrews
+    from ppm_stiffness.core.errors import (
+        DesignError,
+        EquilibriumError,
+        InputDataError,
+        PPMStiffnessError,
+        SingularConfigurationError,
+        UnreachablePoseError,
+    )
+    from ppm_stiffness.design import Design, default_design, load_design, save_design
+    from ppm_stiffness.fit.calibration import calibrate
+    from ppm_stiffness.maps.batch import evaluate_poses
+    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point
+    from ppm_stiffness.statics.deflection import deflection_curve, deflection_path
+    from ppm_stiffness.statics.equilibrium import equilibrium
+    from ppm_stiffness.statics.loading import loaded_state
+    from ppm_stiffness.validation.compare import compare_poses

@@ -43,6 +43,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Stiffness of compliant planar parallel manipulators "
         "(virtual-spring model, eigenscrews, decoupling, actuation compliance).",
     )
+    from ppm_stiffness import __version__
+
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, modname in _available().items():
         module = importlib.import_module(modname)
