@@ -74,7 +74,8 @@ def symmetric_3rpr(eps: float) -> Design:
         th = math.radians(90 + 120 * i)
         legs.append({
             "type": "RPR", "base_point": [R_BASE * math.cos(th), R_BASE * math.sin(th)],
-            "psi": th + math.pi, "platform_radius": R_PLATFORM, "housing_length": 0.05,
+            "psi": math.remainder(th + math.pi, 2 * math.pi), "platform_radius": R_PLATFORM,
+            "housing_length": 0.05,
             "stroke": [0.06, 0.4], "base_revolute": revolute, "platform_revolute": revolute,
         })
     return design_from_dict({
@@ -160,7 +161,7 @@ def rotated(design: Design, angle: float) -> Design:
         bx, by = leg_data["base_point"]
         leg_data["base_point"] = (c * bx - s * by, s * bx + c * by)
         if "alpha" in leg_data:
-            leg_data["alpha"] += angle
+            leg_data["alpha"] = math.remainder(leg_data["alpha"] + angle, 2 * math.pi)
         if leg.COORDINATES[leg.ACTUATED_COORDINATE].unit == "rad":
             lo, hi = leg_data["stroke"]
             leg_data["stroke"] = (lo + angle, hi + angle)

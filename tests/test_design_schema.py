@@ -168,3 +168,22 @@ def test_public_api_names_and_version() -> None:
                          capture_output=True, text=True, check=True)
     assert run.stdout.strip() == f"ppm-stiffness {pps.__version__}"
     assert pps.__version__[0].isdigit()
+
+
+@pytest.mark.parametrize(
+    ("leg_key", "value", "key", "hint"),
+    [
+        ("alpha", 90.0, "leg1.alpha", "did you mean 1.5708?"),  # degrees for radians
+        ("platform_radius", 30.0, "leg1.platform_radius", "did you mean 0.03?"),  # mm
+        ("stroke", [27.86, 77.86], "leg1.stroke", "did you mean 0.02786?"),
+        ("bearing_ofset", 0.1, "leg1.bearing_ofset", "did you mean 'bearing_offset'?"),
+    ],
+)
+def test_unit_mistakes_and_typos_are_named_with_a_hint(
+    leg_key: str, value: object, key: str, hint: str
+) -> None:
+    data = design_to_dict(default_design())
+    data["legs"][0][leg_key] = value
+    with pytest.raises(DesignError) as err:
+        design_from_dict(data)
+    assert f"key '{key}'" in str(err.value) and hint in str(err.value)

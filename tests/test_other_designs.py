@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ppm_stiffness.core.conventions import rotation_z, stiffness_b_from_stiffness_a
@@ -22,8 +24,8 @@ def symmetric_design(n_legs: int) -> Design:
         x, y = template["base_point"]
         leg = dict(template)
         leg["base_point"] = (c * x - s * y, s * x + c * y)
-        leg["alpha"] = template["alpha"] + a
-        leg["psi"] = template["psi"] + a
+        leg["alpha"] = math.remainder(template["alpha"] + a, 2 * math.pi)
+        leg["psi"] = math.remainder(template["psi"] + a, 2 * math.pi)
         leg["stroke"] = (-1.0, 1.0)
         leg["rod_length_range"] = (1e-4, 1.0)
         legs.append(leg)

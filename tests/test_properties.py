@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -132,8 +134,8 @@ def _transformed_design(design: Design, angle: float, shift: np.ndarray) -> Desi
     for leg in data["legs"]:
         x, y = leg["base_point"]
         leg["base_point"] = (c * x - s * y + shift[0], s * x + c * y + shift[1])
-        leg["alpha"] += angle
-        leg["psi"] += angle
+        leg["alpha"] = math.remainder(leg["alpha"] + angle, 2 * math.pi)
+        leg["psi"] = math.remainder(leg["psi"] + angle, 2 * math.pi)
     return wide_design(design_from_dict(data))
 
 

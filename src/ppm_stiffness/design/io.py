@@ -21,6 +21,8 @@ become ``[parts]`` and each leg gets ``type = "PPR"``. A
 from __future__ import annotations
 
 import copy
+import difflib
+import re
 import tomllib
 import warnings
 from importlib import resources
@@ -141,8 +143,43 @@ def design_from_dict(data: dict[str, Any], source: str = "design") -> Design:
         return Design.model_validate(data)
     except ValidationError as exc:
         first = exc.errors()[0]
-        key = _format_location(tuple(first["loc"])) or "(top level)"
-        raise DesignError(f"{source}: key '{key}': {first['msg']}") from None
+        loc = tuple(first["loc"])
+        key = _format_location(loc) or "(top level)"
+        msg = str(first["msg"]).removeprefix("Value error, ")
+        if first["type"] == "extra_forbidden":
+            msg = "unknown key" + _nearest_key(data, loc)
+        named = re.match(r"(\w+) = ", msg)  # a validator naming the offending field
+        if named and first["type"] == "value_error":
+            key = f"{key}.{named.group(1)}"
+        raise DesignError(f"{source}: key '{key}': {msg}") from None
+
+
+def _nearest_key(data: dict[str, Any], loc: tuple[Any, ...]) -> str:
+    """``"; did you mean 'roll'?"`` for a misspelt key at ``loc`` (or a list of keys)."""
+    model: Any = Design
+    for i, part in enumerate(loc[:-1]):
+        if isinstance(part, int):
+            continue
+        if i > 0 and loc[i - 1] != "legs" and part in leg_types() and isinstance(loc[i - 1], int):
+            model = leg_types()[part]
+            continue
+        field = model.model_fields.get(part)
+        if field is None:
+            return ""
+        if part == "legs":
+            kind = data["legs"][loc[i + 1]].get("type") if isinstance(loc[i + 1], int) else None
+            model = leg_types().get(str(kind), model)
+            continue
+        ann = field.annotation
+        candidates = [a for a in getattr(ann, "__args__", (ann,)) if isinstance(a, type)]
+        model = next((a for a in candidates if hasattr(a, "model_fields")), None)
+        if model is None:
+            return ""
+    valid = list(model.model_fields)
+    close = difflib.get_close_matches(str(loc[-1]), valid, n=1)
+    if close:
+        return f"; did you mean '{close[0]}'?"
+    return f"; valid keys: {', '.join(valid)}"
 
 
 def load_design(path: str | Path) -> Design:

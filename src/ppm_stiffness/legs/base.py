@@ -19,17 +19,22 @@ Points are relative to P with the axes of F_b [m]; joint coordinates are SI (m, 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
+from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
 from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive
+
+#: Largest length a design file may give [m]: beyond it, a length in mm is likely.
+MAX_LENGTH = 10.0
 
 
 @dataclass(frozen=True)
@@ -131,6 +136,26 @@ class LegModel(PartModel):
     ACTUATED_KIND: ClassVar[str] = "P"
     #: One line for listings: what the letters mean, which joint is actuated.
     DESCRIPTION: ClassVar[str] = ""
+
+    @model_validator(mode="after")
+    def _plausible_units(self) -> LegModel:
+        """Refuse values that are impossible in SI and name the likely unit mistake."""
+        for key, unit in type(self).UNITS.items():
+            value = getattr(self, key, None)
+            for v in value if isinstance(value, tuple) else (value,):
+                if not isinstance(v, (int, float)) or isinstance(v, bool):
+                    continue
+                if unit == "rad" and abs(v) > 2 * math.pi:
+                    raise ValueError(
+                        f"{key} = {v:g}: angles in design files are in radians "
+                        f"(|angle| <= 2 pi); did you mean {math.radians(v):.6g}?"
+                    )
+                if unit == "m" and abs(v) > MAX_LENGTH:
+                    raise ValueError(
+                        f"{key} = {v:g}: lengths in design files are in metres "
+                        f"(|length| <= {MAX_LENGTH:g} m); did you mean {v / 1000:.6g}?"
+                    )
+        return self
 
     # -- to be provided by each leg type ------------------------------------------
     def solve(self, poses: ArrayLike) -> LegPose:  # pragma: no cover - abstract
