@@ -79,3 +79,31 @@ def test_three_leg_forces_are_determinate(design) -> None:  # type: ignore[no-un
                                rtol=1e-12)
     state = loaded_state(design, PAPER_WRENCH)
     np.testing.assert_allclose(state.actuator_forces, eq.actuator_forces, rtol=1e-14)
+
+
+def test_integration_follows_a_force_back_below_its_threshold() -> None:
+    """Regression (review): an actuator whose force rises through its threshold and
+    falls back below it must return to its locked branch. Legs 1, 2, 4 on the paper's
+    law with a tiny locked range; leg 3 linear (k_a 5000 N/m) with a 0.3 N threshold:
+    along this load its force peaks at 0.33 N and ends at 0.076 N. Before the fix the
+    integration kept leg 3 powered (phi_z 0.8 % off the equilibrium)."""
+    from ppm_stiffness.legs.parts import ActuatorModel
+
+    paper = ActuatorModel(locked_stiffness=111080.0, k_a=44.75, q=0.225,
+                          threshold_displacement=1e-9)
+    linear = ActuatorModel(locked_stiffness=111080.0, k_a=5000.0, q=1.0,
+                           threshold_displacement=0.3 / 5000.0)
+    legs = [leg.model_copy(update={"actuator": paper}) for leg in DESIGN.legs]
+    legs[2] = legs[2].model_copy(update={"actuator": linear})
+    design = DESIGN.model_copy(update={"legs": legs})
+    unit = np.array([0.0, 0.0, 0.07244926, -0.93553117, -0.34573476, 0.0])
+    loads = np.linspace(0.05, 12.0, 60)
+    pose = np.zeros(3)
+    integrated = deflection_path(design, unit, loads, pose, method="integrate")
+    exact = deflection_path(design, unit, loads, pose, method="closed-form")
+    g3 = np.abs(exact.actuator_forces[:, 2])
+    assert g3.max() > 0.3 > g3[-1]  # up through the threshold and back down
+    # measured: 2.1e-13 rad on phi_z = 0.041 rad, 3.6e-10 N on forces of ~11 N
+    scale = np.max(np.abs(exact.twists), axis=0)
+    assert np.all(np.abs(integrated.twists - exact.twists) <= 1e-9 * scale + 1e-18)
+    assert np.max(np.abs(integrated.actuator_forces - exact.actuator_forces)) <= 1e-8

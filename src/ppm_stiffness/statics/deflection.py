@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import EquilibriumError, InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import tool_offset, workspace_centre
 from ppm_stiffness.statics.actuator import (
@@ -208,14 +208,18 @@ def _integrate(
         dg = np.einsum("li,lij,j->l", structures.actuator, legs_k, dt)
         return np.concatenate([dt, dg])
 
-    def crossing(i: int) -> object:
+    def crossing(i: int, powered: bool) -> object:
+        """Event: actuator i's force leaves its branch (|G| falls below the threshold
+        when powered, rises above it when locked). The direction makes an event that
+        starts at zero, an actuator just switched, fire only on its next crossing."""
+
         def event(_load: float, state: FloatArray, *_args: object) -> float:
             return float(abs(state[6 + i]) - g_th[i])
 
         event.terminal = True  # type: ignore[attr-defined]
+        event.direction = -1.0 if powered else 1.0  # type: ignore[attr-defined]
         return event
 
-    events = [crossing(i) for i in range(n)]
     top = float(loads[-1])
     out_t = np.zeros((loads.size, 6))
     out_g = np.zeros((loads.size, n))
@@ -229,11 +233,11 @@ def _integrate(
         if np.any(at_edge):
             grow = rates(state, powered)[6:] * np.sign(state[6:])
             powered = powered | (at_edge & (grow > 0))
+        events = [crossing(i, bool(powered[i])) for i in range(n) if g_th[i] > 0]
         sol = solve_ivp(
             lambda _load, y, branch: rates(y, branch), (start, top), state,
-            method="DOP853", args=(powered,), rtol=rtol, atol=1e-16, events=[
-                ev for i, ev in enumerate(events) if not at_edge[i] and g_th[i] > 0
-            ] or None, dense_output=True,
+            method="DOP853", args=(powered,), rtol=rtol, atol=1e-16,
+            events=events or None, dense_output=True,
         )
         if not sol.success:  # pragma: no cover - DOP853 on a smooth bounded RHS
             raise InputDataError(f"deflection integration failed: {sol.message}")
@@ -315,6 +319,14 @@ def deflection_path(
         check_small_rotation(top.twist)
         if method == "integrate":
             twists, forces = _integrate(design, structures, w_hat, x, INTEGRATION_RTOL)
+            # the path must end at the equilibrium of the top load (an independent
+            # solution): a branch missed along the way would show here
+            off = np.max(np.abs(twists[-1] - top.twist))
+            if not off <= 1e-6 * max(float(np.max(np.abs(top.twist))), 1e-300):
+                raise EquilibriumError(
+                    "deflection integration ended off the equilibrium of the top load "
+                    f"(by {off:.3g}); use --method closed-form"
+                )
         else:
             states = [equilibrium(design, load * w_hat, p, structures) for load in x]
             twists = np.array([e.twist for e in states])
