@@ -187,3 +187,29 @@ def test_unit_mistakes_and_typos_are_named_with_a_hint(
     with pytest.raises(DesignError) as err:
         design_from_dict(data)
     assert f"key '{key}'" in str(err.value) and hint in str(err.value)
+
+
+def test_every_moved_module_path_still_imports() -> None:
+    """All 16 old paths of 0.1 (review: 'ppm_stiffness.ppr' pointed at no module)."""
+    import importlib
+    import sys
+
+    from ppm_stiffness._moved import MOVED
+
+    for old, new in MOVED.items():
+        sys.modules.pop(old, None)
+        with pytest.warns(DeprecationWarning, match=new):
+            assert importlib.import_module(old) is importlib.import_module(new)
+
+
+def test_bad_pose_and_wrench_shapes_raise_library_errors() -> None:
+    from ppm_stiffness.analysis import analyze_design
+    from ppm_stiffness.core.errors import InputDataError
+    from ppm_stiffness.model import stiffness_at_pose
+
+    with pytest.raises(InputDataError, match="3 components"):
+        stiffness_at_pose(default_design(), [0.0, 0.0])
+    with pytest.raises(InputDataError, match="finite"):
+        stiffness_at_pose(default_design(), [0.0, float("nan"), 0.0])
+    with pytest.raises(InputDataError, match="6 components"):
+        analyze_design(default_design(), None, [1.0, 2.0, 3.0])

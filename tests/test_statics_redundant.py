@@ -38,14 +38,15 @@ def test_equilibrium_equals_the_integrated_tangent_model() -> None:
     assert eq.iterations > 0  # the load split really depends on the actuators
     path = deflection_path(DESIGN, WRENCH, np.linspace(0.0, 1.0, 5), POSE, method="integrate")
     g_int, t_int = path.actuator_forces[-1], path.twists[-1]
-    # measured: 3.0e-12 (forces) and 8.7e-13 (twist), relative; the issue asks 1e-6
-    assert np.max(np.abs(g_int - eq.actuator_forces)) <= 1e-6 * np.max(np.abs(eq.actuator_forces))
-    assert np.max(np.abs(t_int - eq.twist)) <= 1e-6 * np.max(np.abs(eq.twist))
+    # measured: 3.0e-12 (forces) and 8.7e-13 (twist), relative; the issue asks 1e-6, the
+    # bound sits a few hundred times above the measured residual
+    assert np.max(np.abs(g_int - eq.actuator_forces)) <= 1e-9 * np.max(np.abs(eq.actuator_forces))
+    assert np.max(np.abs(t_int - eq.twist)) <= 1e-9 * np.max(np.abs(eq.twist))
     # along the whole path too, against the equilibrium at each load
     for load, g, t in zip(path.loads, path.actuator_forces, path.twists, strict=True):
         e = equilibrium(DESIGN, load * WRENCH, POSE)
-        assert np.max(np.abs(g - e.actuator_forces)) <= 1e-6 * max(np.max(np.abs(g)), 1e-9)
-        assert np.max(np.abs(t - e.twist)) <= 1e-6 * max(np.max(np.abs(t)), 1e-15)
+        assert np.max(np.abs(g - e.actuator_forces)) <= 1e-9 * max(np.max(np.abs(g)), 1e-9)
+        assert np.max(np.abs(t - e.twist)) <= 1e-9 * max(np.max(np.abs(t)), 1e-15)
 
 
 def test_equilibrium_twist_balances_the_independent_leg_solvers() -> None:

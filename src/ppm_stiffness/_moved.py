@@ -26,7 +26,7 @@ MOVED: dict[str, str] = {
         "eigenscrews": "core.eigenscrews",
         "decoupling": "core.decoupling",
         "errors": "core.errors",
-        "ppr": "legs.ppr",
+        "ppr": "legs.types.ppr",
         "actuator": "statics.actuator",
         "actuator_fit": "statics.actuator_fit",
         "loading": "statics.loading",

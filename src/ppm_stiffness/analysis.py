@@ -24,9 +24,10 @@ from ppm_stiffness.model import (
     stiffness_at_pose,
     stiffness_at_tool_point,
     tool_offset,
+    validate_pose,
     workspace_centre,
 )
-from ppm_stiffness.statics.loading import loaded_state
+from ppm_stiffness.statics.loading import loaded_state, validate_wrench
 
 
 def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
@@ -127,7 +128,7 @@ def analyze_design(
         ``actuator_displacements`` (delta(G), the integral of 1/K_act),
         ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point).
     """
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
@@ -142,7 +143,7 @@ def analyze_design(
         k_act = actuator_stiffness_vector(design, None)
         k = stiffness_at_pose(design, p, k_act)
     else:
-        w_tool = np.asarray(wrench, dtype=float)
+        w_tool = validate_wrench(wrench)
         w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # moved from T to P
         state = loaded_state(design, w_p, p)
         k_act, k = state.actuator_stiffness, state.stiffness_matrix

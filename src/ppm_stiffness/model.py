@@ -17,7 +17,7 @@ from ppm_stiffness.core.conventions import (
     rotation_z,
     stiffness_b_from_stiffness_a,
 )
-from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.errors import DesignError, InputDataError, SingularConfigurationError
 from ppm_stiffness.core.solver import LegSprings, cartesian_stiffness, leg_stiffness
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
@@ -56,9 +56,19 @@ def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | No
     return k
 
 
+def validate_pose(pose: ArrayLike) -> FloatArray:
+    """One pose as a finite (3,) array (x [m], y [m], phi [rad]), or raise."""
+    p = np.asarray(pose, dtype=float)
+    if p.shape != (3,):
+        raise InputDataError(f"a pose has 3 components (x, y, phi), got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise InputDataError("pose components must be finite")
+    return p
+
+
 def solve_legs(design: Design, pose: ArrayLike) -> list[LegPose]:
     """Inverse kinematics of every leg at one pose, raising if it is unreachable."""
-    p = np.asarray(pose, dtype=float)
+    p = validate_pose(pose)
     out = []
     for i, leg in enumerate(design.legs):
         lp = leg.solve(p)
@@ -137,7 +147,7 @@ def stiffness_at_pose(
     ------
     UnreachablePoseError, SingularConfigurationError
     """
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     legs = leg_springs_at_pose(design, p, actuator_stiffness)
     k = cartesian_stiffness(legs)
     check_nonsingular(k, pose_label(p))
@@ -148,7 +158,7 @@ def leg_stiffnesses_at_pose(
     design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
 ) -> list[FloatArray]:
     """Each leg's 6x6 stiffness at P (their sum is :func:`stiffness_at_pose`)."""
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     return [leg_stiffness(leg) for leg in leg_springs_at_pose(design, p, actuator_stiffness)]
 
 

@@ -111,7 +111,8 @@ def add_wrench_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--wrench",
         metavar="FX,FY,FZ,MX,MY,MZ",
-        help="external wrench on the platform at P [N, N·m], axes of F_b",
+        help="external wrench on the platform [N, N·m], axes of F_b, acting at the tool "
+        "point (P unless the design or --tool-point sets one)",
     )
 
 

@@ -61,7 +61,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--wrench", metavar="FX,FY,FZ,MX,MY,MZ",
-        help="with --mode wrench: the wrench of load 1 [N, N·m] at P, axes of F_b",
+        help="with --mode wrench: the wrench of load 1 [N, N·m], axes of F_b, at the tool "
+        "point (P by default)",
     )
     parser.add_argument(
         "--max", type=float, metavar="LOAD",

@@ -174,8 +174,9 @@ def _is_scalar(value: Any) -> bool:
 
 def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
     names: list[str] = []
+    discrete: frozenset[str] = getattr(type(model), "DISCRETE_FIELDS", frozenset())
     for key, value in model:
-        if key == "branch":  # a working mode, not a continuous parameter
+        if key in discrete:  # a working mode, not a continuous parameter
             continue
         if _is_scalar(value):
             names.append(f"{prefix}.{key}")

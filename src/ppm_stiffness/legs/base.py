@@ -132,6 +132,9 @@ class LegModel(PartModel):
     UNITS: ClassVar[dict[str, str]] = {"psi": "rad", "platform_radius": "m"}
     #: The key of :data:`COORDINATES` that the actuator drives (its stroke).
     ACTUATED_COORDINATE: ClassVar[str] = "rho"
+    #: Fields that choose among discrete options (working modes), not continuous
+    #: parameters: left out of the parameter names that calibration and sweeps vary.
+    DISCRETE_FIELDS: ClassVar[frozenset[str]] = frozenset()
     #: Kind of the actuated joint ("P": linear actuator, "R": rotary).
     ACTUATED_KIND: ClassVar[str] = "P"
     #: One line for listings: what the letters mean, which joint is actuated.

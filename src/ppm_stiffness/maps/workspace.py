@@ -41,7 +41,8 @@ Actuator states of a map (``actuators``), each leg with its own actuator law
     N for a linear actuator and N·m for a rotary one). The paper does not state its
     minimum; see docs/maps.md.
 ``"wrench"``
-    the loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z at P, F_b) at each
+    the loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z, axes of F_b, at
+    the tool point: P by default) at each
     pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
     statics, then eq. (20)-(21). For a 3-leg design whose legs offer the reduced form
     (3-PPR) the locked statics are batched (the split is determinate); for any other
@@ -479,7 +480,8 @@ def stiffness_map(
     grid : int or (nx, ny)
         Grid points along x and y.
     wrench : array_like (6,), optional
-        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P, axes of F_b; for "wrench" only.
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N], axes of F_b, acting at the tool point
+        (P by default); for "wrench" only.
         Except for 3-leg designs on the reduced path, every reachable grid pose is a
         call of :func:`~ppm_stiffness.statics.loading.loaded_state` (a Python loop).
     progress : callable(done, total), optional

@@ -39,7 +39,7 @@ from scipy.integrate import solve_ivp
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import tool_offset, workspace_centre
+from ppm_stiffness.model import tool_offset, validate_pose, workspace_centre
 from ppm_stiffness.statics.actuator import (
     actuator_displacement,
     powered_stiffness,
@@ -179,7 +179,7 @@ def closed_form_twist(
     ends at ``wrench`` gives this twist.
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     return equilibrium(design, w, p).twist
 
 
@@ -270,7 +270,8 @@ def deflection_path(
     ----------
     design : Design
     unit_wrench : array_like, shape (6,)
-        (m_x, m_y, m_z, f_x, f_y, f_z) per unit load, at P, axes of F_b.
+        (m_x, m_y, m_z, f_x, f_y, f_z) per unit load, axes of F_b, acting at the tool
+        point (P by default).
     loads : array_like, shape (n,)
         Increasing load values >= 0 (the path always starts at zero load).
     pose : array_like, shape (3,), optional
@@ -295,7 +296,7 @@ def deflection_path(
     x = _validate_loads(loads)
     if method not in METHODS:
         raise InputDataError(f"unknown method {method!r}; expected one of {METHODS}")
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     offset = tool_offset(p, tool)
     w_tool = w_hat

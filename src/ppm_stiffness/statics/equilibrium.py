@@ -246,8 +246,10 @@ def solve_forces(
     b, c_s, m = structures.reduced()
     g0 = b.T @ c_s @ w
     scale = max(float(np.max(np.abs(g0))), 1.0)
-    m_scale = float(np.max(np.abs(np.diag(m)))) if m.size else 0.0
-    if float(np.max(np.abs(m))) <= 1e-12 * max(m_scale, 1e-300):
+    # M is a difference of terms of the size of a_i . K_i^S a_i (the leg's stiffness
+    # along its actuator): relative to that, M vanishes for determinate forces
+    leg_scale = float(np.max(np.abs(np.einsum("li,il->l", structures.actuator, b))))
+    if float(np.max(np.abs(m))) <= 1e-9 * max(leg_scale, 1e-300):
         return g0, 0  # statically determinate actuator forces
 
     def residual(g: FloatArray) -> FloatArray:

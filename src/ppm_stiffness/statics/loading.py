@@ -25,6 +25,7 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_screws_at_pose,
     leg_stiffnesses_at_pose,
+    validate_pose,
     workspace_centre,
 )
 from ppm_stiffness.statics.equilibrium import (
@@ -67,7 +68,7 @@ def actuator_forces(
     locked ones by default), *not* the loaded equilibrium: use :func:`loaded_state`.
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)
     shares = leg_wrenches(legs, w)
     screws = actuator_screws_at_pose(design, p)
@@ -124,7 +125,7 @@ def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = Non
     UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
+    p = workspace_centre(design) if pose is None else validate_pose(pose)
     eq = equilibrium(design, w, p)
     return LoadedState(
         pose=p,

@@ -51,6 +51,7 @@ class PRRLeg(LegModel):
     carriage_revolute: RevoluteModel | None = None
     platform_revolute: RevoluteModel | None = None
 
+    DISCRETE_FIELDS: ClassVar[frozenset[str]] = frozenset({"branch"})
     COORDINATES: ClassVar[dict[str, Coordinate]] = {
         "rho": Coordinate("actuator coordinate", "m"),
     }

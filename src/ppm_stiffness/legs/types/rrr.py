@@ -54,6 +54,7 @@ class RRRLeg(LegModel):
     elbow_revolute: RevoluteModel | None = None
     platform_revolute: RevoluteModel | None = None
 
+    DISCRETE_FIELDS: ClassVar[frozenset[str]] = frozenset({"branch"})
     COORDINATES: ClassVar[dict[str, Coordinate]] = {
         "theta": Coordinate("actuator angle", "rad"),
     }
