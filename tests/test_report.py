@@ -10,6 +10,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -221,6 +222,8 @@ def test_report_renders_in_headless_chromium(report: str, tmp_path: Path) -> Non
     mostly blank)."""
     browser = _chromium()
     if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is missing in CI: .ci/run installs Debian's chromium")
         pytest.skip("chromium not installed: apt-get install chromium (.ci/run does)")
     page = tmp_path / "report.html"
     page.write_text(report, encoding="utf-8")
