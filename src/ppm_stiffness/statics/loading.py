@@ -14,8 +14,6 @@ only ``|G_i|`` sets its stiffness.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -30,6 +28,7 @@ from ppm_stiffness.model import (
 )
 from ppm_stiffness.statics.equilibrium import (
     MAX_ROTATION,
+    Equilibrium,
     check_actuator_travel,
     check_small_rotation,
     equilibrium,
@@ -75,37 +74,10 @@ def actuator_forces(
     return np.einsum("ij,ij->i", shares, screws)
 
 
-@dataclass(frozen=True)
-class LoadedState:
-    """The manipulator under a wrench (SI; at P, axes of F_b).
-
-    Attributes
-    ----------
-    pose : ndarray (3,)
-    wrench : ndarray (6,)
-    actuator_forces : ndarray (n_legs,) [N or N·m]
-    actuator_displacements : ndarray (n_legs,) [m or rad]
-        Signed ``delta(G)``, the integral of 1/K_act along the force
-        (:func:`ppm_stiffness.statics.actuator.actuator_displacement`): the same
-        displacement ``deflect`` and the maps use.
-    actuator_stiffness : ndarray (n_legs,)
-        Tangent stiffness (eq. 21) at the force.
-    secant_stiffness : ndarray (n_legs,)
-        ``G / delta(G)``: the stiffness that shares the load in redundant designs.
-    twist : ndarray (6,) [rad, m]
-        Platform deflection from the unloaded pose.
-    stiffness_matrix : ndarray (6, 6)
-        Tangent Cartesian stiffness at the loaded state (the paper's eq. 33).
-    """
-
-    pose: FloatArray
-    wrench: FloatArray
-    actuator_forces: FloatArray
-    actuator_displacements: FloatArray
-    actuator_stiffness: FloatArray
-    secant_stiffness: FloatArray
-    twist: FloatArray
-    stiffness_matrix: FloatArray
+#: The loaded state: :class:`~ppm_stiffness.statics.equilibrium.Equilibrium` (forces,
+#: displacements delta(G), tangent and secant actuator stiffness, deflection, leg
+#: wrenches, tangent K).
+LoadedState = Equilibrium
 
 
 def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = None) -> LoadedState:
@@ -126,17 +98,7 @@ def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = Non
     """
     w = validate_wrench(wrench)
     p = workspace_centre(design) if pose is None else validate_pose(pose)
-    eq = equilibrium(design, w, p)
-    return LoadedState(
-        pose=p,
-        wrench=w,
-        actuator_forces=eq.actuator_forces,
-        actuator_displacements=eq.actuator_displacements,
-        actuator_stiffness=eq.actuator_stiffness,
-        secant_stiffness=eq.secant_stiffness,
-        twist=eq.twist,
-        stiffness_matrix=eq.stiffness_matrix,
-    )
+    return equilibrium(design, w, p)
 
 
 __all__ = [
