@@ -109,8 +109,10 @@ def time_loop(smap: StiffnessMap, n_loop: int) -> tuple[float, int, float]:
 def time_scattered(n: int) -> float:
     design = default_design()
     rng = np.random.default_rng(0)
-    poses = np.stack([rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n),
-                      rng.uniform(-0.2, 0.2, n)], axis=-1)
+    poses = np.stack(
+        [rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n), rng.uniform(-0.2, 0.2, n)],
+        axis=-1,
+    )
     t = time.perf_counter()
     batch.evaluate_poses(design, poses)
     return n / (time.perf_counter() - t)
@@ -120,8 +122,9 @@ def time_general_numpy(n: int) -> float:
     """The 22-spring model batched with numpy (K only): poses per second, best of two."""
     design = default_design()
     rng = np.random.default_rng(1)
-    poses = np.stack([rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n),
-                      np.zeros(n)], axis=-1)
+    poses = np.stack(
+        [rng.uniform(-0.014, 0.008, n), rng.uniform(-0.02, 0.02, n), np.zeros(n)], axis=-1
+    )
     best = float("inf")
     for _ in range(2):  # the first run also pays for fresh memory pages
         t = time.perf_counter()
@@ -137,8 +140,9 @@ def time_general_path(design: Design, n: int) -> float:
     """Poses per second of the general batched path, best of two."""
     box = workspace_bounds(design, 0.0)
     rng = np.random.default_rng(2)
-    poses = np.stack([rng.uniform(box[0], box[1], n), rng.uniform(box[2], box[3], n),
-                      np.zeros(n)], axis=-1)
+    poses = np.stack(
+        [rng.uniform(box[0], box[1], n), rng.uniform(box[2], box[3], n), np.zeros(n)], axis=-1
+    )
     best = float("inf")
     for _ in range(2):
         t = time.perf_counter()
@@ -151,7 +155,10 @@ def peak_memory(grid: int) -> dict[str, float]:
     env = dict(os.environ)
     out = subprocess.run(
         [sys.executable, "-c", _MEMORY_CHILD, str(grid)],
-        check=True, capture_output=True, text=True, env=env,
+        check=True,
+        capture_output=True,
+        text=True,
+        env=env,
     )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -167,39 +174,54 @@ def main(argv: list[str] | None = None) -> int:
     seconds, smap = time_map(grid)
     n_map = grid * grid
     batched_rate = n_map / seconds
-    print(f"batched map {grid} x {grid} = {n_map} poses: {seconds:.3f} s (median of 3), "
-          f"{batched_rate:,.0f} poses/s, {int(smap.reachable.sum())} in the workspace")
+    print(
+        f"batched map {grid} x {grid} = {n_map} poses: {seconds:.3f} s (median of 3), "
+        f"{batched_rate:,.0f} poses/s, {int(smap.reachable.sum())} in the workspace"
+    )
 
     loop_s, n_done, worst = time_loop(smap, n_loop)
     loop_rate = n_done / loop_s
-    print(f"single-pose loop (stiffness_at_pose + decouple) on {n_done} of the same poses: "
-          f"{loop_s:.3f} s, {loop_rate:,.0f} poses/s ({1e6 / loop_rate:.0f} us/pose); "
-          f"largest relative difference to the map {worst:.1e}")
+    print(
+        f"single-pose loop (stiffness_at_pose + decouple) on {n_done} of the same poses: "
+        f"{loop_s:.3f} s, {loop_rate:,.0f} poses/s ({1e6 / loop_rate:.0f} us/pose); "
+        f"largest relative difference to the map {worst:.1e}"
+    )
     ratio = batched_rate / loop_rate
     print(f"ratio batched / loop: {ratio:,.0f}x")
 
     n_ctx = 20_000 if args.quick else 100_000
-    print(f"context: scattered poses (evaluate_poses, random phi, {n_ctx}): "
-          f"{time_scattered(n_ctx * 5):,.0f} poses/s; general 22-spring model batched "
-          f"with numpy ({n_ctx // 5} poses, K only): {time_general_numpy(n_ctx // 5):,.0f} "
-          "poses/s")
+    print(
+        f"context: scattered poses (evaluate_poses, random phi, {n_ctx}): "
+        f"{time_scattered(n_ctx * 5):,.0f} poses/s; general 22-spring model batched "
+        f"with numpy ({n_ctx // 5} poses, K only): {time_general_numpy(n_ctx // 5):,.0f} "
+        "poses/s"
+    )
 
     mem = peak_memory(3163)
     peak_mb = mem["peak_kb"] / 1024.0
-    print(f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
-          f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
-          f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)")
+    print(
+        f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
+        f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
+        f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)"
+    )
     n_gen = 4000 if args.quick else 20_000
     general = {}
     for name in GENERAL_DESIGNS:
-        design = (default_design() if name == "paper_3ppr"
-                  else load_design(os.path.join(EXAMPLES, f"{name}.toml")))
+        design = (
+            default_design()
+            if name == "paper_3ppr"
+            else load_design(os.path.join(EXAMPLES, f"{name}.toml"))
+        )
         general[name] = time_general_path(design, n_gen)
-        print(f"general path, {design.architecture} ({name}), {n_gen} poses: "
-              f"{general[name]:,.0f} poses/s")
-    print(f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
-          f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f} "
-          + " ".join(f"general_{k}_poses_per_s={v:.0f}" for k, v in general.items()))
+        print(
+            f"general path, {design.architecture} ({name}), {n_gen} poses: "
+            f"{general[name]:,.0f} poses/s"
+        )
+    print(
+        f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
+        f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f} "
+        + " ".join(f"general_{k}_poses_per_s={v:.0f}" for k, v in general.items())
+    )
     return 0
 
 

@@ -42,9 +42,12 @@ def batched_vj_time_per_pose(design: Design, n: int = 1000) -> float:
     """Virtual-joint K at ``n`` poses in one batched call; seconds per pose."""
     rng = np.random.default_rng(0)
     poses = workspace_centre(design) + rng.uniform(-1, 1, (n, 3)) * [0.005, 0.005, 0.05]
+
     def run() -> None:
-        legs = [leg_springs(leg.chain(leg.solve(poses)), leg.actuator.locked_stiffness)
-                for leg in design.legs]
+        legs = [
+            leg_springs(leg.chain(leg.solve(poses)), leg.actuator.locked_stiffness)
+            for leg in design.legs
+        ]
         cartesian_stiffness(legs)
 
     return best_time(run, 3) / n
@@ -60,10 +63,14 @@ def main() -> None:
     poses = validation_poses(design, 5, seed=0)
     stiffness_at_pose(design, poses[0])  # warm-up
     fe_stiffness_at_pose(design, poses[0])
-    print(f"python {platform.python_version()}, numpy {np.__version__}, "
-          f"PyNite {pynite.__version__}, {platform.machine()}")
-    print(f"{'pose':>6} {'x mm':>8} {'y mm':>8} {'phi deg':>8} {'FE ms':>8} {'VJ ms':>8} "
-          f"{'FE/VJ':>6} {'planar':>9} {'out-of-pl':>9}")
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, "
+        f"PyNite {pynite.__version__}, {platform.machine()}"
+    )
+    print(
+        f"{'pose':>6} {'x mm':>8} {'y mm':>8} {'phi deg':>8} {'FE ms':>8} {'VJ ms':>8} "
+        f"{'FE/VJ':>6} {'planar':>9} {'out-of-pl':>9}"
+    )
     t_fe, t_vj = [], []
     for i, pose in enumerate(poses):
         fe = fe_stiffness_at_pose(design, pose)
@@ -73,15 +80,21 @@ def main() -> None:
         tv = best_time(partial(stiffness_at_pose, design, pose), 20 * args.repeat)
         t_fe.append(tf)
         t_vj.append(tv)
-        print(f"{'centre' if i == 0 else i:>6} {pose[0] * 1e3:8.3f} {pose[1] * 1e3:8.3f} "
-              f"{np.degrees(pose[2]):8.3f} {tf * 1e3:8.1f} {tv * 1e3:8.3f} {tf / tv:6.0f} "
-              f"{diff['planar']:9.2e} {diff['out_of_plane']:9.2e}")
+        print(
+            f"{'centre' if i == 0 else i:>6} {pose[0] * 1e3:8.3f} {pose[1] * 1e3:8.3f} "
+            f"{np.degrees(pose[2]):8.3f} {tf * 1e3:8.1f} {tv * 1e3:8.3f} {tf / tv:6.0f} "
+            f"{diff['planar']:9.2e} {diff['out_of_plane']:9.2e}"
+        )
     fe_mean, vj_mean = float(np.mean(t_fe)), float(np.mean(t_vj))
     vj_batch = batched_vj_time_per_pose(design)
-    print(f"mean time per pose: FE {fe_mean * 1e3:.1f} ms, virtual joints "
-          f"{vj_mean * 1e3:.3f} ms (single pose), ratio FE/VJ = {fe_mean / vj_mean:.0f}")
-    print(f"virtual joints batched over 1000 poses: {vj_batch * 1e6:.1f} us per pose, "
-          f"ratio FE/VJ = {fe_mean / vj_batch:.0f}")
+    print(
+        f"mean time per pose: FE {fe_mean * 1e3:.1f} ms, virtual joints "
+        f"{vj_mean * 1e3:.3f} ms (single pose), ratio FE/VJ = {fe_mean / vj_mean:.0f}"
+    )
+    print(
+        f"virtual joints batched over 1000 poses: {vj_batch * 1e6:.1f} us per pose, "
+        f"ratio FE/VJ = {fe_mean / vj_batch:.0f}"
+    )
 
 
 if __name__ == "__main__":

@@ -43,8 +43,12 @@ def write_figures(out_dir: Path, dpi: int = 110) -> list[Path]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "figures",
-                        help="output directory (default docs/figures)")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=ROOT / "docs" / "figures",
+        help="output directory (default docs/figures)",
+    )
     args = parser.parse_args(argv)
     for path in write_figures(args.out):
         print(f"wrote {path}")

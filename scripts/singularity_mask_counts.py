@@ -31,8 +31,9 @@ def counts(phi: float, widen: float) -> dict[str, int]:
     poses = np.stack([xx, yy, np.full_like(xx, phi)], axis=-1).reshape(-1, 3)
     res = batch.evaluate_poses(design, poses, matrices=True)
     reach = res.reachable
-    mats, _ = batch.general_stiffness(design, poses, [leg.actuator.locked_stiffness
-                                                      for leg in design.legs])
+    mats, _ = batch.general_stiffness(
+        design, poses, [leg.actuator.locked_stiffness for leg in design.legs]
+    )
     eig_old = np.linalg.eigvalsh(mats[reach] / S_OLD[:, None] / S_OLD[None, :])
     old_ok = np.zeros(reach.shape, dtype=bool)
     old_ok[reach] = eig_old[:, 0] > 1e-9 * eig_old[:, -1]
@@ -55,8 +56,10 @@ def main() -> None:
             c = counts(np.radians(deg), widen)
             label = f"phi{deg:g}" + ("_wide" if widen else "")
             print(label, c)
-            out += [f"{label}_masked_old={c['masked_old']}",
-                    f"{label}_masked_new={c['masked_new']}"]
+            out += [
+                f"{label}_masked_old={c['masked_old']}",
+                f"{label}_masked_new={c['masked_new']}",
+            ]
     print(" ".join(out))
 
 

@@ -36,14 +36,28 @@ def leg_springs(leg, pose: np.ndarray) -> LegSprings:  # type: ignore[no-untyped
     v = (c - b) / np.linalg.norm(c - b)
     y_c = np.cross(z, v)
     cols = [
-        translation_screw(u), rotation_screw(u, b), rotation_screw(y_b, b),
-        rotation_screw(z, b), translation_screw(y_b), translation_screw(z),
-        rotation_screw(v, c), rotation_screw(y_c, c), rotation_screw(z, c),
-        translation_screw(v), translation_screw(y_c), translation_screw(z),
-        rotation_screw(y_d, c), rotation_screw(z, c), translation_screw(y_d),
+        translation_screw(u),
+        rotation_screw(u, b),
+        rotation_screw(y_b, b),
+        rotation_screw(z, b),
+        translation_screw(y_b),
         translation_screw(z),
-        rotation_screw(w, d), rotation_screw(y_d, d), rotation_screw(z, d),
-        translation_screw(w), translation_screw(y_d), translation_screw(z),
+        rotation_screw(v, c),
+        rotation_screw(y_c, c),
+        rotation_screw(z, c),
+        translation_screw(v),
+        translation_screw(y_c),
+        translation_screw(z),
+        rotation_screw(y_d, c),
+        rotation_screw(z, c),
+        translation_screw(y_d),
+        translation_screw(z),
+        rotation_screw(w, d),
+        rotation_screw(y_d, d),
+        rotation_screw(z, d),
+        translation_screw(w),
+        translation_screw(y_d),
+        translation_screw(z),
     ]
     screws = np.stack(cols, axis=-1)
     comp = np.zeros((22, 22))
@@ -58,6 +72,5 @@ def leg_springs(leg, pose: np.ndarray) -> LegSprings:  # type: ignore[no-untyped
     ):
         comp[i, i] = 1.0 / k
     comp[16:22, 16:22] = cantilever_compliance(leg.distal.section(), rod)
-    passive = np.stack([rotation_screw(w, c), translation_screw(w), rotation_screw(z, d)],
-                       axis=-1)
+    passive = np.stack([rotation_screw(w, c), translation_screw(w), rotation_screw(z, d)], axis=-1)
     return LegSprings(screws=screws, compliance=comp, passive=passive, actuator_index=0)

@@ -40,8 +40,11 @@ DESIGNS = ("paper_3ppr",) + EXAMPLES
 
 
 def _design(name: str) -> Design:
-    return default_design() if name == "paper_3ppr" else load_design(
-        ROOT / "examples" / f"{name}.toml")
+    return (
+        default_design()
+        if name == "paper_3ppr"
+        else load_design(ROOT / "examples" / f"{name}.toml")
+    )
 
 
 def _design_path(name: str) -> Path:
@@ -69,8 +72,11 @@ def _artists(fig) -> dict[str, np.ndarray]:
 def _pose(design: Design, name: str) -> np.ndarray:
     """An off-centre reachable pose (small step from the centre), for a real test."""
     centre = workspace_centre(design)
-    return centre + (np.array([1e-3, -1.5e-3, np.radians(2.0)]) if name != "paper_3ppr"
-                     else np.array([2e-3, -1e-3, np.radians(1.0)]))
+    return centre + (
+        np.array([1e-3, -1.5e-3, np.radians(2.0)])
+        if name != "paper_3ppr"
+        else np.array([2e-3, -1e-3, np.radians(1.0)])
+    )
 
 
 @pytest.mark.parametrize("name", DESIGNS)
@@ -104,8 +110,9 @@ def test_mechanism_draws_the_chain(name: str) -> None:
             expected = np.stack([link.start, link.end])[:, :2] + pose[:2]
             np.testing.assert_allclose(drawn, expected, rtol=0, atol=1e-12)
         # every named point of the IK is drawn: a joint, a link end or a rigid segment end
-        drawn_pts = np.vstack([art[g] for g in art
-                               if g.startswith((f"joint-{i}-", f"link-{i}-", f"rigid-{i}-"))])
+        drawn_pts = np.vstack(
+            [art[g] for g in art if g.startswith((f"joint-{i}-", f"link-{i}-", f"rigid-{i}-"))]
+        )
         for key, pt in lp.points.items():
             gap = np.min(np.linalg.norm(drawn_pts / 1e3 - (pt + p_abs)[:2], axis=1))
             assert gap < 1e-12, (i, key)
@@ -120,7 +127,7 @@ def test_mechanism_draws_the_chain(name: str) -> None:
                 assert abs(rel[0] * u[1] - rel[1] * u[0]) < 1e-12
         assert views[i - 1].solvable and not views[i - 1].violations
         d_expected.append((lp.points["D"] + p_abs)[:2])
-    verts = art["platform"][:len(design.legs)] / 1e3
+    verts = art["platform"][: len(design.legs)] / 1e3
     d_expected_arr = np.array(d_expected)
     # each drawn vertex is one D_i, every D_i is drawn once
     match = [int(np.argmin(np.linalg.norm(d_expected_arr - v, axis=1))) for v in verts]
@@ -158,8 +165,13 @@ def test_rotary_legs_legend_and_stroke_arc() -> None:
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     title = ax.get_title()
     plt.close(fig)
-    assert {"base pivot", "actuated joint", "revolute joint R", "proximal link",
-            "distal link"} <= set(legend)
+    assert {
+        "base pivot",
+        "actuated joint",
+        "revolute joint R",
+        "proximal link",
+        "distal link",
+    } <= set(legend)
     assert "prismatic joint P" not in legend and "rail over the actuator stroke" not in legend
     for i, leg in enumerate(design.legs, start=1):
         arc = art[f"stroke-{i}"] / 1e3 - np.asarray(leg.base_point)
@@ -167,8 +179,10 @@ def test_rotary_legs_legend_and_stroke_arc() -> None:
         assert np.ptp(r) < 1e-12
         ang = np.unwrap(np.arctan2(arc[:, 1], arc[:, 0]))
         assert abs((ang[-1] - ang[0]) - (leg.stroke[1] - leg.stroke[0])) < 1e-9
-    theta = [np.degrees(float(leg.solve(workspace_centre(design)).coordinates["theta"]))
-             for leg in design.legs]
+    theta = [
+        np.degrees(float(leg.solve(workspace_centre(design)).coordinates["theta"]))
+        for leg in design.legs
+    ]
     assert "theta [deg] = (" + ", ".join(f"{t:.1f}" for t in theta) + ")" in title
 
 
@@ -183,8 +197,10 @@ def test_unreachable_pose_names_limits_and_unsolvable_legs() -> None:
     assert unsolvable == [2, 3]
     lo, hi = (np.degrees(x) for x in design.legs[0].stroke)
     assert len(views[0].violations) == 1
-    assert re.fullmatch(rf"actuator angle -?\d+\.\d\d deg outside \[{lo:.2f}, {hi:.2f}\] deg",
-                        views[0].violations[0])
+    assert re.fullmatch(
+        rf"actuator angle -?\d+\.\d\d deg outside \[{lo:.2f}, {hi:.2f}\] deg",
+        views[0].violations[0],
+    )
     fig = plot_mechanism(design, far)
     art = _artists(fig)
     title = fig.axes[0].get_title().replace("\n", " ")
@@ -201,8 +217,9 @@ def test_unreachable_pose_names_limits_and_unsolvable_legs() -> None:
     title = fig.axes[0].get_title().replace("\n", " ")
     plt.close(fig)
     lo, hi = (x * 1e3 for x in paper.legs[1].rod_length_range)
-    assert re.search(rf"leg 2: rod free length -?\d+\.\d\d mm outside \[{lo:.2f}, {hi:.2f}\] mm",
-                     title), title
+    assert re.search(
+        rf"leg 2: rod free length -?\d+\.\d\d mm outside \[{lo:.2f}, {hi:.2f}\] mm", title
+    ), title
 
 
 @pytest.mark.parametrize("name", DESIGNS)
@@ -228,8 +245,9 @@ def test_springs_plane_draws_every_link(name: str) -> None:
     n = len(design.legs)
     expected_platform = "platform " + "-".join(f"D{k}" for k in range(1, n + 1))
     assert labels[0] == expected_platform
-    names = {e.name for leg in design.legs for e in leg.chain(leg.solve(pose))
-             if isinstance(e, Link)}
+    names = {
+        e.name for leg in design.legs for e in leg.chain(leg.solve(pose)) if isinstance(e, Link)
+    }
     assert {f"{nm} link" for nm in names} <= set(labels)
 
 
@@ -239,8 +257,19 @@ def rrr_report() -> str:
 
 
 def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None:
-    for sid in ("design", "mechanism", "stiffness", "screw-springs", "decoupling", "loaded",
-                "deflection", "maps", "fig-mechanism", "fig-springs", "fig-deflection"):
+    for sid in (
+        "design",
+        "mechanism",
+        "stiffness",
+        "screw-springs",
+        "decoupling",
+        "loaded",
+        "deflection",
+        "maps",
+        "fig-mechanism",
+        "fig-springs",
+        "fig-deflection",
+    ):
         assert f'id="{sid}"' in rrr_report, sid
     assert "3-RRR" in rrr_report
     # the actuator table in the rotary units, none of the linear ones
@@ -250,8 +279,11 @@ def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None
     # displacement cells are in µrad: SI rad x 1e6
     loaded = embedded_json(rrr_report, "analysis-loaded")
     for i, delta in enumerate(loaded["actuator_displacements"]):
-        cell = re.search(rf'data-path="loaded/actuator_displacements/{i}" data-scale="([^"]+)">'
-                         r"([^<]+)<", rrr_report)
+        cell = re.search(
+            rf'data-path="loaded/actuator_displacements/{i}" data-scale="([^"]+)">'
+            r"([^<]+)<",
+            rrr_report,
+        )
         assert cell is not None and float(cell.group(1)) == 1e6
         assert abs(float(cell.group(2)) - delta * 1e6) <= 5e-4 * max(abs(delta) * 1e6, 1.0)
     # nothing of the P-P-R legs' parts in the mechanism caption
@@ -272,8 +304,18 @@ def test_report_of_a_3rrr_images_decode(rrr_report: str) -> None:
 
 @pytest.mark.parametrize("name", ["redundant_4ppr", "3prr", "3rpr"])
 def test_report_runs_on_the_other_examples(tmp_path: Path, name: str) -> None:
-    code = main(["report", "--design", str(_design_path(name)), "--grid", "5", "--quiet",
-                 "--out", str(tmp_path)])
+    code = main(
+        [
+            "report",
+            "--design",
+            str(_design_path(name)),
+            "--grid",
+            "5",
+            "--quiet",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert code == 0
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     n = len(_design(name).legs)
@@ -286,13 +328,19 @@ def test_architecture_figures_script(tmp_path: Path) -> None:
     import importlib.util
 
     spec = importlib.util.spec_from_file_location(
-        "architecture_figures", ROOT / "scripts" / "architecture_figures.py")
+        "architecture_figures", ROOT / "scripts" / "architecture_figures.py"
+    )
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     paths = module.write_figures(tmp_path)
-    assert sorted(p.name for p in paths) == ["arch_3ppr.png", "arch_3prr.png", "arch_3rpr.png",
-                                             "arch_3rrr.png", "arch_4ppr.png"]
+    assert sorted(p.name for p in paths) == [
+        "arch_3ppr.png",
+        "arch_3prr.png",
+        "arch_3rpr.png",
+        "arch_3rrr.png",
+        "arch_4ppr.png",
+    ]
     for path in paths:
         img = mpimg.imread(path)
         assert 700 < img.shape[0] < 1200 and 900 < img.shape[1] < 1500, (path.name, img.shape)

@@ -66,30 +66,57 @@ def symmetric_3rpr(eps: float) -> Design:
     """A 3-fold symmetric 3-RPR (legs 120 deg apart, platform joints aligned with the
     base joints at phi = 0) whose every compliance but the actuators' is scaled by eps."""
     soft = 1.0 / eps
-    section = {"young_modulus": 70e9 * soft, "shear_modulus": 26e9 * soft, "area": 1e-4,
-               "torsion_constant": 1e-8, "inertia_y": 5e-9, "inertia_z": 5e-9}
+    section = {
+        "young_modulus": 70e9 * soft,
+        "shear_modulus": 26e9 * soft,
+        "area": 1e-4,
+        "torsion_constant": 1e-8,
+        "inertia_y": 5e-9,
+        "inertia_z": 5e-9,
+    }
     revolute = {"tilt": 4e3 * soft, "axial": 1e7 * soft, "radial": 2e7 * soft}
     legs = []
     for i in range(3):
         th = math.radians(90 + 120 * i)
-        legs.append({
-            "type": "RPR", "base_point": [R_BASE * math.cos(th), R_BASE * math.sin(th)],
-            "psi": math.remainder(th + math.pi, 2 * math.pi), "platform_radius": R_PLATFORM,
-            "housing_length": 0.05,
-            "stroke": [0.06, 0.4], "base_revolute": revolute, "platform_revolute": revolute,
-        })
-    return design_from_dict({
-        "schema": 2, "name": f"rigid-limit 3-RPR, eps = {eps:g}",
-        "parts": {
-            "actuator": {"locked_stiffness": K_LEG, "k_a": K_LEG, "q": 1.0,
-                         "threshold_displacement": 0.0},
-            "guide": {k: v * soft for k, v in
-                      {"roll": 4700.0, "pitch": 1700.0, "yaw": 1700.0, "lateral": 2.5e6,
-                       "vertical": 5.1e6}.items()},
-            "proximal": section, "distal": section,
-        },
-        "legs": legs,
-    })
+        legs.append(
+            {
+                "type": "RPR",
+                "base_point": [R_BASE * math.cos(th), R_BASE * math.sin(th)],
+                "psi": math.remainder(th + math.pi, 2 * math.pi),
+                "platform_radius": R_PLATFORM,
+                "housing_length": 0.05,
+                "stroke": [0.06, 0.4],
+                "base_revolute": revolute,
+                "platform_revolute": revolute,
+            }
+        )
+    return design_from_dict(
+        {
+            "schema": 2,
+            "name": f"rigid-limit 3-RPR, eps = {eps:g}",
+            "parts": {
+                "actuator": {
+                    "locked_stiffness": K_LEG,
+                    "k_a": K_LEG,
+                    "q": 1.0,
+                    "threshold_displacement": 0.0,
+                },
+                "guide": {
+                    k: v * soft
+                    for k, v in {
+                        "roll": 4700.0,
+                        "pitch": 1700.0,
+                        "yaw": 1700.0,
+                        "lateral": 2.5e6,
+                        "vertical": 5.1e6,
+                    }.items()
+                },
+                "proximal": section,
+                "distal": section,
+            },
+            "legs": legs,
+        }
+    )
 
 
 def gosselin_planar() -> np.ndarray:
@@ -166,8 +193,10 @@ def rotated(design: Design, angle: float) -> Design:
             lo, hi = leg_data["stroke"]
             leg_data["stroke"] = (lo + angle, hi + angle)
     ws = data["workspace"]
-    ws["centre_x"], ws["centre_y"] = (c * ws["centre_x"] - s * ws["centre_y"],
-                                      s * ws["centre_x"] + c * ws["centre_y"])
+    ws["centre_x"], ws["centre_y"] = (
+        c * ws["centre_x"] - s * ws["centre_y"],
+        s * ws["centre_x"] + c * ws["centre_y"],
+    )
     ws["phi"] += angle
     return design_from_dict(data)
 
@@ -222,8 +251,7 @@ def test_oblique_rod_geometry_against_line_intersection(beta_deg: float) -> None
         sol, *_ = np.linalg.lstsq(np.stack([u[:2], w[:2]], axis=1), (d - a)[:2], rcond=None)
         rho, along = sol
         assert float(lp.coordinates["rho"]) == pytest.approx(rho, abs=1e-12)
-        assert float(lp.coordinates["rod"]) == pytest.approx(along - leg.bearing_offset,
-                                                               abs=1e-12)
+        assert float(lp.coordinates["rod"]) == pytest.approx(along - leg.bearing_offset, abs=1e-12)
         c = lp.points["C"]
         off_line = np.linalg.norm(np.cross(w, d - c))
         assert off_line < 1e-12
@@ -257,8 +285,9 @@ def test_tool_point_power_invariance_and_transport(name: str) -> None:
     np.testing.assert_allclose(res["stiffness_matrix"], k_t, rtol=1e-12, atol=0)
     twist_t = np.linalg.solve(k_t, wrench_t)
     # every actuator stays locked, so the deflection is exactly K_T^-1 w_T (round-off)
-    np.testing.assert_allclose(res["twist"], twist_t, rtol=1e-10,
-                               atol=1e-12 * np.max(np.abs(twist_t)))
+    np.testing.assert_allclose(
+        res["twist"], twist_t, rtol=1e-10, atol=1e-12 * np.max(np.abs(twist_t))
+    )
 
 
 @pytest.mark.parametrize("name", ["paper_3ppr", "3rpr"])
@@ -273,10 +302,12 @@ def test_map_at_a_tool_point_equals_the_single_pose_analysis(name: str) -> None:
     iy, ix = np.argwhere(smap.reachable)[len(np.argwhere(smap.reachable)) // 2]
     pose = np.array([smap.x[ix], smap.y[iy], phi])
     res = analyze_design(design, pose, tool_point=tool)
-    assert float(smap.k_phi[iy, ix]) == pytest.approx(res["principal"]["rotational"]["values"][2],
-                                                      rel=1e-9)
+    assert float(smap.k_phi[iy, ix]) == pytest.approx(
+        res["principal"]["rotational"]["values"][2], rel=1e-9
+    )
     assert float(smap.k_x[iy, ix]) == pytest.approx(
-        res["principal"]["translational"]["values"][0], rel=1e-9)
+        res["principal"]["translational"]["values"][0], rel=1e-9
+    )
     at_p = stiffness_map(design, phi=phi, grid=6)
     assert not np.allclose(at_p.k_phi.compressed(), smap.k_phi.compressed(), rtol=1e-3)
 
@@ -298,10 +329,12 @@ def test_both_working_modes_solve_the_loop_closure(name: str) -> None:
             lp = other.solve(pose)
             assert bool(lp.solvable)
             links = [e for e in other.chain(lp) if isinstance(e, Link)]
-            lengths = [float(np.linalg.norm(np.asarray(e.end) - np.asarray(e.start)))
-                       for e in links]
-            expected = ([leg.link_length] if name == "3prr"
-                        else [leg.proximal_length, leg.distal_length])
+            lengths = [
+                float(np.linalg.norm(np.asarray(e.end) - np.asarray(e.start))) for e in links
+            ]
+            expected = (
+                [leg.link_length] if name == "3prr" else [leg.proximal_length, leg.distal_length]
+            )
             np.testing.assert_allclose(lengths, expected, rtol=0, atol=1e-12)
             d, c = lp.points["D"], lp.points["C"]
             if name == "3prr":

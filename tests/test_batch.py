@@ -32,16 +32,25 @@ def single(design: Design, pose: np.ndarray, k_act: np.ndarray | None = None) ->
     """(k_phi, k_x, k_y, d_x, d_y) by the single-pose API."""
     k = stiffness_at_pose(design, pose, k_act)
     dec = decouple(k, "paper")
-    return np.array([
-        dec.rotational_values[2], dec.translational_values[0], dec.translational_values[1],
-        dec.d[0], dec.d[1],
-    ])
+    return np.array(
+        [
+            dec.rotational_values[2],
+            dec.translational_values[0],
+            dec.translational_values[1],
+            dec.d[0],
+            dec.d[1],
+        ]
+    )
 
 
 def random_poses(rng: np.random.Generator, n: int, phi_max: float = 0.6) -> np.ndarray:
     return np.stack(
-        [rng.uniform(-0.012, 0.008, n), rng.uniform(-0.03, 0.03, n),
-         rng.uniform(-phi_max, phi_max, n)], axis=-1,
+        [
+            rng.uniform(-0.012, 0.008, n),
+            rng.uniform(-0.03, 0.03, n),
+            rng.uniform(-phi_max, phi_max, n),
+        ],
+        axis=-1,
     )
 
 
@@ -71,8 +80,7 @@ def test_batched_equals_single_pose_at_the_centre_with_the_paper_numbers() -> No
     np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], ref[:3], rtol=RTOL)
     # paper (31)-(32): k_phi = 193.5 N·m/rad, k_x = 0.3458e5, k_y = 0.6597e5 N/m, from a
     # matrix printed to +-5 per entry (tests/paper.py): agreement within 0.5 %.
-    np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], [193.5, 34580, 65970],
-                               rtol=5e-3)
+    np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], [193.5, 34580, 65970], rtol=5e-3)
 
 
 def test_masked_poses_are_exactly_those_the_single_pose_path_rejects() -> None:
@@ -80,8 +88,8 @@ def test_masked_poses_are_exactly_those_the_single_pose_path_rejects() -> None:
     n = 250
     # a box larger than the reconstructed workspace: about half the poses are outside
     poses = np.stack(
-        [rng.uniform(-0.025, 0.015, n), rng.uniform(-0.035, 0.035, n),
-         rng.uniform(-0.7, 0.7, n)], axis=-1,
+        [rng.uniform(-0.025, 0.015, n), rng.uniform(-0.035, 0.035, n), rng.uniform(-0.7, 0.7, n)],
+        axis=-1,
     )
     res = batch.evaluate_poses(DESIGN, poses)
     expected = np.ones(n, dtype=bool)
@@ -104,10 +112,8 @@ def test_singular_orientation_is_masked_like_check_nonsingular() -> None:
     design = wide_design()
     # the length-balanced eigenvalue ratio grows as 0.0187 offset^2 and crosses the
     # tolerance 1e-6 near 0.0073 rad
-    offsets = np.array([0.0, 1e-9, 1e-6, 1e-4, 1e-3, 0.006, 0.0073, 0.0074, 0.01, -0.0075,
-                        -0.05])
-    poses = np.stack([np.zeros_like(offsets), np.zeros_like(offsets),
-                      np.pi / 2 + offsets], axis=-1)
+    offsets = np.array([0.0, 1e-9, 1e-6, 1e-4, 1e-3, 0.006, 0.0073, 0.0074, 0.01, -0.0075, -0.05])
+    poses = np.stack([np.zeros_like(offsets), np.zeros_like(offsets), np.pi / 2 + offsets], axis=-1)
     res = batch.evaluate_poses(design, poses)
     expected = np.ones(offsets.size, dtype=bool)
     for i, pose in enumerate(poses):
@@ -125,8 +131,9 @@ def test_actuator_forces_batch_equal_the_loading_module() -> None:
     legs = batch.reduce_design(design)
     for pose in random_poses(rng, 12, 0.5):
         wrench = rng.normal(size=6) * np.array([0.1, 0.1, 0.1, 5, 5, 20])
-        got = batch.actuator_forces_batch(legs, pose[0], pose[1], pose[2], wrench,
-                                          design.actuator.locked_stiffness)
+        got = batch.actuator_forces_batch(
+            legs, pose[0], pose[1], pose[2], wrench, design.actuator.locked_stiffness
+        )
         ref = actuator_forces(design, wrench, pose)
         np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-12 * np.max(np.abs(ref)))
 
@@ -134,8 +141,9 @@ def test_actuator_forces_batch_equal_the_loading_module() -> None:
 def test_paper_loaded_case_actuator_forces() -> None:
     """f = [5, 5, 20] N, m_z = 0.1 N·m at the centre: about (-2.31, 7.31, 5) N (brief)."""
     legs = batch.reduce_design(DESIGN)
-    forces = batch.actuator_forces_batch(legs, 0.0, 0.0, 0.0, [0, 0, 0.1, 5, 5, 20],
-                                         DESIGN.actuator.locked_stiffness)
+    forces = batch.actuator_forces_batch(
+        legs, 0.0, 0.0, 0.0, [0, 0, 0.1, 5, 5, 20], DESIGN.actuator.locked_stiffness
+    )
     np.testing.assert_allclose(np.abs(forces), [2.31, 7.31, 5.0], atol=0.01)
 
 
@@ -147,8 +155,9 @@ def test_decouple_batch_equals_decouple_on_general_matrices() -> None:
     for i in range(20):
         ref = decouple(mats[i], "paper")
         np.testing.assert_allclose(d[i], ref.d, rtol=1e-10, atol=1e-14)
-        np.testing.assert_allclose(k_rr[i], ref.K_rr, rtol=1e-10,
-                                   atol=1e-12 * np.max(np.abs(ref.K_rr)))
+        np.testing.assert_allclose(
+            k_rr[i], ref.K_rr, rtol=1e-10, atol=1e-12 * np.max(np.abs(ref.K_rr))
+        )
         np.testing.assert_allclose(k_tt[i], ref.K_tt, rtol=0, atol=0)
 
 
@@ -161,7 +170,8 @@ def test_principal_from_matrices_equals_decouple_on_single_pose_matrices() -> No
         dec = decouple(k, "paper")
         np.testing.assert_allclose(
             [pr.k_phi[i], pr.k_x[i], pr.k_y[i], pr.k_z[i]],
-            [dec.rotational_values[2], *dec.translational_values], rtol=1e-12,
+            [dec.rotational_values[2], *dec.translational_values],
+            rtol=1e-12,
         )
 
 

@@ -15,8 +15,11 @@ LEG3 = ["leg3.bearing_offset", "leg3.guide_offset_u", "leg3.guide_offset_w"]
 
 
 def test_recovers_known_parameters_from_noisy_model_matrix() -> None:
-    truth = {"leg3.bearing_offset": 0.080, "leg3.guide_offset_u": -0.090,
-             "leg3.guide_offset_w": 0.050}
+    truth = {
+        "leg3.bearing_offset": 0.080,
+        "leg3.guide_offset_u": -0.090,
+        "leg3.guide_offset_w": 0.050,
+    }
     true_design = DESIGN.with_parameters(truth)
     k_true = stiffness_at_pose(true_design)
     sigma = 0.002 * default_sigma(k_true) / 0.01  # 0.2 % of each entry's natural scale
@@ -27,12 +30,16 @@ def test_recovers_known_parameters_from_noisy_model_matrix() -> None:
     start = DESIGN.with_parameters(
         {"leg3.bearing_offset": 0.060, "leg3.guide_offset_u": -0.110, "leg3.guide_offset_w": 0.03}
     )
-    bounds = {"leg3.bearing_offset": (0.0, 0.15), "leg3.guide_offset_u": (-0.15, 0.0),
-              "leg3.guide_offset_w": (-0.1, 0.1)}
+    bounds = {
+        "leg3.bearing_offset": (0.0, 0.15),
+        "leg3.guide_offset_u": (-0.15, 0.0),
+        "leg3.guide_offset_w": (-0.1, 0.1),
+    }
     result = calibrate(start, target, LEG3, bounds=bounds, sigma=sigma)
     assert not result.flat_directions()
-    for name, value, std in zip(result.names, result.values, result.standard_deviations,
-                                strict=True):
+    for name, value, std in zip(
+        result.names, result.values, result.standard_deviations, strict=True
+    ):
         assert np.isfinite(std) and std > 0
         assert abs(value - truth[name]) < 4 * std, (name, value, truth[name], std)
     # the fit is as good as the noise: weighted RMS of order 1
@@ -42,8 +49,9 @@ def test_recovers_known_parameters_from_noisy_model_matrix() -> None:
 def test_exact_target_is_recovered_exactly() -> None:
     truth = DESIGN.with_parameters({"leg2.bearing_offset": 0.135})
     target = stiffness_at_pose(truth)
-    result = calibrate(DESIGN, target, ["leg2.bearing_offset"],
-                       bounds={"leg2.bearing_offset": (0.10, 0.15)})
+    result = calibrate(
+        DESIGN, target, ["leg2.bearing_offset"], bounds={"leg2.bearing_offset": (0.10, 0.15)}
+    )
     assert result.values[0] == pytest.approx(0.135, abs=1e-9)
 
 

@@ -85,25 +85,42 @@ def test_fit_actuator_refuses_to_write_a_hardening_law(
     """Data following q = 1.5 fit fine but make no design (q must lie in (0, 1])."""
     d = np.geomspace(0.01, 1.0, 10)
     p = tmp_path / "hard.csv"
-    p.write_text("displacement_mm,force_N\n" + "".join(
-        f"{x},{1e5 * (x * 1e-3) ** 1.5}\n" for x in d))
+    p.write_text(
+        "displacement_mm,force_N\n" + "".join(f"{x},{1e5 * (x * 1e-3) ** 1.5}\n" for x in d)
+    )
     out = tmp_path / "x.toml"
     run_bad(["fit-actuator", str(p), "--write-design", str(out)], capsys, "outside (0, 1]")
     assert not out.exists()
 
 
 # ----------------------------------------------------------------------- deflect
-def test_deflect_csv_matches_the_library(tmp_path: Path, capsys: pytest.CaptureFixture[str]
-                                         ) -> None:
+def test_deflect_csv_matches_the_library(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     csv = tmp_path / "d.csv"
-    out = run_ok(["deflect", "--mode", "planar-force", "--alpha", "30", "--max", "8",
-                  "--step", "2", "--csv", str(csv)], capsys)
+    out = run_ok(
+        [
+            "deflect",
+            "--mode",
+            "planar-force",
+            "--alpha",
+            "30",
+            "--max",
+            "8",
+            "--step",
+            "2",
+            "--csv",
+            str(csv),
+        ],
+        capsys,
+    )
     assert "planar-force" in out
     lines = [ln for ln in csv.read_text().splitlines() if not ln.startswith("#")]
     assert lines[0] == "load,phi_x_deg,phi_y_deg,phi_z_deg,x_mm,y_mm,z_mm"
     rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    curve = deflection_curve(default_design(), "planar-force", [0, 2, 4, 6, 8], None,
-                             math.radians(30))
+    curve = deflection_curve(
+        default_design(), "planar-force", [0, 2, 4, 6, 8], None, math.radians(30)
+    )
     np.testing.assert_allclose(rows[:, 0], curve.loads)
     expect = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
     np.testing.assert_allclose(rows[:, 1:], expect, rtol=1e-8, atol=1e-12)
@@ -114,25 +131,42 @@ def test_deflect_csv_matches_the_library(tmp_path: Path, capsys: pytest.CaptureF
 
 def test_deflect_with_measurements(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     fig = tmp_path / "f.png"
-    res = json.loads(run_ok(["deflect", "--measurements", PLANAR, "--plot", str(fig),
-                             "--json"], capsys))
+    res = json.loads(
+        run_ok(["deflect", "--measurements", PLANAR, "--plot", str(fig), "--json"], capsys)
+    )
     assert res["mode"] == "planar-force" and res["alpha_deg"] == pytest.approx(45)
     m = read_measurements(PLANAR)
-    curve = deflection_curve(default_design(), "planar-force",
-                             np.union1d(np.linspace(0, 10, 21), m.loads))
+    curve = deflection_curve(
+        default_design(), "planar-force", np.union1d(np.linspace(0, 10, 21), m.loads)
+    )
     expected = rms_differences(curve, m)
     assert res["rms_differences"]["orientation_deg"] == pytest.approx(
-        expected["orientation_deg"], rel=1e-9)
-    assert res["rms_differences"]["position_mm"] == pytest.approx(
-        expected["position_mm"], rel=1e-9)
+        expected["orientation_deg"], rel=1e-9
+    )
+    assert res["rms_differences"]["position_mm"] == pytest.approx(expected["position_mm"], rel=1e-9)
     assert fig.stat().st_size > 10_000
     out = run_ok(["deflect", "--measurements", PLANAR], capsys)
     assert f"{expected['position_mm']:.3f} mm" in out
 
 
 def test_deflect_wrench_mode_reaches_the_closed_form(capsys: pytest.CaptureFixture[str]) -> None:
-    res = json.loads(run_ok(["deflect", "--mode", "wrench", "--wrench", "5,5,20,0,0,0.1",
-                             "--max", "1", "--step", "0.25", "--json"], capsys))
+    res = json.loads(
+        run_ok(
+            [
+                "deflect",
+                "--mode",
+                "wrench",
+                "--wrench",
+                "5,5,20,0,0,0.1",
+                "--max",
+                "1",
+                "--step",
+                "0.25",
+                "--json",
+            ],
+            capsys,
+        )
+    )
     np.testing.assert_allclose(res["wrenches"][-1], PAPER_WRENCH)
     t = closed_form_twist(default_design(), PAPER_WRENCH)
     np.testing.assert_allclose(res["twists"][-1], t, rtol=1e-8, atol=1e-14)
@@ -140,8 +174,25 @@ def test_deflect_wrench_mode_reaches_the_closed_form(capsys: pytest.CaptureFixtu
 
 def test_deflect_actuator_overrides(capsys: pytest.CaptureFixture[str]) -> None:
     """--q 1 --k-a 2e4: linear actuators above the locked threshold, as in the library."""
-    res = json.loads(run_ok(["deflect", "--mode", "moment", "--q", "1", "--k-a", "2e4",
-                             "--max", "0.4", "--step", "0.1", "--json"], capsys))
+    res = json.loads(
+        run_ok(
+            [
+                "deflect",
+                "--mode",
+                "moment",
+                "--q",
+                "1",
+                "--k-a",
+                "2e4",
+                "--max",
+                "0.4",
+                "--step",
+                "0.1",
+                "--json",
+            ],
+            capsys,
+        )
+    )
     design = default_design().with_parameters({"actuator.q": 1.0, "actuator.k_a": 2e4})
     curve = deflection_curve(design, "moment", [0, 0.1, 0.2, 0.3, 0.4])
     np.testing.assert_allclose(res["twists"], curve.twists, rtol=1e-9, atol=1e-15)
@@ -164,9 +215,7 @@ def test_deflect_actuator_overrides(capsys: pytest.CaptureFixture[str]) -> None:
         (["--x", "500"], "outside"),
     ],
 )
-def test_deflect_bad_input(
-    capsys: pytest.CaptureFixture[str], args: list[str], match: str
-) -> None:
+def test_deflect_bad_input(capsys: pytest.CaptureFixture[str], args: list[str], match: str) -> None:
     run_bad(["deflect", *args], capsys, match)
 
 
@@ -191,8 +240,27 @@ def test_deflect_linear_actuator_from_the_cli(capsys) -> None:  # type: ignore[n
     from ppm_stiffness.design import default_design
     from ppm_stiffness.model import stiffness_at_pose
 
-    assert main(["deflect", "--mode", "moment", "--max", "0.2", "--step", "0.1", "--q", "1",
-                 "--k-a", "1e5", "--threshold", "0", "--json"]) == 0
+    assert (
+        main(
+            [
+                "deflect",
+                "--mode",
+                "moment",
+                "--max",
+                "0.2",
+                "--step",
+                "0.1",
+                "--q",
+                "1",
+                "--k-a",
+                "1e5",
+                "--threshold",
+                "0",
+                "--json",
+            ]
+        )
+        == 0
+    )
     data = json.loads(capsys.readouterr().out)
     k = stiffness_at_pose(default_design(), None, 1e5)
     expected = np.linalg.solve(k, [0, 0, 0.2, 0, 0, 0])

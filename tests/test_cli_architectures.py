@@ -27,8 +27,7 @@ def _json(capsys: pytest.CaptureFixture[str], *args: str) -> dict[str, object]:
 
 
 @pytest.mark.parametrize("path", DESIGNS, ids=lambda p: Path(p).stem if p else "built-in")
-def test_analyze_json_on_every_design(capsys: pytest.CaptureFixture[str],
-                                      path: str | None) -> None:
+def test_analyze_json_on_every_design(capsys: pytest.CaptureFixture[str], path: str | None) -> None:
     args = ["analyze", "--json"] + (["--design", path] if path else [])
     out = _json(capsys, *args)
     k = np.array(out["stiffness_matrix"])
@@ -43,8 +42,9 @@ def test_analyze_json_on_every_design(capsys: pytest.CaptureFixture[str],
 
 @pytest.mark.parametrize("path", DESIGNS, ids=lambda p: Path(p).stem if p else "built-in")
 @pytest.mark.parametrize("mode", ["planar-force", "moment", "vertical-force"])
-def test_deflect_on_every_design(capsys: pytest.CaptureFixture[str], path: str | None,
-                                 mode: str) -> None:
+def test_deflect_on_every_design(
+    capsys: pytest.CaptureFixture[str], path: str | None, mode: str
+) -> None:
     top = {"planar-force": "5", "moment": "0.2", "vertical-force": "5"}[mode]
     args = ["deflect", "--mode", mode, "--max", top, "--step", top, "--json"]
     out = _json(capsys, *args, *(["--design", path] if path else []))
@@ -57,10 +57,26 @@ def test_analyze_redundant_wrench_is_the_equilibrium(capsys: pytest.CaptureFixtu
     """The CLI's loaded state of the 4-PPR is the exact equilibrium (pinned against
     independent solutions in tests/test_statics_redundant.py)."""
     path = str(EXAMPLES / "redundant_4ppr.toml")
-    out = _json(capsys, "analyze", "--json", "--design", path, "--x", "15", "--y", "-15",
-                "--phi", "-12", "--wrench", "15,-8,10,0.05,-0.03,0.4")
-    eq = equilibrium(load_design(path), [0.05, -0.03, 0.4, 15.0, -8.0, 10.0],
-                     [0.015, -0.015, math.radians(-12.0)])
+    out = _json(
+        capsys,
+        "analyze",
+        "--json",
+        "--design",
+        path,
+        "--x",
+        "15",
+        "--y",
+        "-15",
+        "--phi",
+        "-12",
+        "--wrench",
+        "15,-8,10,0.05,-0.03,0.4",
+    )
+    eq = equilibrium(
+        load_design(path),
+        [0.05, -0.03, 0.4, 15.0, -8.0, 10.0],
+        [0.015, -0.015, math.radians(-12.0)],
+    )
     np.testing.assert_allclose(out["actuator_forces"], eq.actuator_forces, rtol=1e-12)
     np.testing.assert_allclose(out["twist"], eq.twist, rtol=1e-12)
     np.testing.assert_allclose(out["stiffness_matrix"], eq.stiffness_matrix, rtol=1e-12)

@@ -26,8 +26,17 @@ def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
 def test_analyze_prints_all_tables(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, err = run(capsys, "analyze")
     assert code == 0, err
-    for heading in ("Cartesian stiffness K", "N·m/rad", "Screw springs", "M [N/m]",
-                    "d [m]", "K'_rr", "K'_tt", "Principal stiffnesses", "k_phi ="):
+    for heading in (
+        "Cartesian stiffness K",
+        "N·m/rad",
+        "Screw springs",
+        "M [N/m]",
+        "d [m]",
+        "K'_rr",
+        "K'_tt",
+        "Principal stiffnesses",
+        "k_phi =",
+    ):
         assert heading in out
     # K_tt(x, x) of (22) appears with its value
     assert "34570" in out
@@ -37,12 +46,24 @@ def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> Non
     code, out, _ = run(capsys, "analyze", "--json", "--x", "2", "--y", "-3", "--phi", "5")
     assert code == 0
     data = json.loads(out)
-    assert set(data) >= {"pose", "actuator_stiffness", "stiffness_matrix", "eigenscrews",
-                         "decoupling", "principal"}
+    assert set(data) >= {
+        "pose",
+        "actuator_stiffness",
+        "stiffness_matrix",
+        "eigenscrews",
+        "decoupling",
+        "principal",
+    }
     assert data["pose"] == pytest.approx({"x": 0.002, "y": -0.003, "phi": np.radians(5)})
     assert len(data["eigenscrews"]) == 6
-    assert set(data["eigenscrews"][0]) == {"eigenvalue", "eigenforce", "pitch", "axis",
-                                           "position", "spring_constant"}
+    assert set(data["eigenscrews"][0]) == {
+        "eigenvalue",
+        "eigenforce",
+        "pitch",
+        "axis",
+        "position",
+        "spring_constant",
+    }
     assert set(data["decoupling"]) >= {"M", "d", "K_rr", "K_tt", "residual_coupling"}
     assert data["decoupling"]["method"] == "paper"
     assert set(data["principal"]) == {"rotational", "translational"}
@@ -54,8 +75,9 @@ def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> Non
         assert directions.shape == (3, 3)
         for j in range(3):
             np.testing.assert_allclose(np.linalg.norm(directions[j]), 1.0, rtol=1e-12)
-            np.testing.assert_allclose(k @ directions[j], values[j] * directions[j],
-                                       atol=1e-9 * np.abs(k).max())
+            np.testing.assert_allclose(
+                k @ directions[j], values[j] * directions[j], atol=1e-9 * np.abs(k).max()
+            )
     ref = analyze_design(default_design(), [0.002, -0.003, np.radians(5)])
     np.testing.assert_allclose(data["stiffness_matrix"], ref["stiffness_matrix"], rtol=1e-12)
 
@@ -66,8 +88,9 @@ def test_analyze_with_wrench_reports_actuators(capsys: pytest.CaptureFixture[str
     data = json.loads(out)
     # paper: K_act = [1.1108, 0.0516, 0.1912]e5 N/m under f = [5,5,20] N, m_z = 0.1 N·m,
     # to its printed half-unit
-    np.testing.assert_allclose(data["actuator_stiffness"], PAPER_K_ACT_LOADED, rtol=0,
-                               atol=PAPER_K_ACT_HALF_UNIT)
+    np.testing.assert_allclose(
+        data["actuator_stiffness"], PAPER_K_ACT_LOADED, rtol=0, atol=PAPER_K_ACT_HALF_UNIT
+    )
     assert len(data["actuator_forces"]) == 3 and len(data["actuator_displacements"]) == 3
     code, out, _ = run(capsys, "analyze", "--wrench", "5,5,20,0,0,0.1")
     assert "actuator forces" in out
@@ -84,9 +107,20 @@ def test_analyze_matrix(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_calibrate_writes_a_design(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     out_file = tmp_path / "cal.toml"
-    code, out, err = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
-                         "leg3.bearing_offset,leg3.guide_offset_w", "--sigma", "5",
-                         "--bound", "leg3.bearing_offset=0:0.149", "--out", str(out_file))
+    code, out, err = run(
+        capsys,
+        "calibrate",
+        "--target",
+        EQ22_CSV,
+        "--free",
+        "leg3.bearing_offset,leg3.guide_offset_w",
+        "--sigma",
+        "5",
+        "--bound",
+        "leg3.bearing_offset=0:0.149",
+        "--out",
+        str(out_file),
+    )
     assert code == 0, err
     assert "Fitted parameters" in out and "singular values" in out and "Residuals" in out
     code, out, _ = run(capsys, "analyze", "--design", str(out_file), "--json")
@@ -96,8 +130,14 @@ def test_calibrate_writes_a_design(capsys: pytest.CaptureFixture[str], tmp_path:
 
 
 def test_calibrate_flags_flat_direction(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
-                       "guide.vertical,bearing.radial_vertical")
+    code, out, _ = run(
+        capsys,
+        "calibrate",
+        "--target",
+        EQ22_CSV,
+        "--free",
+        "guide.vertical,bearing.radial_vertical",
+    )
     assert code == 0
     assert "flat direction" in out and "undetermined" in out
 
@@ -129,10 +169,9 @@ def test_singular_configuration(capsys: pytest.CaptureFixture[str], tmp_path: Pa
         (("tilt_lateral = 1010.0", "tilt_lateral = -1010.0"), "bearing.tilt_lateral"),
         (("area = 0.00021", "area = 0.0"), "proximal.area"),
         (("platform_radius = 0.03", "platform_radius = -0.03"), "leg1.platform_radius"),
-        (("yaw = 1700.0", "yaw = \"stiff\""), "guide.yaw"),
+        (("yaw = 1700.0", 'yaw = "stiff"'), "guide.yaw"),
         (("roll = 4700.0", "roll = 4700.0\ncolour = 1"), "guide.colour"),
-        (("locked_stiffness = 111080.0", "locked_stiffness = nan"),
-         "actuator.locked_stiffness"),
+        (("locked_stiffness = 111080.0", "locked_stiffness = nan"), "actuator.locked_stiffness"),
     ],
 )
 def test_malformed_design_names_the_key(
@@ -160,23 +199,28 @@ def test_design_not_toml_and_missing(capsys: pytest.CaptureFixture[str], tmp_pat
     [
         ("1,2,3\n4,5,6\n", "6x6"),
         ("\n".join([",".join(["nan"] * 6)] * 6), "not finite"),
-        ("\n".join(",".join(str(float(i == j) + (i < j)) for j in range(6)) for i in range(6)),
-         "not symmetric"),
+        (
+            "\n".join(",".join(str(float(i == j) + (i < j)) for j in range(6)) for i in range(6)),
+            "not symmetric",
+        ),
         ("a,b,c,d,e,f\n" * 6, "numeric"),
     ],
 )
-def test_bad_matrix(capsys: pytest.CaptureFixture[str], tmp_path: Path, content: str,
-                    message: str) -> None:
+def test_bad_matrix(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, content: str, message: str
+) -> None:
     f = tmp_path / "k.csv"
     f.write_text(content)
     assert message in _bad(capsys, "analyze", "--matrix", str(f))
 
 
-def test_singular_matrix_and_missing_file(capsys: pytest.CaptureFixture[str],
-                                          tmp_path: Path) -> None:
+def test_singular_matrix_and_missing_file(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
     f = tmp_path / "k.csv"
-    f.write_text("\n".join(",".join("1" if i == j and i < 5 else "0" for j in range(6))
-                           for i in range(6)))
+    f.write_text(
+        "\n".join(",".join("1" if i == j and i < 5 else "0" for j in range(6)) for i in range(6))
+    )
     assert "singular" in _bad(capsys, "analyze", "--matrix", str(f))
     assert "not found" in _bad(capsys, "analyze", "--matrix", str(tmp_path / "none.csv"))
 
@@ -205,8 +249,12 @@ DATA = Path(__file__).parents[1] / "src/ppm_stiffness/data"
 @pytest.mark.parametrize(
     "args",
     [
-        ["fit-actuator", str(DATA / "actuator_synthetic.csv"), "--write-design",
-         "/nonexistent/x.toml"],
+        [
+            "fit-actuator",
+            str(DATA / "actuator_synthetic.csv"),
+            "--write-design",
+            "/nonexistent/x.toml",
+        ],
         ["fit-actuator", str(DATA / "actuator_synthetic.csv"), "--plot", "out.xyz"],
         ["deflect", "--csv", "/nonexistent/x.csv"],
         ["deflect", "--plot", "/dev/null/x.png"],
@@ -220,14 +268,12 @@ DATA = Path(__file__).parents[1] / "src/ppm_stiffness/data"
         ["analyze", "--matrix", "/tmp"],
     ],
 )
-def test_bad_paths_are_one_line_errors(capsys: pytest.CaptureFixture[str],
-                                       args: list[str]) -> None:
+def test_bad_paths_are_one_line_errors(capsys: pytest.CaptureFixture[str], args: list[str]) -> None:
     _bad(capsys, *args)
     assert not Path("/nonexistent").exists()  # nothing is created on the user's behalf
 
 
-def test_report_output_is_checked_first(capsys: pytest.CaptureFixture[str],
-                                       tmp_path: Path) -> None:
+def test_report_output_is_checked_first(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     _bad(capsys, "report", "--out", "/dev/null/x", "--quiet", "--grid", "4")
     _bad(capsys, "report", "--out", "/nonexistent/deep/r", "--quiet", "--grid", "4")
     assert "empty" in _bad(capsys, "report", "--out", "", "--quiet", "--grid", "4")
@@ -246,8 +292,9 @@ def test_not_positive_definite_matrix(capsys: pytest.CaptureFixture[str], tmp_pa
     f = tmp_path / "neg.csv"
     np.savetxt(f, k, delimiter=",")
     assert "not positive definite" in _bad(capsys, "analyze", "--matrix", str(f))
-    assert "not positive definite" in _bad(capsys, "calibrate", "--target", str(f),
-                                           "--free", "guide.yaw")
+    assert "not positive definite" in _bad(
+        capsys, "calibrate", "--target", str(f), "--free", "guide.yaw"
+    )
 
 
 def test_loads_beyond_the_model_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
@@ -255,13 +302,13 @@ def test_loads_beyond_the_model_are_refused(capsys: pytest.CaptureFixture[str]) 
     err = _bad(capsys, "analyze", "--wrench", "1e9,0,0,0,0,0")
     assert "load too large" in err and "stroke" in err
     assert "load too large" in _bad(capsys, "deflect", "--max", "1e6", "--step", "1e5")
-    assert "load too large" in _bad(capsys, "deflect", "--mode", "moment", "--max", "100",
-                                    "--step", "10")
+    assert "load too large" in _bad(
+        capsys, "deflect", "--mode", "moment", "--max", "100", "--step", "10"
+    )
 
 
 def test_map_with_no_reachable_point(capsys: pytest.CaptureFixture[str]) -> None:
-    assert "no grid point" in _bad(capsys, "map", "--bounds=-1000,-900,-1000,-900",
-                                   "--grid", "10")
+    assert "no grid point" in _bad(capsys, "map", "--bounds=-1000,-900,-1000,-900", "--grid", "10")
 
 
 def test_small_displacement_limits(capsys: pytest.CaptureFixture[str]) -> None:
@@ -296,8 +343,9 @@ def test_calibrate_prints_singular_values_when_one_is_zero(
 ) -> None:
     """The power-law k_a does not enter the unloaded K: its column of the Jacobian is
     zero. Before, the whole singular-value line was dropped exactly then."""
-    code, out, _ = run(capsys, "calibrate", "--target", EQ22_CSV, "--free",
-                       "leg1.actuator.k_a,guide.yaw")
+    code, out, _ = run(
+        capsys, "calibrate", "--target", EQ22_CSV, "--free", "leg1.actuator.k_a,guide.yaw"
+    )
     assert code == 0
     line = next(s for s in out.splitlines() if s.startswith("singular values"))
     assert line.endswith("(condition infinite)") and ", 0" in line

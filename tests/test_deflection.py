@@ -133,7 +133,8 @@ def test_affine_compliance_behind_the_closed_form() -> None:
         k = 10 ** rng.uniform(3, 6, 3)
         c = np.linalg.inv(stiffness_at_pose(DESIGN, None, k))
         np.testing.assert_allclose(
-            c - b.T @ np.diag(1 / k) @ b, c_s,
+            c - b.T @ np.diag(1 / k) @ b,
+            c_s,
             atol=1e-12 * np.abs(c).max(),
         )
 
@@ -301,8 +302,9 @@ def _shipped(name: str) -> Path:
     return Path(str(resources.files("ppm_stiffness").joinpath(f"data/{name}")))
 
 
-def _fake(curve_loads: np.ndarray, twists: np.ndarray, comps: tuple[int, ...], mode: str
-          ) -> Measurements:
+def _fake(
+    curve_loads: np.ndarray, twists: np.ndarray, comps: tuple[int, ...], mode: str
+) -> Measurements:
     t = np.full_like(twists, np.nan)
     t[:, list(comps)] = twists[:, list(comps)]
     return Measurements(curve_loads, t, comps, {"mode": mode}, "fake")

@@ -25,8 +25,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 def test_every_shipped_file_is_schema_2_and_round_trips(tmp_path: Path) -> None:
     paths = sorted(EXAMPLES.glob("*.toml"))
-    assert {p.stem for p in paths} >= {"3rpr", "3prr", "3rrr", "symmetric_3ppr",
-                                       "redundant_4ppr"}
+    assert {p.stem for p in paths} >= {"3rpr", "3prr", "3rrr", "symmetric_3ppr", "redundant_4ppr"}
     text = resources.files("ppm_stiffness").joinpath("data/paper_3ppr.toml").read_text("utf-8")
     assert tomllib.loads(text)["schema"] == 2
     with warnings.catch_warnings():
@@ -42,8 +41,12 @@ def test_every_shipped_file_is_schema_2_and_round_trips(tmp_path: Path) -> None:
 def _v1_of_builtin() -> dict[str, object]:
     """The built-in design written as a v1 file (shared part tables, no type, no schema)."""
     data = design_to_dict(default_design())
-    v1: dict[str, object] = {"name": data["name"], "architecture": "PPR",
-                             "workspace": data["workspace"], **data["parts"]}
+    v1: dict[str, object] = {
+        "name": data["name"],
+        "architecture": "PPR",
+        "workspace": data["workspace"],
+        **data["parts"],
+    }
     v1["legs"] = [{k: v for k, v in leg.items() if k != "type"} for leg in data["legs"]]
     return v1
 
@@ -126,7 +129,9 @@ def test_cli_reports_a_v1_file_in_one_line(tmp_path: Path) -> None:
     path.write_text(tomli_w.dumps(_v1_of_builtin()), encoding="utf-8")
     run = subprocess.run(
         [sys.executable, "-m", "ppm_stiffness", "analyze", "--design", str(path), "--json"],
-        capture_output=True, text=True, check=False,
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert run.returncode == 0
     lines = run.stderr.strip().splitlines()
@@ -134,12 +139,15 @@ def test_cli_reports_a_v1_file_in_one_line(tmp_path: Path) -> None:
     assert "schema" in lines[0]
 
 
-@pytest.mark.parametrize(("old", "new"), [
-    ("ppm_stiffness.eigenscrews", "ppm_stiffness.core.eigenscrews"),
-    ("ppm_stiffness.decoupling", "ppm_stiffness.core.decoupling"),
-    ("ppm_stiffness.workspace", "ppm_stiffness.maps.workspace"),
-    ("ppm_stiffness.deflection", "ppm_stiffness.statics.deflection"),
-])
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("ppm_stiffness.eigenscrews", "ppm_stiffness.core.eigenscrews"),
+        ("ppm_stiffness.decoupling", "ppm_stiffness.core.decoupling"),
+        ("ppm_stiffness.workspace", "ppm_stiffness.maps.workspace"),
+        ("ppm_stiffness.deflection", "ppm_stiffness.statics.deflection"),
+    ],
+)
 def test_old_module_paths_import_with_a_deprecation_warning(old: str, new: str) -> None:
     """Paths the 0.1 README and docs showed still work and name the new home."""
     import importlib
@@ -164,8 +172,12 @@ def test_public_api_names_and_version() -> None:
     assert callable(pps.eigenscrews)  # still the function, not the module
     for name in pps.__all__:
         assert getattr(pps, name) is not None
-    run = subprocess.run([sys.executable, "-m", "ppm_stiffness", "--version"],
-                         capture_output=True, text=True, check=True)
+    run = subprocess.run(
+        [sys.executable, "-m", "ppm_stiffness", "--version"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     assert run.stdout.strip() == f"ppm-stiffness {pps.__version__}"
     assert pps.__version__[0].isdigit()
 

@@ -37,8 +37,9 @@ def test_fast_batched_path_serves_other_designs(name: str) -> None:
     # single-pose path on designs whose rails are not along x and y
     design = load_design(ROOT / "examples" / name)
     rng = np.random.default_rng(11)
-    poses = np.column_stack([rng.uniform(-0.02, 0.02, 30), rng.uniform(-0.02, 0.02, 30),
-                             rng.uniform(-0.3, 0.3, 30)])
+    poses = np.column_stack(
+        [rng.uniform(-0.02, 0.02, 30), rng.uniform(-0.02, 0.02, 30), rng.uniform(-0.3, 0.3, 30)]
+    )
     result = evaluate_poses(design, poses)
     checked = 0
     for i, pose in enumerate(poses):

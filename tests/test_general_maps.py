@@ -42,11 +42,13 @@ def workspace_poses(design: Design, n: int, seed: int, phi_max: float = 0.3) -> 
     box = workspace_bounds(design, 0.0)
     pad = 0.1 * np.array([box[1] - box[0], box[3] - box[2]])
     rng = np.random.default_rng(seed)
-    return np.column_stack([
-        rng.uniform(box[0] - pad[0], box[1] + pad[0], n),
-        rng.uniform(box[2] - pad[1], box[3] + pad[1], n),
-        rng.uniform(-phi_max, phi_max, n),
-    ])
+    return np.column_stack(
+        [
+            rng.uniform(box[0] - pad[0], box[1] + pad[0], n),
+            rng.uniform(box[2] - pad[1], box[3] + pad[1], n),
+            rng.uniform(-phi_max, phi_max, n),
+        ]
+    )
 
 
 def single(design: Design, pose: np.ndarray, k_act: np.ndarray | None = None) -> np.ndarray | None:
@@ -68,8 +70,7 @@ def test_general_path_equals_single_pose_path(name: str) -> None:
     rng = np.random.default_rng(5)
     k_lock = np.array([leg.actuator.locked_stiffness for leg in design.legs])
     k_act = k_lock * rng.uniform(0.05, 1.0, (len(poses), len(design.legs)))
-    res = batch.evaluate_poses(design, poses, k_act, matrices=True, path="general",
-                               chunk_size=17)
+    res = batch.evaluate_poses(design, poses, k_act, matrices=True, path="general", chunk_size=17)
     assert res.path == "general" and res.stiffness is not None
     checked = 0
     for i, pose in enumerate(poses):
@@ -83,7 +84,8 @@ def test_general_path_equals_single_pose_path(name: str) -> None:
         dec = decouple(k_ref, "paper")
         np.testing.assert_allclose(
             [res.k_phi[i], res.k_x[i], res.k_y[i]],
-            [dec.rotational_values[2], *dec.translational_values[:2]], rtol=RTOL,
+            [dec.rotational_values[2], *dec.translational_values[:2]],
+            rtol=RTOL,
         )
     assert checked >= 20  # the box is wider than the workspace: both outcomes occur
     assert checked < len(poses) or name == "redundant_4ppr"
@@ -102,22 +104,20 @@ def test_reduced_path_equals_general_path(name: str) -> None:
     np.testing.assert_array_equal(red.reachable, gen.reachable)
     assert 20 <= red.valid.sum()
     assert red.stiffness is not None and gen.stiffness is not None
-    worst = max(rel_balanced(red.stiffness[i], gen.stiffness[i])
-                for i in np.flatnonzero(red.valid))
+    worst = max(rel_balanced(red.stiffness[i], gen.stiffness[i]) for i in np.flatnonzero(red.valid))
     assert worst <= 1e-9
     for field in ("k_phi", "k_x", "k_y"):
-        np.testing.assert_allclose(getattr(red, field).compressed(),
-                                   getattr(gen, field).compressed(), rtol=1e-9)
+        np.testing.assert_allclose(
+            getattr(red, field).compressed(), getattr(gen, field).compressed(), rtol=1e-9
+        )
 
 
 def test_reduced_and_general_masks_agree_near_a_singular_orientation() -> None:
     """At phi = 90 deg two force lines of the opened built-in design coincide; the
     length-balanced eigenvalue ratio crosses 1e-6 about 0.0073 rad away."""
     design = wide_design()
-    offsets = np.array([0.0, 1e-6, 1e-3, 0.006, 0.0072, 0.0075, 0.01, -0.0071, -0.0076,
-                        -0.05])
-    poses = np.column_stack([np.zeros_like(offsets), np.zeros_like(offsets),
-                             np.pi / 2 + offsets])
+    offsets = np.array([0.0, 1e-6, 1e-3, 0.006, 0.0072, 0.0075, 0.01, -0.0071, -0.0076, -0.05])
+    poses = np.column_stack([np.zeros_like(offsets), np.zeros_like(offsets), np.pi / 2 + offsets])
     red = batch.evaluate_poses(design, poses, path="reduced")
     gen = batch.evaluate_poses(design, poses, path="general")
     expected = np.array([single(design, p) is not None for p in poses])
@@ -157,8 +157,9 @@ def test_general_map_equals_single_pose_with_each_legs_law(name: str) -> None:
         if acts == "max":
             k_act = np.array([leg.actuator.locked_stiffness for leg in design.legs])
         else:
-            k_act = np.array([float(stiffness_from_force(leg.actuator, 10.0))
-                              for leg in design.legs])
+            k_act = np.array(
+                [float(stiffness_from_force(leg.actuator, 10.0)) for leg in design.legs]
+            )
         np.testing.assert_array_equal(smap.actuator_stiffness, [k_act, k_act])
         for j, y in enumerate(smap.y):
             for i, x in enumerate(smap.x):
@@ -169,7 +170,8 @@ def test_general_map_equals_single_pose_with_each_legs_law(name: str) -> None:
                 dec = decouple(k, "paper")
                 np.testing.assert_allclose(
                     [smap.k_phi[j, i], smap.k_x[j, i], smap.k_y[j, i]],
-                    [dec.rotational_values[2], *dec.translational_values[:2]], rtol=RTOL,
+                    [dec.rotational_values[2], *dec.translational_values[:2]],
+                    rtol=RTOL,
                 )
 
 
@@ -190,18 +192,31 @@ def test_wrench_map_is_loaded_state_per_pose(name: str) -> None:
             dec = decouple(state.stiffness_matrix, "paper")
             np.testing.assert_allclose(
                 [smap.k_phi[j, i], smap.k_x[j, i], smap.k_y[j, i]],
-                [dec.rotational_values[2], *dec.translational_values[:2]], rtol=RTOL,
+                [dec.rotational_values[2], *dec.translational_values[:2]],
+                rtol=RTOL,
             )
     np.testing.assert_allclose(smap.actuator_stiffness, [lo, hi], rtol=1e-12)
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
 @pytest.mark.parametrize("acts", ["max", "min", "5,5,20,0,0,0.1"])
-def test_cli_map_runs_on_every_example(name: str, acts: str, tmp_path: Path,
-                                       capsys: pytest.CaptureFixture) -> None:
+def test_cli_map_runs_on_every_example(
+    name: str, acts: str, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
     data = tmp_path / "m.npz"
-    rc = main(["map", "--design", str(ROOT / "examples" / f"{name}.toml"), "--grid", "6",
-               f"--actuators={acts}", "--data", str(data), "--quiet"])
+    rc = main(
+        [
+            "map",
+            "--design",
+            str(ROOT / "examples" / f"{name}.toml"),
+            "--grid",
+            "6",
+            f"--actuators={acts}",
+            "--data",
+            str(data),
+            "--quiet",
+        ]
+    )
     assert rc == 0
     assert "k_phi" in capsys.readouterr().out
     smap = load_npz(data)
@@ -213,6 +228,19 @@ def test_cli_map_runs_on_every_example(name: str, acts: str, tmp_path: Path,
 
 def test_cli_map_figure_of_a_3rrr(tmp_path: Path) -> None:
     fig = tmp_path / "m.png"
-    assert main(["map", "--design", str(ROOT / "examples" / "3rrr.toml"), "--grid", "10",
-                 "--out", str(fig), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "map",
+                "--design",
+                str(ROOT / "examples" / "3rrr.toml"),
+                "--grid",
+                "10",
+                "--out",
+                str(fig),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert fig.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -55,15 +55,23 @@ def test_workspace_bounds_follow_the_joint_limits(phi: float) -> None:
     rho = [float(g.coordinates["rho"]) for g in geo]
     rod = [float(g.coordinates["rod"]) for g in geo]
     # rod_1 = rod_1(0) + x, rod_2 = rod_2(0) - x, rho_3 = rho_3(0) + x
-    x_lo = max(legs[0].rod_length_range[0] - rod[0], rod[1] - legs[1].rod_length_range[1],
-               legs[2].stroke[0] - rho[2])
-    x_hi = min(legs[0].rod_length_range[1] - rod[0], rod[1] - legs[1].rod_length_range[0],
-               legs[2].stroke[1] - rho[2])
+    x_lo = max(
+        legs[0].rod_length_range[0] - rod[0],
+        rod[1] - legs[1].rod_length_range[1],
+        legs[2].stroke[0] - rho[2],
+    )
+    x_hi = min(
+        legs[0].rod_length_range[1] - rod[0],
+        rod[1] - legs[1].rod_length_range[0],
+        legs[2].stroke[1] - rho[2],
+    )
     # rho_1 = rho_1(0) + y, rho_2 = rho_2(0) + y, rod_3 = rod_3(0) - y
-    y_lo = max(legs[0].stroke[0] - rho[0], legs[1].stroke[0] - rho[1],
-               rod[2] - legs[2].rod_length_range[1])
-    y_hi = min(legs[0].stroke[1] - rho[0], legs[1].stroke[1] - rho[1],
-               rod[2] - legs[2].rod_length_range[0])
+    y_lo = max(
+        legs[0].stroke[0] - rho[0], legs[1].stroke[0] - rho[1], rod[2] - legs[2].rod_length_range[1]
+    )
+    y_hi = min(
+        legs[0].stroke[1] - rho[0], legs[1].stroke[1] - rho[1], rod[2] - legs[2].rod_length_range[0]
+    )
     box = workspace.workspace_bounds(DESIGN, phi)
     np.testing.assert_allclose(box, [x_lo, x_hi, y_lo, y_hi], atol=1e-12)
     # just inside every corner is reachable, just outside each side is not
@@ -72,8 +80,12 @@ def test_workspace_bounds_follow_the_joint_limits(phi: float) -> None:
         for y in (box[2] + eps, box[3] - eps):
             solve_legs(DESIGN, [x, y, phi])
     centre = [(box[0] + box[1]) / 2, (box[2] + box[3]) / 2]
-    for x, y in ((box[0] - eps, centre[1]), (box[1] + eps, centre[1]),
-                 (centre[0], box[2] - eps), (centre[0], box[3] + eps)):
+    for x, y in (
+        (box[0] - eps, centre[1]),
+        (box[1] + eps, centre[1]),
+        (centre[0], box[2] - eps),
+        (centre[0], box[3] + eps),
+    ):
         with pytest.raises(UnreachablePoseError):
             solve_legs(DESIGN, [x, y, phi])
 
@@ -120,16 +132,18 @@ def test_wrench_map_is_the_loaded_state_at_each_pose() -> None:
             np.testing.assert_allclose(
                 [smap.k_phi[j, i], smap.k_x[j, i], smap.k_y[j, i]], ref, rtol=1e-9
             )
-            np.testing.assert_allclose(smap.actuator_stiffness[0], state.actuator_stiffness,
-                                       rtol=1e-9)
+            np.testing.assert_allclose(
+                smap.actuator_stiffness[0], state.actuator_stiffness, rtol=1e-9
+            )
 
 
 def test_wrench_map_reproduces_the_paper_actuator_stiffness_at_phi_0() -> None:
     """Paper (33): K_act = 1.1108e5, 0.0516e5, 0.1912e5 N/m at the centre; at phi = 0 the
     in-plane statics do not depend on (x, y), so over the whole map."""
     smap = stiffness_map(DESIGN, actuators="wrench", wrench=PAPER_WRENCH, grid=4)
-    np.testing.assert_allclose(smap.actuator_stiffness, [PAPER_K_ACT_LOADED] * 2, rtol=0,
-                               atol=PAPER_K_ACT_HALF_UNIT)
+    np.testing.assert_allclose(
+        smap.actuator_stiffness, [PAPER_K_ACT_LOADED] * 2, rtol=0, atol=PAPER_K_ACT_HALF_UNIT
+    )
 
 
 def test_min_state_is_eq21_under_the_reference_force(maps: dict) -> None:
@@ -196,8 +210,9 @@ def test_npz_and_csv_round_trip(tmp_path: Path) -> None:
     back = load_npz(smap.to_npz(tmp_path / "m.npz"))
     for name in ("k_phi", "k_x", "k_y"):
         np.testing.assert_array_equal(back.fields()[name].mask, smap.fields()[name].mask)
-        np.testing.assert_array_equal(back.fields()[name].compressed(),
-                                      smap.fields()[name].compressed())
+        np.testing.assert_array_equal(
+            back.fields()[name].compressed(), smap.fields()[name].compressed()
+        )
     assert back.actuators == "max" and back.wrench is None
     np.testing.assert_array_equal(back.x, smap.x)
     path = smap.to_csv(tmp_path / "m.csv")
@@ -218,8 +233,7 @@ def test_npz_and_csv_round_trip(tmp_path: Path) -> None:
 
 def test_progress_reports_every_chunk_up_to_the_total() -> None:
     calls: list[tuple[int, int]] = []
-    stiffness_map(DESIGN, grid=(20, 30), progress=lambda d, t: calls.append((d, t)),
-                  chunk_size=100)
+    stiffness_map(DESIGN, grid=(20, 30), progress=lambda d, t: calls.append((d, t)), chunk_size=100)
     assert len(calls) == 6  # 5 rows of 20 per chunk
     assert calls[-1] == (600, 600)
     assert all(b[0] > a[0] for a, b in zip(calls, calls[1:], strict=False))
@@ -257,8 +271,9 @@ def test_cli_writes_figure_and_data(tmp_path: Path, capsys: pytest.CaptureFixtur
     import matplotlib.image
 
     fig, data = tmp_path / "maps.png", tmp_path / "maps.npz"
-    rc = main(["map", "--grid", "30", "--phi", "30", "--out", str(fig), "--data", str(data),
-               "--quiet"])
+    rc = main(
+        ["map", "--grid", "30", "--phi", "30", "--out", str(fig), "--data", str(data), "--quiet"]
+    )
     assert rc == 0
     out = capsys.readouterr().out
     assert "k_phi" in out and "figure written" in out
@@ -273,8 +288,20 @@ def test_cli_writes_figure_and_data(tmp_path: Path, capsys: pytest.CaptureFixtur
 @pytest.mark.parametrize("suffix", [".svg", ".pdf"])
 def test_cli_writes_vector_figures_of_the_right_size(tmp_path: Path, suffix: str) -> None:
     fig, data = tmp_path / f"maps{suffix}", tmp_path / "maps.csv"
-    rc = main(["map", "--grid", "12", "--actuators", "min", "--out", str(fig),
-               "--data", str(data), "--quiet"])
+    rc = main(
+        [
+            "map",
+            "--grid",
+            "12",
+            "--actuators",
+            "min",
+            "--out",
+            str(fig),
+            "--data",
+            str(data),
+            "--quiet",
+        ]
+    )
     assert rc == 0
     assert data.stat().st_size > 12 * 12 * 30
     from ppm_stiffness.visuals.maps import plot_stiffness_maps

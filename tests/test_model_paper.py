@@ -75,8 +75,9 @@ def test_actuator_forces_satisfy_equilibrium(design) -> None:  # type: ignore[no
 
 def test_loaded_actuator_stiffness_eq21(loaded) -> None:  # type: ignore[no-untyped-def]
     # section "Actuation compliance effect": K_act = [1.1108, 0.0516, 0.1912]e5 N/m
-    np.testing.assert_allclose(loaded.actuator_stiffness, PAPER_K_ACT_LOADED, rtol=0,
-                               atol=PAPER_K_ACT_HALF_UNIT)
+    np.testing.assert_allclose(
+        loaded.actuator_stiffness, PAPER_K_ACT_LOADED, rtol=0, atol=PAPER_K_ACT_HALF_UNIT
+    )
     assert loaded.actuator_displacements[0] <= 6e-6  # leg 1 stays locked (~3 N threshold)
 
 
@@ -149,10 +150,12 @@ def test_loaded_principal_stiffnesses_eq35(loaded) -> None:  # type: ignore[no-u
     # 10 N/m (4 significant digits), residuals -5, -62, 0 N/m (docs/model.md)
     f_rr = np.array([939.2, 1686.8, 50.5])
     f_tt = np.array([13850.0, 29550.0, 142290.0])
-    assert np.all(np.abs(dec.rotational_values - f_rr)
-                  <= paper_tolerance(f_rr, 0.05, [0.6, 0.05, 0.1]))
-    assert np.all(np.abs(dec.translational_values - f_tt)
-                  <= paper_tolerance(f_tt, 5.0, [5.0, 62.0, 0.0]))
+    assert np.all(
+        np.abs(dec.rotational_values - f_rr) <= paper_tolerance(f_rr, 0.05, [0.6, 0.05, 0.1])
+    )
+    assert np.all(
+        np.abs(dec.translational_values - f_tt) <= paper_tolerance(f_tt, 5.0, [5.0, 62.0, 0.0])
+    )
     printed = np.array([[-0.9738, 0.2272], [-0.2272, -0.9738]])
     for j in range(2):
         col = dec.rotational_directions[:2, j]

@@ -65,9 +65,7 @@ def test_table4_axes_and_positions() -> None:
         ]
     )
     assert_in_rounding_range(lambda k: eigenscrews(k).axes.ravel(), axes.ravel(), 0.00005)
-    assert_in_rounding_range(
-        lambda k: eigenscrews(k).positions.ravel(), positions.ravel(), 0.00005
-    )
+    assert_in_rounding_range(lambda k: eigenscrews(k).positions.ravel(), positions.ravel(), 0.00005)
 
 
 def test_normalised_screws_eq27_are_eigenvectors_over_eta_norm() -> None:
@@ -100,9 +98,7 @@ def test_decoupled_blocks_eq31() -> None:
 
 
 def test_principal_stiffnesses_eq32() -> None:
-    assert_in_rounding_range(
-        lambda k: decouple(k).rotational_values, [944.1, 1706.3, 193.5], 0.05
-    )
+    assert_in_rounding_range(lambda k: decouple(k).rotational_values, [944.1, 1706.3, 193.5], 0.05)
     assert_in_rounding_range(
         lambda k: decouple(k).translational_values, [34570, 65950, 142290], 5.0
     )

@@ -70,8 +70,7 @@ def test_eigenscrews_pairs_pitch_sign_and_rebuild(pose: np.ndarray) -> None:
     # each eigenvector solves K zeta = lambda Gamma zeta
     for i in range(6):
         z = s.eigenvectors[:, i]
-        np.testing.assert_allclose(k @ z, s.eigenvalues[i] * GAMMA @ z,
-                                   atol=1e-8 * np.abs(k).max())
+        np.testing.assert_allclose(k @ z, s.eigenvalues[i] * GAMMA @ z, atol=1e-8 * np.abs(k).max())
 
 
 @pytest.mark.parametrize("pose", POSES[:15])
@@ -112,16 +111,19 @@ def test_leg_stiffness_bordered_inverse_equals_reciprocal_basis(pose: np.ndarray
 def test_twist_and_wrench_transforms_preserve_power(
     angle: float, p: list[float], t: list[float], w: list[float]
 ) -> None:
-    r = rotation_z(angle) @ np.array([[1, 0, 0], [0, np.cos(1.0), -np.sin(1.0)],
-                                      [0, np.sin(1.0), np.cos(1.0)]])
+    r = rotation_z(angle) @ np.array(
+        [[1, 0, 0], [0, np.cos(1.0), -np.sin(1.0)], [0, np.sin(1.0), np.cos(1.0)]]
+    )
     tb = twist_b_from_twist_a(r, p) @ np.array(t)
     wb = wrench_b_from_wrench_a(r, p) @ np.array(w)
     assert wb @ tb == pytest.approx(np.dot(w, t), abs=1e-12)
 
 
 @settings(max_examples=30, deadline=None)
-@given(v=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
-       b=st.lists(st.floats(-10, 10), min_size=3, max_size=3))
+@given(
+    v=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+    b=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+)
 def test_hat_and_vect(v: list[float], b: list[float]) -> None:
     np.testing.assert_allclose(hat(v) @ np.array(b), np.cross(v, b), atol=1e-9)
     np.testing.assert_allclose(vect(hat(v)), v)

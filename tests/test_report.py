@@ -36,10 +36,26 @@ from ppm_stiffness.visuals.report import DEFAULT_WRENCH, embedded_json  # noqa: 
 
 POSE_ARGS = ["--x", "3", "--y", "-4", "--phi", "0"]  # mm, mm, deg
 POSE = np.array([3e-3, -4e-3, 0.0])
-SECTIONS = ("design", "mechanism", "stiffness", "screw-springs", "decoupling", "loaded",
-            "deflection", "maps")
-FIGURES = ("fig-mechanism", "fig-springs", "fig-springs-loaded", "fig-deflection",
-           "fig-map-0-max", "fig-map-0-min", "fig-map-30-max", "fig-map-30-min")
+SECTIONS = (
+    "design",
+    "mechanism",
+    "stiffness",
+    "screw-springs",
+    "decoupling",
+    "loaded",
+    "deflection",
+    "maps",
+)
+FIGURES = (
+    "fig-mechanism",
+    "fig-springs",
+    "fig-springs-loaded",
+    "fig-deflection",
+    "fig-map-0-max",
+    "fig-map-0-min",
+    "fig-map-30-max",
+    "fig-map-30-min",
+)
 
 
 @pytest.fixture(scope="module")
@@ -55,8 +71,19 @@ def design_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def report(tmp_path_factory: pytest.TempPathFactory, design_file: Path) -> str:
     out = tmp_path_factory.mktemp("report")
-    code = main(["report", "--design", str(design_file), *POSE_ARGS, "--grid", "12",
-                 "--quiet", "--out", str(out)])
+    code = main(
+        [
+            "report",
+            "--design",
+            str(design_file),
+            *POSE_ARGS,
+            "--grid",
+            "12",
+            "--quiet",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     path = out / "report.html"
     assert path.is_file()
@@ -162,25 +189,27 @@ def test_embedded_json_equals_analyze_design(report: str, design_file: Path) -> 
 
 def test_embedded_json_equals_analyze_cli(report: str, design_file: Path, capsys) -> None:
     """... and what ``ppm-stiffness analyze --json`` prints with the same options."""
-    for block, extra in (("analysis-unloaded", []),
-                         ("analysis-loaded", ["--wrench", "5,5,20,0,0,0.1"])):
+    for block, extra in (
+        ("analysis-unloaded", []),
+        ("analysis-loaded", ["--wrench", "5,5,20,0,0,0.1"]),
+    ):
         capsys.readouterr()
-        assert main(["analyze", "--design", str(design_file), *POSE_ARGS, *extra,
-                     "--json"]) == 0
+        assert main(["analyze", "--design", str(design_file), *POSE_ARGS, *extra, "--json"]) == 0
         printed = json.loads(capsys.readouterr().out)
         assert embedded_json(report, block) == printed
 
 
 def test_table_numbers_match_the_embedded_analysis(report: str) -> None:
     """Every traced number of the page equals its JSON value to its printed precision."""
-    blocks = {"unloaded": embedded_json(report, "analysis-unloaded"),
-              "loaded": embedded_json(report, "analysis-loaded")}
+    blocks = {
+        "unloaded": embedded_json(report, "analysis-unloaded"),
+        "loaded": embedded_json(report, "analysis-loaded"),
+    }
     cells = _parse(report).cells
     paths = {c[0] for c in cells}
     # both K matrices in full, all six springs of both, the principal stiffnesses
     for key in ("unloaded", "loaded"):
-        assert all(f"{key}/stiffness_matrix/{i}/{j}" in paths
-                   for i in range(6) for j in range(6))
+        assert all(f"{key}/stiffness_matrix/{i}/{j}" in paths for i in range(6) for j in range(6))
         assert all(f"{key}/eigenscrews/{i}/spring_constant" in paths for i in range(6))
         assert f"{key}/principal/rotational/values/2" in paths
     assert all(f"loaded/actuator_forces/{i}" in paths for i in range(3))
@@ -228,10 +257,21 @@ def test_report_renders_in_headless_chromium(report: str, tmp_path: Path) -> Non
     page = tmp_path / "report.html"
     page.write_text(report, encoding="utf-8")
     shot = tmp_path / "shot.png"
-    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-           "--no-first-run", "--disable-background-networking", "--disable-component-update",
-           "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}",
-           f"--screenshot={shot}", "--window-size=1280,2000", page.resolve().as_uri()]
+    cmd = [
+        browser,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--screenshot={shot}",
+        "--window-size=1280,2000",
+        page.resolve().as_uri(),
+    ]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert shot.is_file(), res.stderr[-2000:]
     img = mpimg.imread(shot)

@@ -61,8 +61,12 @@ def test_equilibrium_twist_balances_the_independent_leg_solvers() -> None:
 
 def test_secant_stiffness_shares_the_load() -> None:
     eq = equilibrium(DESIGN, WRENCH, POSE)
-    delta = np.array([actuator_displacement(leg.actuator, g)
-                      for leg, g in zip(DESIGN.legs, eq.actuator_forces, strict=True)])
+    delta = np.array(
+        [
+            actuator_displacement(leg.actuator, g)
+            for leg, g in zip(DESIGN.legs, eq.actuator_forces, strict=True)
+        ]
+    )
     np.testing.assert_allclose(eq.actuator_displacements, delta, rtol=1e-14)
     np.testing.assert_allclose(eq.secant_stiffness * delta, eq.actuator_forces, rtol=1e-12)
     # the locked linear split (the old loaded state) is measurably wrong here
@@ -76,8 +80,9 @@ def test_three_leg_forces_are_determinate(design) -> None:  # type: ignore[no-un
     iteration, and the same forces as the linear split (the paper's 2.3, 7.3, 5 N)."""
     eq = equilibrium(design, PAPER_WRENCH, np.zeros(3))
     assert eq.iterations == 0
-    np.testing.assert_allclose(eq.actuator_forces, actuator_forces(design, PAPER_WRENCH),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        eq.actuator_forces, actuator_forces(design, PAPER_WRENCH), rtol=1e-12
+    )
     state = loaded_state(design, PAPER_WRENCH)
     np.testing.assert_allclose(state.actuator_forces, eq.actuator_forces, rtol=1e-14)
 
@@ -90,10 +95,12 @@ def test_integration_follows_a_force_back_below_its_threshold() -> None:
     integration kept leg 3 powered (phi_z 0.8 % off the equilibrium)."""
     from ppm_stiffness.legs.parts import ActuatorModel
 
-    paper = ActuatorModel(locked_stiffness=111080.0, k_a=44.75, q=0.225,
-                          threshold_displacement=1e-9)
-    linear = ActuatorModel(locked_stiffness=111080.0, k_a=5000.0, q=1.0,
-                           threshold_displacement=0.3 / 5000.0)
+    paper = ActuatorModel(
+        locked_stiffness=111080.0, k_a=44.75, q=0.225, threshold_displacement=1e-9
+    )
+    linear = ActuatorModel(
+        locked_stiffness=111080.0, k_a=5000.0, q=1.0, threshold_displacement=0.3 / 5000.0
+    )
     legs = [leg.model_copy(update={"actuator": paper}) for leg in DESIGN.legs]
     legs[2] = legs[2].model_copy(update={"actuator": linear})
     design = DESIGN.model_copy(update={"legs": legs})

@@ -70,11 +70,13 @@ def comparisons() -> list:
 
 
 @pytest.mark.parametrize("link", ["proximal", "distal"])
-@pytest.mark.parametrize(("length", "angle_deg"), [(0.02, 0.0), (0.15, 30.0), (0.08, 90.0),
-                                                   (0.2, 217.0)])
+@pytest.mark.parametrize(
+    ("length", "angle_deg"), [(0.02, 0.0), (0.15, 30.0), (0.08, 90.0), (0.2, 217.0)]
+)
 @pytest.mark.parametrize("unit", [1.0, 0.1])
-def test_cantilever_compliance_equals_fe(link: str, length: float, angle_deg: float,
-                                         unit: float) -> None:
+def test_cantilever_compliance_equals_fe(
+    link: str, length: float, angle_deg: float, unit: float
+) -> None:
     """One clamped member in PyNite vs eq. (3c): equal to 1e-6 relative per entry,
     in any in-plane direction and any model length unit."""
     sec = getattr(DESIGN.legs[0], link)
@@ -144,9 +146,13 @@ def test_fe_does_not_use_the_virtual_joint_solver(monkeypatch: pytest.MonkeyPatc
 
     pose = workspace_centre(DESIGN)
     k_vj = stiffness_at_pose(DESIGN, pose)
-    for mod, name in ((beam, "cantilever_compliance"), (solver, "bordered_stiffness"),
-                      (solver, "leg_compliance_at_platform"), (solver, "cartesian_stiffness"),
-                      (chain, "leg_springs")):
+    for mod, name in (
+        (beam, "cantilever_compliance"),
+        (solver, "bordered_stiffness"),
+        (solver, "leg_compliance_at_platform"),
+        (solver, "cartesian_stiffness"),
+        (chain, "leg_springs"),
+    ):
         monkeypatch.setattr(mod, name, broken)
     k_fe = fe_stiffness_at_pose(DESIGN, pose).stiffness
     assert block_difference(k_vj, k_fe, BLOCKS["planar"]) < PLANAR_MEASURED
@@ -163,8 +169,9 @@ def _generic_design() -> Design:
         leg["base_point"] = (c * bx - s * by, s * bx + c * by)
         leg["alpha"] += THETA
         leg["guide"].update(pitch=900.0, yaw=2600.0, lateral=1.7e6)
-        leg["bearing"].update(tilt_lateral=1500.0, tilt_vertical=700.0,
-                              radial_lateral=1.2e6, radial_vertical=3.1e6)
+        leg["bearing"].update(
+            tilt_lateral=1500.0, tilt_vertical=700.0, radial_lateral=1.2e6, radial_vertical=3.1e6
+        )
         leg["distal"].update(inertia_y=1.5e-10, torsion_constant=3.0e-10)
     return design_from_dict(data)
 
@@ -201,8 +208,12 @@ def test_leg_passive_directions_are_free_and_leg_matches(leg: int) -> None:
     k_fe = fe_leg_stiffness(DESIGN, leg, pose)
     k_vj = leg_stiffnesses_at_pose(DESIGN, pose)[leg]
     assert_passive_free(DESIGN, leg, pose, k_fe)
-    np.testing.assert_allclose(length_balanced(k_fe), length_balanced(k_vj), rtol=0,
-                               atol=LEG_MEASURED * np.max(np.abs(length_balanced(k_vj))))
+    np.testing.assert_allclose(
+        length_balanced(k_fe),
+        length_balanced(k_vj),
+        rtol=0,
+        atol=LEG_MEASURED * np.max(np.abs(length_balanced(k_vj))),
+    )
 
 
 def assert_passive_free(design: Design, leg: int, pose: np.ndarray, k_fe: np.ndarray) -> None:
@@ -211,8 +222,9 @@ def assert_passive_free(design: Design, leg: int, pose: np.ndarray, k_fe: np.nda
     built-in design: a 9.8e-3 N reaction, round-off of the 1e11 N/m penalty elements
     (the virtual-joint leg stiffness gives 0 by construction)."""
     model = design.legs[leg]
-    joints = [e for e in model.chain(model.solve(pose))
-              if isinstance(e, chain.Joint) and not e.actuated]
+    joints = [
+        e for e in model.chain(model.solve(pose)) if isinstance(e, chain.Joint) and not e.actuated
+    ]
     passive = np.concatenate([chain.freedom_screws(j) for j in joints], axis=1)
     assert passive.shape[1] >= 2
     scale = 1.0 / BALANCE  # (L, L, L, 1, 1, 1): wrench and twist length-balanced

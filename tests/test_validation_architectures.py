@@ -49,12 +49,12 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 #: the comments (planar, out-of-plane over 6 poses; leg alone: largest |K_fe - K_vj|
 #: over the largest entry, length-balanced, every leg at the centre).
 BOUNDS: dict[str, tuple[float, float, float]] = {
-    "builtin": (5e-6, 1e-4, 1e-4),              # 1.48e-6, 2.99e-5; 2.13e-5
+    "builtin": (5e-6, 1e-4, 1e-4),  # 1.48e-6, 2.99e-5; 2.13e-5
     "symmetric_3ppr.toml": (6e-6, 7e-5, 7e-5),  # 1.94e-6, 2.09e-5; 2.08e-5
     "redundant_4ppr.toml": (5e-6, 7e-5, 7e-5),  # 1.46e-6, 2.08e-5; 2.08e-5
-    "3rpr.toml": (2e-4, 5e-5, 2e-4),            # 6.07e-5, 1.53e-5; 5.82e-5
-    "3prr.toml": (2e-4, 2e-4, 8e-5),            # 5.77e-5, 5.11e-5; 2.36e-5
-    "3rrr.toml": (1.2e-5, 1.2e-4, 6e-5),        # 3.84e-6, 3.83e-5; 1.85e-5
+    "3rpr.toml": (2e-4, 5e-5, 2e-4),  # 6.07e-5, 1.53e-5; 5.82e-5
+    "3prr.toml": (2e-4, 2e-4, 8e-5),  # 5.77e-5, 5.11e-5; 2.36e-5
+    "3rrr.toml": (1.2e-5, 1.2e-4, 6e-5),  # 3.84e-6, 3.83e-5; 1.85e-5
 }
 
 
@@ -118,8 +118,9 @@ def test_revolute_springs_matter_and_agree() -> None:
     pose = workspace_centre(design)
     stiff_c = compare_at_pose(design, pose)
     soft_c = compare_at_pose(soft, pose)
-    change = np.max(np.abs(soft_c.k_virtual_joint - stiff_c.k_virtual_joint)
-                    ) / np.max(np.abs(stiff_c.k_virtual_joint))
+    change = np.max(np.abs(soft_c.k_virtual_joint - stiff_c.k_virtual_joint)) / np.max(
+        np.abs(stiff_c.k_virtual_joint)
+    )
     assert change > 0.1
     assert soft_c.differences["planar"] < BOUNDS["3rrr.toml"][0]
     assert soft_c.differences["out_of_plane"] < BOUNDS["3rrr.toml"][1]
@@ -131,8 +132,10 @@ def test_base_revolute_difference_scales_with_rigidity() -> None:
     (measured planar 5.8e-5 at 1e11 N/m, 5.8e-4 at 1e10)."""
     design = _design("3rpr.toml")
     pose = workspace_centre(design)
-    d = [compare_at_pose(design, pose, settings=FESettings(rigid_stiffness=k)).differences
-         for k in (1e10, 1e11)]
+    d = [
+        compare_at_pose(design, pose, settings=FESettings(rigid_stiffness=k)).differences
+        for k in (1e10, 1e11)
+    ]
     np.testing.assert_allclose(d[0]["planar"] / d[1]["planar"], 10.0, rtol=0.05)
 
 
@@ -148,8 +151,9 @@ def test_bad_input_is_a_library_error() -> None:
     with pytest.raises(DesignError, match="actuator stiffness"):
         fe_stiffness_at_pose(design, centre, actuator_stiffness=-1.0)
     with pytest.raises(DesignError, match="spring"):
-        joint_stiffness(Joint("R", np.array([0.0, 0.0, 1.0]), np.zeros(3),
-                              np.array([1.0, 2.0])), 1.0)
+        joint_stiffness(
+            Joint("R", np.array([0.0, 0.0, 1.0]), np.zeros(3), np.array([1.0, 2.0])), 1.0
+        )
     with pytest.raises(InputDataError):
         sample_reachable_poses(design, -1)
 
@@ -157,19 +161,29 @@ def test_bad_input_is_a_library_error() -> None:
 def test_joint_stiffness_layout() -> None:
     """Free motions 0, rigid inf, springs in the chain's order, actuator on the freedom."""
     z = np.array([0.0, 0.0, 1.0])
-    k = joint_stiffness(Joint("R", z, np.zeros(3), np.array([1.0, 2.0, 3.0, 4.0, 5.0]),
-                              actuated=True), 9.0)
+    k = joint_stiffness(
+        Joint("R", z, np.zeros(3), np.array([1.0, 2.0, 3.0, 4.0, 5.0]), actuated=True), 9.0
+    )
     np.testing.assert_array_equal(k, [9.0, 1.0, 2.0, 3.0, 4.0, 5.0])
     k = joint_stiffness(Joint("C", np.array([1.0, 0.0, 0.0]), np.zeros(3)), 9.0)
     np.testing.assert_array_equal(k, [0.0, np.inf, np.inf, 0.0, np.inf, np.inf])
 
 
 @pytest.mark.parametrize("name", ["3rpr.toml", "3prr.toml", "3rrr.toml"])
-def test_cli_validate_other_architectures(name: str, tmp_path: Path,
-                                          capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_validate_other_architectures(
+    name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "v.csv"
-    argv = ["validate", "--design", str(EXAMPLES / name), "--poses", "5", "--csv", str(out),
-            "--quiet"]
+    argv = [
+        "validate",
+        "--design",
+        str(EXAMPLES / name),
+        "--poses",
+        "5",
+        "--csv",
+        str(out),
+        "--quiet",
+    ]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "planar" in text and "ok" in text

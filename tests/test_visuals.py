@@ -47,7 +47,7 @@ def _lines_by_gid(fig, prefix: str) -> dict[int, np.ndarray]:
         for line in ax.get_lines():
             gid = line.get_gid() or ""
             if gid.startswith(prefix):
-                out[int(gid[len(prefix):])] = np.array(line.get_data_3d()).T
+                out[int(gid[len(prefix) :])] = np.array(line.get_data_3d()).T
     return out
 
 
@@ -55,8 +55,7 @@ def _lines_by_gid(fig, prefix: str) -> dict[int, np.ndarray]:
 def test_spring_axes_pass_through_positions(loaded: bool) -> None:
     """Each drawn axis is the line through p_i along e_i (eq. 9-10), within 1e-12 m."""
     design = default_design()
-    k = (loaded_state(design, PAPER_WRENCH).stiffness_matrix if loaded
-         else stiffness_at_pose(design))
+    k = loaded_state(design, PAPER_WRENCH).stiffness_matrix if loaded else stiffness_at_pose(design)
     springs = eigenscrews(k)
     fig = plot_screw_springs(springs, design)
     axes = _lines_by_gid(fig, AXIS_GID)
@@ -113,16 +112,16 @@ def test_mechanism_drawing_is_the_modelled_geometry() -> None:
         views = mechanism_legs(design, pose)
         fig = plot_mechanism(design, pose)
         ax = fig.axes[0]
-        lines = {ln.get_gid(): np.array(ln.get_xydata()) / 1e3 for ln in ax.get_lines()
-                 if ln.get_gid()}
+        lines = {
+            ln.get_gid(): np.array(ln.get_xydata()) / 1e3 for ln in ax.get_lines() if ln.get_gid()
+        }
         poly = [p for p in ax.patches if p.get_gid() == "platform"][0]
         verts = np.array(poly.get_xy())[:3] / 1e3
         plt.close(fig)
         d = np.array([v.points["D"] for v in views])
         np.testing.assert_allclose(verts, d, atol=1e-12)  # D1-D2-D3 counter-clockwise
         radii = np.linalg.norm(verts - pose[:2], axis=1)
-        np.testing.assert_allclose(radii, [leg.platform_radius for leg in design.legs],
-                                   rtol=1e-12)
+        np.testing.assert_allclose(radii, [leg.platform_radius for leg in design.legs], rtol=1e-12)
         for i, (leg, view) in enumerate(zip(design.legs, views, strict=True), start=1):
             assert view.chain is not None
             guide, bearing = (e for e in view.chain if isinstance(e, Joint) and e.kind != "R")
@@ -135,8 +134,9 @@ def test_mechanism_drawing_is_the_modelled_geometry() -> None:
             assert abs(_cross2(rail[0] - a, u)) < 1e-12
             assert abs(_cross2(rail[1] - rail[0], u)) < 1e-12
             link = lines[f"link-{i}-1"]
-            np.testing.assert_allclose(link, np.stack([view.points["B"], view.points["C"]]),
-                                       atol=1e-12)
+            np.testing.assert_allclose(
+                link, np.stack([view.points["B"], view.points["C"]]), atol=1e-12
+            )
             # bearing C sits bearing_offset along w from the rail point under D
             assert abs((view.points["C"] - a) @ w - leg.bearing_offset) < 1e-12
 
@@ -146,8 +146,7 @@ MAGIC = {".png": b"\x89PNG\r\n\x1a\n", ".pdf": b"%PDF", ".svg": b"<svg"}
 
 @pytest.mark.parametrize("command", ["springs", "mechanism"])
 @pytest.mark.parametrize("suffix", [".png", ".svg", ".pdf"])
-def test_figure_commands_write_requested_format(tmp_path: Path, command: str,
-                                                suffix: str) -> None:
+def test_figure_commands_write_requested_format(tmp_path: Path, command: str, suffix: str) -> None:
     out = tmp_path / f"fig{suffix}"
     assert main([command, "--out", str(out)]) == 0
     data = out.read_bytes()
@@ -164,8 +163,21 @@ def test_figure_commands_write_requested_format(tmp_path: Path, command: str,
 
 def test_springs_command_with_wrench_and_pose(tmp_path: Path, capsys) -> None:
     out = tmp_path / "s.png"
-    code = main(["springs", "--x", "2", "--y", "-3", "--phi", "1",
-                 "--wrench", "5,5,20,0,0,0.1", "--out", str(out)])
+    code = main(
+        [
+            "springs",
+            "--x",
+            "2",
+            "--y",
+            "-3",
+            "--phi",
+            "1",
+            "--wrench",
+            "5,5,20,0,0,0.1",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     assert out.stat().st_size > 5000
     assert "wrote" in capsys.readouterr().out
@@ -208,7 +220,6 @@ def test_analyze_does_not_import_matplotlib() -> None:
         "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'matplotlib')\n"
         "print('MPL', len(bad))\n"
     )
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=120)
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert "MPL 0" in res.stdout

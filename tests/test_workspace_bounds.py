@@ -59,8 +59,9 @@ def test_sampled_bounds_match_a_brute_force_sweep(name: str, phi: float) -> None
 
 @pytest.mark.parametrize("name", ["paper", "symmetric_3ppr", "redundant_4ppr"])
 def test_exact_half_plane_bounds_match_a_brute_force_sweep(name: str) -> None:
-    design = default_design() if name == "paper" else load_design(
-        ROOT / "examples" / f"{name}.toml")
+    design = (
+        default_design() if name == "paper" else load_design(ROOT / "examples" / f"{name}.toml")
+    )
     for phi in (0.0, 0.3):
         assert_matches_sweep(design, phi, workspace_bounds(design, phi), 2.0)
 

@@ -90,10 +90,12 @@ def leg_springs_at_pose(
 
 def actuator_screws_at_pose(design: Design, pose: ArrayLike) -> FloatArray:
     """Unit twist of each leg's actuated joint at P (n_legs, 6): ``G_i = a_i . w_i``."""
-    return np.array([
-        leg.actuator_screw(lp)
-        for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True)
-    ])
+    return np.array(
+        [
+            leg.actuator_screw(lp)
+            for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True)
+        ]
+    )
 
 
 def eigenvalue_ratio(stiffness: ArrayLike) -> FloatArray:

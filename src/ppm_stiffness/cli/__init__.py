@@ -56,8 +56,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _one_line_warning(
-    message: Warning | str, category: type[Warning], filename: str, lineno: int,
-    file: TextIO | None = None, line: str | None = None,
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
 ) -> None:
     """Warnings as one line on stderr, like errors (no source line, no file name)."""
     print(f"ppm-stiffness: warning: {message}", file=sys.stderr)

@@ -38,12 +38,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_wrench_argument(parser)
     add_tool_point_argument(parser)
     parser.add_argument(
-        "--matrix", metavar="FILE.csv",
+        "--matrix",
+        metavar="FILE.csv",
         help="analyse this 6x6 stiffness matrix (SI, order phi_x,phi_y,phi_z,x,y,z) "
         "instead of a design",
     )
     parser.add_argument(
-        "--method", choices=("paper", "least-squares"), default="paper",
+        "--method",
+        choices=("paper", "least-squares"),
+        default="paper",
         help="decoupling shown first (default: the paper's eq. 19)",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
@@ -51,8 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.matrix is not None:
-        if args.design is not None or args.wrench is not None or any(
-            getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point")
+        if (
+            args.design is not None
+            or args.wrench is not None
+            or any(getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point"))
         ):
             raise InputDataError(
                 "--matrix cannot be combined with --design, a pose, --wrench or --tool-point"
@@ -65,8 +70,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         design = load_design_arg(args)
         pose = pose_from_args(args, design)
-        result = analyze_design(design, pose, parse_wrench(args.wrench), args.method,
-                                tool_point_from_args(args, design))
+        result = analyze_design(
+            design, pose, parse_wrench(args.wrench), args.method, tool_point_from_args(args, design)
+        )
         title = design.name
     if args.json:
         print(dump_json(result))
@@ -115,14 +121,18 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             f"phi = {np.degrees(p['phi']):.3f} deg (P in F_b)"
         )
         units = result.get("actuator_units") or [["N", "m", "N/m"]] * len(
-            result["actuator_stiffness"])
-        k_act = ", ".join(f"{v:.6g} {u[2]}" for v, u in
-                          zip(result["actuator_stiffness"], units, strict=True))
+            result["actuator_stiffness"]
+        )
+        k_act = ", ".join(
+            f"{v:.6g} {u[2]}" for v, u in zip(result["actuator_stiffness"], units, strict=True)
+        )
         c.print(f"architecture: {result.get('architecture', '')}; actuator stiffness: {k_act}")
         tool = result.get("tool_point", [0.0, 0.0, 0.0])
         if any(tool):
-            c.print("tool point T (platform frame): ({:.3f}, {:.3f}, {:.3f}) mm; results "
-                    "below are at T".format(*(1e3 * np.asarray(tool))))
+            c.print(
+                "tool point T (platform frame): ({:.3f}, {:.3f}, {:.3f}) mm; results "
+                "below are at T".format(*(1e3 * np.asarray(tool)))
+            )
     if "wrench" in result:
         w = result["wrench"]
         c.print(
@@ -131,33 +141,54 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             )
         )
         units = result["actuator_units"]
-        forces = ", ".join(f"{v:.4g} {u[0]}" for v, u in
-                           zip(result["actuator_forces"], units, strict=True))
+        forces = ", ".join(
+            f"{v:.4g} {u[0]}" for v, u in zip(result["actuator_forces"], units, strict=True)
+        )
         disp = ", ".join(
             f"{v * 1e3:.4g} mm" if u[1] == "m" else f"{np.degrees(v):.4g} deg"
             for v, u in zip(result["actuator_displacements"], units, strict=True)
         )
         c.print(f"actuator forces: {forces}; displacements: {disp}")
         t = result["twist"]
-        c.print("deflection: rotation ({:.4g}, {:.4g}, {:.4g}) mrad, displacement "
-                "({:.4g}, {:.4g}, {:.4g}) µm".format(*(1e3 * np.asarray(t[:3])),
-                                                      *(1e6 * np.asarray(t[3:]))))
+        c.print(
+            "deflection: rotation ({:.4g}, {:.4g}, {:.4g}) mrad, displacement "
+            "({:.4g}, {:.4g}, {:.4g}) µm".format(
+                *(1e3 * np.asarray(t[:3])), *(1e6 * np.asarray(t[3:]))
+            )
+        )
     k = np.asarray(result["stiffness_matrix"])
-    c.print(_matrix_table(
-        "Cartesian stiffness K at " + ("T" if any(result.get("tool_point") or [])
-                                       else "P") + ", axes of F_b (w = K t; t = (phi, u) [rad, m], "
-        "w = (m, f) [N·m, N])",
-        k, TWIST_COMPONENTS, "{:.5g}", _ROW_UNITS,
-    ))
+    c.print(
+        _matrix_table(
+            "Cartesian stiffness K at "
+            + ("T" if any(result.get("tool_point") or []) else "P")
+            + ", axes of F_b (w = K t; t = (phi, u) [rad, m], "
+            "w = (m, f) [N·m, N])",
+            k,
+            TWIST_COMPONENTS,
+            "{:.5g}",
+            _ROW_UNITS,
+        )
+    )
 
-    s = Table(title="Screw springs (eigenscrews of K zeta = lambda Gamma zeta, eq. 5-11)",
-              title_justify="left")
-    for col in ("spring", "lambda [N]", "eigenforce [N]", "k [N/m]", "axis e",
-                "position p [m]", "pitch [m/rad]"):
+    s = Table(
+        title="Screw springs (eigenscrews of K zeta = lambda Gamma zeta, eq. 5-11)",
+        title_justify="left",
+    )
+    for col in (
+        "spring",
+        "lambda [N]",
+        "eigenforce [N]",
+        "k [N/m]",
+        "axis e",
+        "position p [m]",
+        "pitch [m/rad]",
+    ):
         s.add_column(col, justify="right")
     for i, sc in enumerate(result["eigenscrews"], start=1):
         s.add_row(
-            f"s{i}", f"{sc['eigenvalue']:.1f}", f"{sc['eigenforce']:.1f}",
+            f"s{i}",
+            f"{sc['eigenvalue']:.1f}",
+            f"{sc['eigenforce']:.1f}",
             f"{sc['spring_constant']:.0f}",
             _vec(sc["axis"]),
             _vec(sc["position"]),
@@ -165,30 +196,34 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         )
     c.print(s)
 
-    order = [("decoupling", "principal"),
-             ("decoupling_least_squares", "principal_least_squares")]
+    order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":
         order.reverse()
     for key, pkey in order:
         dec, pr = result[key], result[pkey]
         c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
         c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z"), "{:.5g}"))
-        c.print(f"d \\[m] = {_vec(dec['d'], 5)}   residual coupling ||K_rt + D K_tt|| / ||K_rt|| = "
-                f"{dec['residual_coupling']:.4f}")
+        c.print(
+            f"d \\[m] = {_vec(dec['d'], 5)}   residual coupling ||K_rt + D K_tt|| / ||K_rt|| = "
+            f"{dec['residual_coupling']:.4f}"
+        )
         c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
         c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
         pt = Table(title="Principal stiffnesses and directions", title_justify="left")
         for col in ("", "value", "direction"):
             pt.add_column(col, justify="right")
-        for name, block, unit in (("rot", "rotational", "N·m/rad"),
-                                  ("trans", "translational", "N/m")):
+        for name, block, unit in (
+            ("rot", "rotational", "N·m/rad"),
+            ("trans", "translational", "N/m"),
+        ):
             vals = pr[block]["values"]
             dirs = np.asarray(pr[block]["directions"])
             for j in range(3):
-                pt.add_row(f"{name} {j + 1}", f"{vals[j]:.5g} {unit}",
-                           _vec(dirs[j]))
+                pt.add_row(f"{name} {j + 1}", f"{vals[j]:.5g} {unit}", _vec(dirs[j]))
         c.print(pt)
         if pr is result["principal"]:
             r, tr = pr["rotational"]["values"], pr["translational"]["values"]
-            c.print(f"k_phi = {r[2]:.5g} N·m/rad, k_x = {tr[0]:.5g} N/m, "
-                    f"k_y = {tr[1]:.5g} N/m (paper's definitions)")
+            c.print(
+                f"k_phi = {r[2]:.5g} N·m/rad, k_x = {tr[0]:.5g} N/m, "
+                f"k_y = {tr[1]:.5g} N/m (paper's definitions)"
+            )

@@ -25,26 +25,48 @@ HELP = "identify design parameters from a target 6x6 stiffness matrix (bounded l
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--list-parameters", action="store_true",
-                        help="list the design's parameter names and values, then exit")
-    parser.add_argument("--target", metavar="K.csv",
-                        help="target 6x6 stiffness matrix, SI, order phi_x,phi_y,phi_z,x,y,z")
-    parser.add_argument("--free", metavar="NAMES",
-                        help="comma-separated parameters to fit, "
-                        "e.g. leg1.bearing_offset,guide.yaw")
-    parser.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
-                        help="bounds of a free parameter in SI (repeatable)")
+    parser.add_argument(
+        "--list-parameters",
+        action="store_true",
+        help="list the design's parameter names and values, then exit",
+    )
+    parser.add_argument(
+        "--target",
+        metavar="K.csv",
+        help="target 6x6 stiffness matrix, SI, order phi_x,phi_y,phi_z,x,y,z",
+    )
+    parser.add_argument(
+        "--free",
+        metavar="NAMES",
+        help="comma-separated parameters to fit, e.g. leg1.bearing_offset,guide.yaw",
+    )
+    parser.add_argument(
+        "--bound",
+        action="append",
+        default=[],
+        metavar="NAME=LOW:HIGH",
+        help="bounds of a free parameter in SI (repeatable)",
+    )
     add_design_argument(parser)
     add_pose_arguments(parser)
-    parser.add_argument("--sigma", type=float, metavar="S",
-                        help="uncertainty of every target entry in its SI unit (e.g. 5 for a "
-                        "matrix printed to 0.0001e5); default 1%% of sqrt(|T_ii T_jj|), which "
-                        "over-weights entries printed with few digits: for a printed matrix "
-                        "give half its last digit")
-    parser.add_argument("--starts", type=int, default=1,
-                        help="number of starting points (first = the design's values)")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="seed of the random starting points (default 0)")
+    parser.add_argument(
+        "--sigma",
+        type=float,
+        metavar="S",
+        help="uncertainty of every target entry in its SI unit (e.g. 5 for a "
+        "matrix printed to 0.0001e5); default 1%% of sqrt(|T_ii T_jj|), which "
+        "over-weights entries printed with few digits: for a printed matrix "
+        "give half its last digit",
+    )
+    parser.add_argument(
+        "--starts",
+        type=int,
+        default=1,
+        help="number of starting points (first = the design's values)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, help="seed of the random starting points (default 0)"
+    )
     parser.add_argument("--out", metavar="FILE.toml", help="write the calibrated design here")
 
 
@@ -81,20 +103,35 @@ def run(args: argparse.Namespace) -> int:
         raise InputDataError("--starts must be >= 1")
     if args.sigma is not None and not args.sigma > 0:
         raise InputDataError("--sigma must be > 0")
-    result = calibrate(design, target, names, bounds=_parse_bounds(args.bound), pose=pose,
-                       sigma=args.sigma, starts=args.starts, seed=args.seed)
+    result = calibrate(
+        design,
+        target,
+        names,
+        bounds=_parse_bounds(args.bound),
+        pose=pose,
+        sigma=args.sigma,
+        starts=args.starts,
+        seed=args.seed,
+    )
     c = console
     t = Table(title="Fitted parameters (SI)", title_justify="left")
     for col in ("parameter", "start", "fit", "std (1 sigma)", "lower", "upper"):
         t.add_column(col, justify="right")
     for i, n in enumerate(result.names):
         std = result.standard_deviations[i]
-        t.add_row(n, f"{result.initial[i]:.6g}", f"{result.values[i]:.6g}",
-                  "undetermined" if not np.isfinite(std) else f"{std:.3g}",
-                  f"{result.lower[i]:.4g}", f"{result.upper[i]:.4g}")
+        t.add_row(
+            n,
+            f"{result.initial[i]:.6g}",
+            f"{result.values[i]:.6g}",
+            "undetermined" if not np.isfinite(std) else f"{std:.3g}",
+            f"{result.lower[i]:.4g}",
+            f"{result.upper[i]:.4g}",
+        )
     c.print(t)
-    c.print(f"cost = {result.cost:.6g}, weighted RMS residual = {result.weighted_rms:.4g} "
-            f"(residual / sigma over the upper triangle)")
+    c.print(
+        f"cost = {result.cost:.6g}, weighted RMS residual = {result.weighted_rms:.4g} "
+        f"(residual / sigma over the upper triangle)"
+    )
     r = Table(title="Residuals fitted - target (SI: N·m/rad | N | N/m)", title_justify="left")
     r.add_column("")
     for lab in TWIST_COMPONENTS:
@@ -104,8 +141,11 @@ def run(args: argparse.Namespace) -> int:
     c.print(r)
     s = result.singular_values
     condition = f"condition {s[0] / s[-1]:.3g}" if s[-1] > 0 else "condition infinite"
-    c.print("singular values of the scaled Jacobian: "
-            + ", ".join(f"{v:.3g}" for v in s) + f"  ({condition})")
+    c.print(
+        "singular values of the scaled Jacobian: "
+        + ", ".join(f"{v:.3g}" for v in s)
+        + f"  ({condition})"
+    )
     for direction in result.flat_directions():
         parts = ", ".join(f"{n} {v:+.3f}" for n, v in direction.items() if abs(v) > 0.05)
         c.print(f"[yellow]flat direction (target cannot tell apart):[/yellow] {parts}")

@@ -55,7 +55,9 @@ def check_output_path(
 def add_figure_output(parser: argparse.ArgumentParser) -> None:
     """A required ``--out FIG`` option for commands whose product is a figure."""
     parser.add_argument(
-        "--out", metavar="FIG", required=True,
+        "--out",
+        metavar="FIG",
+        required=True,
         help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
     )
 
@@ -93,7 +95,8 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--tool-point", metavar="X,Y,Z",
+        "--tool-point",
+        metavar="X,Y,Z",
         help="report at this point of the platform [mm, platform frame] instead of the "
         "design's tool_point (default: P)",
     )

@@ -50,35 +50,46 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     add_tool_point_argument(parser)
     parser.add_argument(
-        "--mode", choices=MODES + ("wrench",),
+        "--mode",
+        choices=MODES + ("wrench",),
         help="planar force at angle --alpha, pure moment m_z, vertical force f_z (Fig. 9), "
         "or 'wrench': multiples 0..--max of --wrench (default: the measurement file's "
         "mode, else planar-force)",
     )
     parser.add_argument(
-        "--alpha", type=float, default=45.0, metavar="DEG",
+        "--alpha",
+        type=float,
+        default=45.0,
+        metavar="DEG",
         help="direction of the planar force in the xy plane [deg] (default 45, Fig. 10a)",
     )
     parser.add_argument(
-        "--wrench", metavar="FX,FY,FZ,MX,MY,MZ",
+        "--wrench",
+        metavar="FX,FY,FZ,MX,MY,MZ",
         help="with --mode wrench: the wrench of load 1 [N, N·m], axes of F_b, at the tool "
         "point (P by default)",
     )
     parser.add_argument(
-        "--max", type=float, metavar="LOAD",
+        "--max",
+        type=float,
+        metavar="LOAD",
         help="largest load [N, N·m for moment] (default: 10 N, 0.5 N·m, 20 N, 1)",
     )
     parser.add_argument(
         "--step", type=float, metavar="LOAD", help="load step (default: --max / 20)"
     )
     parser.add_argument(
-        "--method", choices=METHODS, default="integrate",
+        "--method",
+        choices=METHODS,
+        default="integrate",
         help="integrate the tangent stiffness along the load (default), its closed form, "
         "or 'linear': the unloaded K (actuators locked) for every load",
     )
     parser.add_argument("--k-a", type=float, metavar="N/m^q", help="override actuator k_a")
     parser.add_argument(
-        "--threshold", type=float, metavar="MM",
+        "--threshold",
+        type=float,
+        metavar="MM",
         help="override the locked-branch threshold of eq. (21) [mm]; 0 with --q 1 makes a "
         "linear actuator of stiffness k_a",
     )
@@ -86,7 +97,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--csv", metavar="FILE", help="write load and the six twist components")
     parser.add_argument("--plot", metavar="FIG", help="write a Fig. 10-like figure")
     parser.add_argument(
-        "--measurements", metavar="FILE.csv",
+        "--measurements",
+        metavar="FILE.csv",
         help="measured deflections to overlay and compare (RMS differences)",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
@@ -112,8 +124,10 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         for name, value in (
             ("actuator.k_a", args.k_a),
             ("actuator.q", args.q),
-            ("actuator.threshold_displacement",
-             None if args.threshold is None else args.threshold * 1e-3),
+            (
+                "actuator.threshold_displacement",
+                None if args.threshold is None else args.threshold * 1e-3,
+            ),
         )
         if value is not None
     }
@@ -139,11 +153,17 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         assert w is not None
         if not np.any(w):
             raise InputDataError("--wrench must not be zero")
-        curve = deflection_path(design, w, loads, pose, args.method,
-                                tool_point=tool_point_from_args(args, design))
+        curve = deflection_path(
+            design, w, loads, pose, args.method, tool_point=tool_point_from_args(args, design)
+        )
     else:
         curve = deflection_curve(
-            design, mode, loads, pose, math.radians(args.alpha), args.method,
+            design,
+            mode,
+            loads,
+            pose,
+            math.radians(args.alpha),
+            args.method,
             tool_point_from_args(args, design),
         )
     return curve, meas
@@ -199,8 +219,10 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         head += f" (α = {math.degrees(curve.alpha):g}°)"
     p = curve.pose
     c.print(head + f", method {curve.method}[/bold]")
-    c.print(f"pose: x = {p[0] * 1e3:.3f} mm, y = {p[1] * 1e3:.3f} mm, "
-            f"phi = {math.degrees(p[2]):.3f} deg")
+    c.print(
+        f"pose: x = {p[0] * 1e3:.3f} mm, y = {p[1] * 1e3:.3f} mm, "
+        f"phi = {math.degrees(p[2]):.3f} deg"
+    )
     t = Table(title=None)
     t.add_column(f"load \\[{unit}]", justify="right")
     for name in TWIST_COMPONENTS:

@@ -24,17 +24,20 @@ HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "data", metavar="DATA.csv",
+        "data",
+        metavar="DATA.csv",
         help="CSV with a header row 'displacement_mm,force_N' (or displacement_m); "
         "'#' lines are comments",
     )
     parser.add_argument("--plot", metavar="FIG", help="write data and fit (PNG, SVG, PDF)")
     parser.add_argument(
-        "--design", metavar="FILE",
+        "--design",
+        metavar="FILE",
         help="design whose other values --write-design keeps (default: the built-in 3-PPR)",
     )
     parser.add_argument(
-        "--write-design", metavar="OUT",
+        "--write-design",
+        metavar="OUT",
         help="write the design with actuator.k_a and actuator.q replaced by the fit",
     )
     parser.add_argument("--json", action="store_true", help="print the fit as one JSON object")
@@ -69,8 +72,12 @@ def run(args: argparse.Namespace) -> int:
         use_headless_backend()
         ref = (design.actuator.k_a, design.actuator.q) if design is not None else None
         fig = plot_actuator_fit(
-            data.displacement_m, data.force_n, fit, ref,
-            title=f"actuator fit: {args.data}", reference_label="design law",
+            data.displacement_m,
+            data.force_n,
+            fit,
+            ref,
+            title=f"actuator fit: {args.data}",
+            reference_label="design law",
         )
         save_figure(fig, args.plot)
     if args.json:
@@ -78,8 +85,10 @@ def run(args: argparse.Namespace) -> int:
         print(dump_json(out))
         return 0
     c = console
-    c.print(f"[bold]actuator law G = k_a δ^q fitted to {escape(args.data)}[/bold] "
-            f"(n = {fit.n}, displacement column in {data.displacement_unit})")
+    c.print(
+        f"[bold]actuator law G = k_a δ^q fitted to {escape(args.data)}[/bold] "
+        f"(n = {fit.n}, displacement column in {data.displacement_unit})"
+    )
     c.print(f"  k_a = {fit.k_a:.4f} ± {fit.k_a_std:.4f} N/m^q   (standard error)")
     c.print(f"  q   = {fit.q:.5f} ± {fit.q_std:.5f}")
     c.print(f"  correlation(k_a, q) = {fit.correlation:.3f}")

@@ -39,18 +39,25 @@ _UNITS = {"k_phi": "N·m/rad", "k_x": "N/m", "k_y": "N/m"}
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     parser.add_argument(
-        "--phi", type=float, metavar="DEG",
+        "--phi",
+        type=float,
+        metavar="DEG",
         help="platform orientation [deg] (default: the design's workspace phi)",
     )
     parser.add_argument(
-        "--actuators", default="max", metavar="max|min|FX,FY,FZ,MX,MY,MZ",
+        "--actuators",
+        default="max",
+        metavar="max|min|FX,FY,FZ,MX,MY,MZ",
         help="'max': actuators locked; 'min': tangent stiffness of eq. (21) under "
         "--reference-force; or a wrench [N, N·m] at the tool point (axes of F_b): the "
         "loaded state at "
         "each pose (default: max); write --actuators=-5,0,... when FX is negative",
     )
     parser.add_argument(
-        "--reference-force", type=float, default=DEFAULT_REFERENCE_FORCE, metavar="N",
+        "--reference-force",
+        type=float,
+        default=DEFAULT_REFERENCE_FORCE,
+        metavar="N",
         help="actuator load that defines 'min', each leg on its own law [N, or N·m for a "
         f"rotary actuator] (default {DEFAULT_REFERENCE_FORCE:g})",
     )
@@ -58,7 +65,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--grid", type=int, default=200, metavar="N", help="N x N grid points (default 200)"
     )
     parser.add_argument(
-        "--bounds", metavar="XMIN,XMAX,YMIN,YMAX",
+        "--bounds",
+        metavar="XMIN,XMAX,YMIN,YMAX",
         help="grid extent [mm] (default: the workspace's bounding box at --phi); write "
         "--bounds=-20,10,-30,30 when the first number is negative",
     )
@@ -119,21 +127,36 @@ def run(args: argparse.Namespace) -> int:
         from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
         bar = Progress(
-            TextColumn("map"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
-            TimeRemainingColumn(), console=err_console, transient=True,
+            TextColumn("map"),
+            BarColumn(),
+            TextColumn("{task.percentage:>3.0f}%"),
+            TimeRemainingColumn(),
+            console=err_console,
+            transient=True,
         )
         task = bar.add_task("map", total=args.grid * args.grid)
         with bar:
             smap = stiffness_map(
-                design, phi=phi, actuators=state, grid=args.grid, wrench=wrench,
+                design,
+                phi=phi,
+                actuators=state,
+                grid=args.grid,
+                wrench=wrench,
                 progress=lambda done, total: bar.update(task, completed=done, total=total),
-                bounds=bounds, reference_force=args.reference_force,
+                bounds=bounds,
+                reference_force=args.reference_force,
                 tool_point=tool_point_from_args(args, design),
             )
     else:
         smap = stiffness_map(
-            design, phi=phi, actuators=state, grid=args.grid, wrench=wrench, bounds=bounds,
-            reference_force=args.reference_force, tool_point=tool_point_from_args(args, design),
+            design,
+            phi=phi,
+            actuators=state,
+            grid=args.grid,
+            wrench=wrench,
+            bounds=bounds,
+            reference_force=args.reference_force,
+            tool_point=tool_point_from_args(args, design),
         )
 
     if not np.any(smap.reachable):
@@ -150,7 +173,8 @@ def run(args: argparse.Namespace) -> int:
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
         + (f" (reference load {args.reference_force:g})" if state == "min" else "")
-        + "; actuator stiffness: " + _values(k_lo)
+        + "; actuator stiffness: "
+        + _values(k_lo)
         + ("" if np.allclose(k_lo, k_hi, equal_nan=True) else f" to {_values(k_hi)}")
     )
     x, y = smap.x * 1e3, smap.y * 1e3

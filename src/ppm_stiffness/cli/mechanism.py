@@ -22,7 +22,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     add_figure_output(parser)
     parser.add_argument(
-        "--allow-unreachable", action="store_true",
+        "--allow-unreachable",
+        action="store_true",
         help="draw a pose outside the legs' limits (each violated limit named in the title; "
         "legs without an inverse-kinematics solution left out) instead of refusing it",
     )

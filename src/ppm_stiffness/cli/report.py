@@ -17,8 +17,10 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, " \
+HELP = (
+    "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, "
     "deflection curves and stiffness maps"
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,7 +29,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_wrench_argument(parser)
     parser.epilog = "Default wrench: the paper's f = [5, 5, 20] N, m_z = 0.1 N·m."
     parser.add_argument(
-        "--grid", type=int, default=60, metavar="N",
+        "--grid",
+        type=int,
+        default=60,
+        metavar="N",
         help="points per axis of the stiffness maps (default 60)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -69,9 +74,8 @@ def run(args: argparse.Namespace) -> int:
         def progress(description: str, fraction: float) -> None:
             bar.update(task, description=description, completed=fraction)
 
-        path = write_report(
-            design, args.out, pose, wrench, args.grid, progress, source=args.design
-        )
-    console.print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, "
-                  f"{time.perf_counter() - start:.1f} s)")
+        path = write_report(design, args.out, pose, wrench, args.grid, progress, source=args.design)
+    console.print(
+        f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, {time.perf_counter() - start:.1f} s)"
+    )
     return 0

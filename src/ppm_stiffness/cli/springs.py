@@ -20,6 +20,7 @@ from ppm_stiffness.cli.common import (
 
 HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
 
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     add_pose_arguments(parser)

@@ -48,20 +48,30 @@ MAX_POSES = 1000
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     parser.add_argument(
-        "--poses", type=int, default=5, metavar="N",
+        "--poses",
+        type=int,
+        default=5,
+        metavar="N",
         help="seeded reachable poses besides the workspace centre (default 5)",
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
     parser.add_argument(
-        "--radius", type=float, default=10.0, metavar="MM",
+        "--radius",
+        type=float,
+        default=10.0,
+        metavar="MM",
         help="poses drawn within +-MM of the centre in x and y (default 10)",
     )
     parser.add_argument(
-        "--angle", type=float, default=5.0, metavar="DEG",
+        "--angle",
+        type=float,
+        default=5.0,
+        metavar="DEG",
         help="poses drawn within +-DEG of the centre orientation (default 5)",
     )
     parser.add_argument(
-        "--csv", metavar="FILE",
+        "--csv",
+        metavar="FILE",
         help="write pose_x_mm, pose_y_mm, phi_deg, block, max_rel_diff (one row per "
         "pose and block)",
     )
@@ -80,9 +90,7 @@ def _check_args(args: argparse.Namespace) -> None:
             raise InputDataError(f"--{name} must be finite and >= 0, got {value}")
 
 
-def _run_poses(
-    design: Design, poses: np.ndarray, args: argparse.Namespace
-) -> list[PoseComparison]:
+def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:
     out: list[PoseComparison] = []
     show = not args.quiet and err_console.is_terminal
     with Progress(console=err_console, disable=not show, transient=True) as progress:
@@ -95,15 +103,27 @@ def _run_poses(
 
 def _table(results: list[PoseComparison]) -> Table:
     table = Table(title="virtual-joint K vs FE frame model (PyNite): max relative difference")
-    for col in ("pose", "x [mm]", "y [mm]", "phi [deg]", "planar", "out-of-plane",
-                "FE [ms]", "VJ [ms]"):
+    for col in (
+        "pose",
+        "x [mm]",
+        "y [mm]",
+        "phi [deg]",
+        "planar",
+        "out-of-plane",
+        "FE [ms]",
+        "VJ [ms]",
+    ):
         table.add_column(escape(col), justify="right")
     for i, r in enumerate(results):
         table.add_row(
             "centre" if i == 0 else str(i),
-            f"{r.pose[0] * 1e3:.3f}", f"{r.pose[1] * 1e3:.3f}", f"{np.degrees(r.pose[2]):.3f}",
-            f"{r.differences['planar']:.2e}", f"{r.differences['out_of_plane']:.2e}",
-            f"{r.time_fe * 1e3:.1f}", f"{r.time_virtual_joint * 1e3:.2f}",
+            f"{r.pose[0] * 1e3:.3f}",
+            f"{r.pose[1] * 1e3:.3f}",
+            f"{np.degrees(r.pose[2]):.3f}",
+            f"{r.differences['planar']:.2e}",
+            f"{r.differences['out_of_plane']:.2e}",
+            f"{r.time_fe * 1e3:.1f}",
+            f"{r.time_virtual_joint * 1e3:.2f}",
         )
     return table
 
@@ -124,8 +144,9 @@ def run(args: argparse.Namespace) -> int:
     check_output_path(args.csv, "--csv", (".csv",))
     require_pynite()
     design = load_design_arg(args)
-    poses = validation_poses(design, args.poses, args.seed, args.radius * 1e-3,
-                             math.radians(args.angle))
+    poses = validation_poses(
+        design, args.poses, args.seed, args.radius * 1e-3, math.radians(args.angle)
+    )
     results = _run_poses(design, poses, args)
     console.print(_table(results))
     ok = True

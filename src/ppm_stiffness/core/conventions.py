@@ -49,9 +49,7 @@ FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
 #: The 6x6 permutation that swaps the rotational and translational halves (eq. 6).
-GAMMA: FloatArray = np.block(
-    [[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]]
-)
+GAMMA: FloatArray = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])
 
 #: The unit vector of the z axis, normal to the plane of motion.
 Z_AXIS: FloatArray = np.array([0.0, 0.0, 1.0])

@@ -112,7 +112,7 @@ def eigenscrews(stiffness: ArrayLike) -> ScrewSprings:
     eta = vec[:3]
     xi = vec[3:]
     axes = (eta / eta_norm).T
-    positions = (np.cross(eta.T, xi.T) / eta_norm[:, None] ** 2)
+    positions = np.cross(eta.T, xi.T) / eta_norm[:, None] ** 2
     pitches = np.einsum("ij,ij->j", eta, xi) / eta_norm**2
     with np.errstate(divide="ignore"):
         spring = np.where(pitches != 0, lam / (2.0 * pitches), np.inf)

@@ -45,8 +45,8 @@ def _format_location(loc: tuple[Any, ...]) -> str:
     for i, part in enumerate(loc):
         if isinstance(part, int) and i > 0 and loc[i - 1] == "legs":
             out[-1] = f"leg{part + 1}"
-        elif i > 1 and isinstance(loc[i - 1], int) and loc[i - 2] == "legs" and (
-            part in leg_types()
+        elif (
+            i > 1 and isinstance(loc[i - 1], int) and loc[i - 2] == "legs" and (part in leg_types())
         ):
             continue  # the discriminator's tag pydantic puts in the location
         else:

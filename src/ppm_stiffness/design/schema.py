@@ -136,8 +136,12 @@ class Design(PartModel):
         part = getattr(leg, parts[1])
         if parts[1] == "actuator":
             force, disp, stiff = leg.actuator_units()
-            return {"locked_stiffness": stiff, "k_a": f"{force}/{disp}^q", "q": "1",
-                    "threshold_displacement": disp}[parts[2]]
+            return {
+                "locked_stiffness": stiff,
+                "k_a": f"{force}/{disp}^q",
+                "q": "1",
+                "threshold_displacement": disp,
+            }[parts[2]]
         return part_units(type(part)).get(parts[2], "")
 
     def with_parameters(self, values: dict[str, float]) -> Design:
@@ -244,10 +248,14 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
                     units.setdefault(name, part_units(type(value)).get(sub, ""))
                 if key == "actuator":
                     force, disp, stiff = leg.actuator_units()
-                    units.update({
-                        "actuator.locked_stiffness": stiff, "actuator.k_a": f"{force}/{disp}^q",
-                        "actuator.q": "1", "actuator.threshold_displacement": disp,
-                    })
+                    units.update(
+                        {
+                            "actuator.locked_stiffness": stiff,
+                            "actuator.k_a": f"{force}/{disp}^q",
+                            "actuator.q": "1",
+                            "actuator.threshold_displacement": disp,
+                        }
+                    )
             else:
                 table.setdefault(key, [None] * len(design.legs))[i] = value
                 units.setdefault(key, type(leg).UNITS.get(key, ""))

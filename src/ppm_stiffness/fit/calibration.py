@@ -189,10 +189,12 @@ def calibrate(
     if unknown:
         raise InputDataError(f"bounds given for parameters that are not free: {sorted(unknown)}")
     units = [design.parameter_unit(n) for n in names]
-    lo = np.array([bnds.get(n, default_bounds(n, v, u))[0]
-                   for n, v, u in zip(names, x0, units, strict=True)])
-    hi = np.array([bnds.get(n, default_bounds(n, v, u))[1]
-                   for n, v, u in zip(names, x0, units, strict=True)])
+    lo = np.array(
+        [bnds.get(n, default_bounds(n, v, u))[0] for n, v, u in zip(names, x0, units, strict=True)]
+    )
+    hi = np.array(
+        [bnds.get(n, default_bounds(n, v, u))[1] for n, v, u in zip(names, x0, units, strict=True)]
+    )
     if np.any(lo >= hi):
         raise InputDataError("each bound must be (low, high) with low < high")
     x0 = np.clip(x0, lo, hi)
@@ -219,8 +221,14 @@ def calibrate(
     best = None
     for start in candidates:
         sol = least_squares(
-            residual, start / scales, bounds=(lo / scales, hi / scales), x_scale=1.0,
-            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200 * len(names),
+            residual,
+            start / scales,
+            bounds=(lo / scales, hi / scales),
+            x_scale=1.0,
+            xtol=1e-12,
+            ftol=1e-12,
+            gtol=1e-12,
+            max_nfev=200 * len(names),
         )
         if best is None or sol.cost < best.cost:
             best = sol

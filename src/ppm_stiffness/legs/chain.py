@@ -120,14 +120,28 @@ def constrained_screws(joint: Joint) -> FloatArray:
     shape = np.broadcast_shapes(np.shape(joint.axis), c.shape)
     e1, e2, e3 = (np.broadcast_to(e, shape) for e in frame_from_axis(joint.axis))
     if joint.kind == "P":
-        cols = [rotation_screw(e1, c), rotation_screw(e2, c), rotation_screw(e3, c),
-                translation_screw(e2), translation_screw(e3)]
+        cols = [
+            rotation_screw(e1, c),
+            rotation_screw(e2, c),
+            rotation_screw(e3, c),
+            translation_screw(e2),
+            translation_screw(e3),
+        ]
     elif joint.kind == "C":
-        cols = [rotation_screw(e2, c), rotation_screw(e3, c),
-                translation_screw(e2), translation_screw(e3)]
+        cols = [
+            rotation_screw(e2, c),
+            rotation_screw(e3, c),
+            translation_screw(e2),
+            translation_screw(e3),
+        ]
     else:
-        cols = [rotation_screw(e2, c), rotation_screw(e3, c), translation_screw(e1),
-                translation_screw(e2), translation_screw(e3)]
+        cols = [
+            rotation_screw(e2, c),
+            rotation_screw(e3, c),
+            translation_screw(e1),
+            translation_screw(e2),
+            translation_screw(e3),
+        ]
     return np.stack(cols, axis=-1)
 
 
@@ -150,8 +164,14 @@ def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:
     length = np.linalg.norm(axis, axis=-1)
     ex, ey, ez = frame_from_axis(axis)
     end = link.end
-    cols = [rotation_screw(ex, end), rotation_screw(ey, end), rotation_screw(ez, end),
-            translation_screw(ex), translation_screw(ey), translation_screw(ez)]
+    cols = [
+        rotation_screw(ex, end),
+        rotation_screw(ey, end),
+        rotation_screw(ez, end),
+        translation_screw(ex),
+        translation_screw(ey),
+        translation_screw(ez),
+    ]
     return np.stack(cols, axis=-1), length
 
 
@@ -188,8 +208,7 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     """
     check_chain(chain)
     batch = np.broadcast_shapes(
-        *[np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1]
-          for e in chain]
+        *[np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1] for e in chain]
     )
     columns: list[FloatArray] = []
     blocks: list[FloatArray] = []  # (..., n, n) compliance blocks, in column order
@@ -200,8 +219,9 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
         if isinstance(element, Link):
             screws, length = link_screws(element)
             columns.append(np.broadcast_to(screws, batch + (6, 6)))
-            blocks.append(np.broadcast_to(
-                cantilever_compliance(element.section, length), batch + (6, 6)))
+            blocks.append(
+                np.broadcast_to(cantilever_compliance(element.section, length), batch + (6, 6))
+            )
             continue
         free = np.broadcast_to(freedom_screws(element), batch + (6, freedom_count(element)))
         if element.actuated:

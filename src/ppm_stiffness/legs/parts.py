@@ -111,16 +111,25 @@ def part_units(model: type[BaseModel]) -> dict[str, str]:
     """SI unit of each field of a part, for reports and tables."""
     units: dict[type[BaseModel], dict[str, str]] = {
         SectionModel: {
-            "young_modulus": "Pa", "shear_modulus": "Pa", "area": "m^2",
-            "torsion_constant": "m^4", "inertia_y": "m^4", "inertia_z": "m^4",
+            "young_modulus": "Pa",
+            "shear_modulus": "Pa",
+            "area": "m^2",
+            "torsion_constant": "m^4",
+            "inertia_y": "m^4",
+            "inertia_z": "m^4",
         },
         GuideModel: {
-            "roll": "N·m/rad", "pitch": "N·m/rad", "yaw": "N·m/rad",
-            "lateral": "N/m", "vertical": "N/m",
+            "roll": "N·m/rad",
+            "pitch": "N·m/rad",
+            "yaw": "N·m/rad",
+            "lateral": "N/m",
+            "vertical": "N/m",
         },
         BearingModel: {
-            "tilt_lateral": "N·m/rad", "tilt_vertical": "N·m/rad",
-            "radial_lateral": "N/m", "radial_vertical": "N/m",
+            "tilt_lateral": "N·m/rad",
+            "tilt_vertical": "N·m/rad",
+            "radial_lateral": "N/m",
+            "radial_vertical": "N/m",
         },
         RevoluteModel: {"tilt": "N·m/rad", "axial": "N/m", "radial": "N/m"},
     }

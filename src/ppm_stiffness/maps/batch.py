@@ -191,9 +191,7 @@ def planar_entries(
         det = s00 * s11 - s01 * s01
         inv = (s11 / det, -s01 / det, s00 / det)
         wb = leg.out_basis
-        cols = [
-            (wb[0, j] + dy * wb[2, j], wb[1, j] - dx * wb[2, j], wb[2, j]) for j in range(2)
-        ]
+        cols = [(wb[0, j] + dy * wb[2, j], wb[1, j] - dx * wb[2, j], wb[2, j]) for j in range(2)]
         for n, (a, b) in enumerate(_PAIRS, start=6):
             acc[n] = acc[n] + (
                 inv[0] * (cols[0][a] * cols[0][b])
@@ -295,9 +293,7 @@ def nonsingular_from_entries(e: PlanarEntries) -> BoolArray:
     """
     s1 = LENGTH_SCALE  # length balancing (conventions): K_rr / L^2, K_rt / L
     s2 = s1 * s1
-    lb_in, tr_in = _block_lower_bound(
-        e.k22 / s2, e.k23 / s1, e.k24 / s1, e.k33, e.k34, e.k44
-    )
+    lb_in, tr_in = _block_lower_bound(e.k22 / s2, e.k23 / s1, e.k24 / s1, e.k33, e.k34, e.k44)
     lb_out, tr_out = _block_lower_bound(
         e.k00 / s2, e.k01 / s2, e.k05 / s1, e.k11 / s2, e.k15 / s1, e.k55
     )
@@ -319,9 +315,7 @@ def nonsingular_from_entries(e: PlanarEntries) -> BoolArray:
 def _eigen_test(stiffness: FloatArray) -> BoolArray:
     """The test of :func:`ppm_stiffness.model.check_nonsingular` on finite K (n, 6, 6)."""
     eig = np.linalg.eigvalsh(length_balanced(stiffness))
-    return np.asarray(
-        (eig[..., -1] > 0) & (eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1])
-    )
+    return np.asarray((eig[..., -1] > 0) & (eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1]))
 
 
 def nonsingular_from_matrices(stiffness: ArrayLike) -> BoolArray:
@@ -544,8 +538,7 @@ def _per_pose_actuator_stiffness(
         k_act = np.broadcast_to(k_in, batch + (n_legs,)).reshape(n, n_legs)
     except ValueError:
         raise DesignError(
-            f"actuator stiffness of shape {k_in.shape} does not fit {n} poses "
-            f"of {n_legs} legs"
+            f"actuator stiffness of shape {k_in.shape} does not fit {n} poses of {n_legs} legs"
         ) from None
     if not np.all(np.isfinite(k_act)) or np.any(k_act <= 0):
         raise DesignError("actuator stiffness must be finite and > 0")

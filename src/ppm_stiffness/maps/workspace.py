@@ -92,9 +92,7 @@ _MAX_DOUBLINGS = 12
 ACTUATOR_STATES = ("max", "min", "wrench")
 
 
-def reachable_positions(
-    design: Design, x: ArrayLike, y: ArrayLike, phi: float
-) -> BoolArray:
+def reachable_positions(design: Design, x: ArrayLike, y: ArrayLike, phi: float) -> BoolArray:
     """Mask of the positions (x, y) [m] (broadcastable) within every leg's joint
     limits at orientation ``phi`` [rad] (IK solvable, coordinates in range)."""
     xb, yb = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
@@ -221,6 +219,7 @@ def _sampled_bounds(design: Design, phi: float) -> FloatArray:
         def f(u: FloatArray, v: FloatArray) -> BoolArray:
             a, b = (v, u) if swap else (u, v)
             return reachable_positions(design, sx * a, sy * b, phi)
+
         return f
 
     x_min = _zoom_min(reach_xy(1.0, 1.0, False), xs, ys, mask)
@@ -282,9 +281,9 @@ def minimum_actuator_stiffness(design: Design, reference_force: float) -> FloatA
     (20)-(21) of the leg's own law under ``reference_force`` [N or N·m]."""
     if not np.isfinite(reference_force) or reference_force <= 0:
         raise InputDataError(f"reference force must be finite and > 0 N, got {reference_force}")
-    return np.array([
-        float(act.stiffness_from_force(leg.actuator, reference_force)) for leg in design.legs
-    ])
+    return np.array(
+        [float(act.stiffness_from_force(leg.actuator, reference_force)) for leg in design.legs]
+    )
 
 
 @dataclass(frozen=True)
@@ -537,8 +536,11 @@ def stiffness_map(
     n_legs = len(design.legs)
     laws = [leg.actuator for leg in design.legs]
     k_locked = locked_actuator_stiffness(design)
-    w = None if wrench is None else np.asarray(
-        np.linalg.solve(shift, validate_wrench(wrench)), dtype=float)
+    w = (
+        None
+        if wrench is None
+        else np.asarray(np.linalg.solve(shift, validate_wrench(wrench)), dtype=float)
+    )
     ref: float | None = None
     if actuators == "max":
         k_const: FloatArray | None = k_locked
@@ -574,11 +576,15 @@ def stiffness_map(
             with np.errstate(all="ignore"):
                 forces = batch.actuator_forces_batch(legs, xr, yc, phi, w, k_locked)
             forces = np.broadcast_to(forces, shape + (n_legs,)).reshape(-1, n_legs)
-            delta = np.stack([act.displacement_from_force(law, forces[:, i])
-                              for i, law in enumerate(laws)], axis=-1)
+            delta = np.stack(
+                [act.displacement_from_force(law, forces[:, i]) for i, law in enumerate(laws)],
+                axis=-1,
+            )
             check_actuator_travel(design, delta)
-            k_act = np.stack([act.stiffness_from_displacement(law, delta[:, i])
-                              for i, law in enumerate(laws)], axis=-1)
+            k_act = np.stack(
+                [act.stiffness_from_displacement(law, delta[:, i]) for i, law in enumerate(laws)],
+                axis=-1,
+            )
         else:
             assert w is not None
             reach = reachable_positions(design, poses[:, 0], poses[:, 1], phi)

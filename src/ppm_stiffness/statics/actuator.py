@@ -74,9 +74,7 @@ def actuator_displacement(law: ActuatorModel, force: ArrayLike) -> FloatArray:
     g_th = threshold_force(law)
     locked = mag / law.locked_stiffness
     powered = (
-        g_th / law.locked_stiffness
-        + displacement_from_force(law, mag)
-        - law.threshold_displacement
+        g_th / law.locked_stiffness + displacement_from_force(law, mag) - law.threshold_displacement
     )
     return np.asarray(np.sign(g) * np.where(mag <= g_th, locked, powered))
 

@@ -153,8 +153,15 @@ def fit_power_law(displacement_m: ArrayLike, force_n: ArrayLike) -> PowerLawFit:
     k0, q0 = _initial_guess(d, g)
     # Fit in (k_a, q) with k_a scaled: x_scale="jac" keeps the problem well balanced.
     sol = least_squares(
-        residual, np.array([k0, q0]), jac=jacobian, bounds=([0.0, 0.0], [np.inf, np.inf]),
-        x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000,
+        residual,
+        np.array([k0, q0]),
+        jac=jacobian,
+        bounds=([0.0, 0.0], [np.inf, np.inf]),
+        x_scale="jac",
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+        max_nfev=2000,
     )
     if sol.status <= 0:
         raise InputDataError(f"the power-law fit did not converge: {sol.message}")

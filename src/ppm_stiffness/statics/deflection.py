@@ -57,8 +57,15 @@ from ppm_stiffness.statics.loading import (
 )
 
 __all__ = [
-    "LOAD_UNITS", "METHODS", "MODES", "DeflectionCurve", "actuator_displacement",
-    "closed_form_twist", "deflection_curve", "deflection_path", "mode_wrench",
+    "LOAD_UNITS",
+    "METHODS",
+    "MODES",
+    "DeflectionCurve",
+    "actuator_displacement",
+    "closed_form_twist",
+    "deflection_curve",
+    "deflection_path",
+    "mode_wrench",
     "threshold_force",
 ]
 
@@ -198,11 +205,14 @@ def _integrate(
         g = state[6:]
         # the branch (locked or powered) is fixed within a piece, so the right-hand
         # side is smooth there; it is chosen at the start of each piece
-        k = np.array([
-            powered_stiffness(leg.actuator, g[i]) if branch[i]
-            else leg.actuator.locked_stiffness
-            for i, leg in enumerate(design.legs)
-        ])
+        k = np.array(
+            [
+                powered_stiffness(leg.actuator, g[i])
+                if branch[i]
+                else leg.actuator.locked_stiffness
+                for i, leg in enumerate(design.legs)
+            ]
+        )
         legs_k = structures.leg_stiffnesses(k)
         dt = np.linalg.solve(legs_k.sum(axis=0), unit_wrench)
         dg = np.einsum("li,lij,j->l", structures.actuator, legs_k, dt)
@@ -235,9 +245,15 @@ def _integrate(
             powered = powered | (at_edge & (grow > 0))
         events = [crossing(i, bool(powered[i])) for i in range(n) if g_th[i] > 0]
         sol = solve_ivp(
-            lambda _load, y, branch: rates(y, branch), (start, top), state,
-            method="DOP853", args=(powered,), rtol=rtol, atol=1e-16,
-            events=events or None, dense_output=True,
+            lambda _load, y, branch: rates(y, branch),
+            (start, top),
+            state,
+            method="DOP853",
+            args=(powered,),
+            rtol=rtol,
+            atol=1e-16,
+            events=events or None,
+            dense_output=True,
         )
         if not sol.success:  # pragma: no cover - DOP853 on a smooth bounded RHS
             raise InputDataError(f"deflection integration failed: {sol.message}")
@@ -333,8 +349,13 @@ def deflection_path(
             twists = np.array([e.twist for e in states])
             forces = np.array([e.actuator_forces for e in states])
         k_act = tangent_stiffnesses(design, forces)
-        disp = np.stack([actuator_displacement(leg.actuator, forces[:, i])
-                         for i, leg in enumerate(design.legs)], axis=-1)
+        disp = np.stack(
+            [
+                actuator_displacement(leg.actuator, forces[:, i])
+                for i, leg in enumerate(design.legs)
+            ],
+            axis=-1,
+        )
     check_actuator_travel(design, disp)
     check_small_rotation(twists)
     return DeflectionCurve(
@@ -382,6 +403,12 @@ def deflection_curve(
     """
     w_hat = mode_wrench(mode, alpha)
     return deflection_path(
-        design, w_hat, loads, pose, method, mode,
-        alpha if mode == "planar-force" else math.nan, tool_point,
+        design,
+        w_hat,
+        loads,
+        pose,
+        method,
+        mode,
+        alpha if mode == "planar-force" else math.nan,
+        tool_point,
     )

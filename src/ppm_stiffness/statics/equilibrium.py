@@ -141,9 +141,9 @@ class LegStructures:
         c6 = np.stack([leg_compliance_at_platform(leg.screws, leg.compliance) for leg in legs])
         outer = np.einsum("li,lj->lij", self.actuator, self.actuator)
         self.structure = c6 - outer / k0[:, None, None]
-        self.rigid_actuator_stiffness = np.stack([
-            bordered_stiffness(s, q) for s, q in zip(self.structure, self.passive, strict=True)
-        ])
+        self.rigid_actuator_stiffness = np.stack(
+            [bordered_stiffness(s, q) for s, q in zip(self.structure, self.passive, strict=True)]
+        )
 
     @property
     def n_legs(self) -> int:

@@ -102,6 +102,12 @@ def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = Non
 
 
 __all__ = [
-    "MAX_ROTATION", "LoadedState", "actuator_forces", "check_actuator_travel",
-    "check_small_rotation", "leg_wrenches", "loaded_state", "validate_wrench",
+    "MAX_ROTATION",
+    "LoadedState",
+    "actuator_forces",
+    "check_actuator_travel",
+    "check_small_rotation",
+    "leg_wrenches",
+    "loaded_state",
+    "validate_wrench",
 ]

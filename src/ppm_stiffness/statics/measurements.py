@@ -188,9 +188,7 @@ def rms_differences(curve: DeflectionCurve, measurements: Measurements) -> dict[
     out: dict[str, Any] = {"n": int(measurements.loads.size), "interpolated": not exact}
     for key, group in (("orientation_deg", ORIENTATION), ("position_mm", POSITION)):
         cols = [i for i in group if i in measurements.components]
-        out[key] = (
-            float(np.sqrt(np.mean(np.sum(err[:, cols] ** 2, axis=1)))) if cols else None
-        )
+        out[key] = float(np.sqrt(np.mean(np.sum(err[:, cols] ** 2, axis=1)))) if cols else None
     out["components"] = {
         COMPONENT_COLUMNS[i]: float(np.sqrt(np.mean(err[:, i] ** 2)))
         for i in measurements.components

@@ -41,7 +41,9 @@ TOLERANCES: dict[str, float] = {"planar": 0.02, "out_of_plane": 0.05}
 
 
 def block_difference(
-    reference: ArrayLike, other: ArrayLike, block: Sequence[int],
+    reference: ArrayLike,
+    other: ArrayLike,
+    block: Sequence[int],
     threshold: float = ENTRY_THRESHOLD,
 ) -> float:
     """Largest relative difference of ``other`` to ``reference`` over one block.
@@ -112,7 +114,9 @@ class PoseComparison:
 
 
 def compare_at_pose(
-    design: Design, pose: ArrayLike, actuator_stiffness: ArrayLike | None = None,
+    design: Design,
+    pose: ArrayLike,
+    actuator_stiffness: ArrayLike | None = None,
     settings: FESettings | None = None,
 ) -> PoseComparison:
     """Virtual-joint and FE stiffness at one pose, compared per block."""
@@ -126,8 +130,9 @@ def compare_at_pose(
         pose=p,
         k_virtual_joint=k_vj,
         k_fe=fe.stiffness,
-        differences={name: block_difference(k_vj, fe.stiffness, idx)
-                     for name, idx in BLOCKS.items()},
+        differences={
+            name: block_difference(k_vj, fe.stiffness, idx) for name, idx in BLOCKS.items()
+        },
         fe_asymmetry=fe.asymmetry,
         fe_cross_coupling=cross_coupling(fe.stiffness),
         time_virtual_joint=t1 - t0,
@@ -136,8 +141,12 @@ def compare_at_pose(
 
 
 def sample_reachable_poses(
-    design: Design, n: int, seed: int = 0, radius: float = 0.01,
-    angle: float = float(np.radians(5.0)), max_tries: int = 1000,
+    design: Design,
+    n: int,
+    seed: int = 0,
+    radius: float = 0.01,
+    angle: float = float(np.radians(5.0)),
+    max_tries: int = 1000,
 ) -> FloatArray:
     """``n`` seeded poses around the workspace centre where the model is defined.
 
@@ -201,16 +210,22 @@ def sample_reachable_poses(
 
 
 def validation_poses(
-    design: Design, n: int, seed: int = 0, radius: float = 0.01,
+    design: Design,
+    n: int,
+    seed: int = 0,
+    radius: float = 0.01,
     angle: float = float(np.radians(5.0)),
 ) -> FloatArray:
     """The workspace centre followed by ``n`` seeded reachable poses; shape (n + 1, 3)."""
-    return np.vstack([workspace_centre(design)[None, :],
-                      sample_reachable_poses(design, n, seed, radius, angle)])
+    return np.vstack(
+        [workspace_centre(design)[None, :], sample_reachable_poses(design, n, seed, radius, angle)]
+    )
 
 
 def compare_poses(
-    design: Design, poses: Iterable[ArrayLike], settings: FESettings | None = None,
+    design: Design,
+    poses: Iterable[ArrayLike],
+    settings: FESettings | None = None,
 ) -> list[PoseComparison]:
     """:func:`compare_at_pose` at each pose (locked actuators)."""
     return [compare_at_pose(design, p, settings=settings) for p in poses]
@@ -221,11 +236,13 @@ def csv_rows(comparisons: Iterable[PoseComparison]) -> list[dict[str, float | st
     rows: list[dict[str, float | str]] = []
     for c in comparisons:
         for name in BLOCKS:
-            rows.append({
-                "pose_x_mm": float(c.pose[0] * 1e3),
-                "pose_y_mm": float(c.pose[1] * 1e3),
-                "phi_deg": float(np.degrees(c.pose[2])),
-                "block": name,
-                "max_rel_diff": c.differences[name],
-            })
+            rows.append(
+                {
+                    "pose_x_mm": float(c.pose[0] * 1e3),
+                    "pose_y_mm": float(c.pose[1] * 1e3),
+                    "phi_deg": float(np.degrees(c.pose[2])),
+                    "block": name,
+                    "max_rel_diff": c.differences[name],
+                }
+            )
     return rows

@@ -92,7 +92,9 @@ __all__ = [
 #: translations along e1, e2, e3. Constrained ones, in the order of the hardware
 #: springs (:mod:`ppm_stiffness.legs.chain`), and freedoms (the actuated one first).
 CONSTRAINED_MOTIONS: dict[str, tuple[int, ...]] = {
-    "P": (0, 1, 2, 4, 5), "C": (1, 2, 4, 5), "R": (1, 2, 3, 4, 5),
+    "P": (0, 1, 2, 4, 5),
+    "C": (1, 2, 4, 5),
+    "R": (1, 2, 3, 4, 5),
 }
 FREE_MOTIONS: dict[str, tuple[int, ...]] = {"P": (3,), "C": (0, 3), "R": (0,)}
 #: Two points closer than this are the same point [m].
@@ -198,8 +200,14 @@ def _rigid(fb: FrameBuilder) -> tuple[float, float]:
 
 
 def _add_joint_rotations(
-    fb: FrameBuilder, plan: _Planner, before: str, after: str, point: FloatArray,
-    frame: tuple[FloatArray, FloatArray, FloatArray], k_rot: FloatArray, label: str,
+    fb: FrameBuilder,
+    plan: _Planner,
+    before: str,
+    after: str,
+    point: FloatArray,
+    frame: tuple[FloatArray, FloatArray, FloatArray],
+    k_rot: FloatArray,
+    label: str,
 ) -> None:
     """Rotational springs of a joint: two moment-only members through X (module doc)."""
     if not np.any(k_rot != 0):
@@ -230,13 +238,24 @@ def _add_joint_rotations(
         raise DesignError(f"FE model, {label}: joint frame is not orthonormal")
     stiff = 2.0 * np.where(np.array(free), 1.0, k)
     fb.moment_member(before, x_node, (x_axis, y_axis), stiff, free)
-    fb.moment_member(after, x_node, (x_axis, y_axis),
-                     2.0 * np.where(np.array(free), hold, k), (False, False, False))
+    fb.moment_member(
+        after,
+        x_node,
+        (x_axis, y_axis),
+        2.0 * np.where(np.array(free), hold, k),
+        (False, False, False),
+    )
 
 
 def _add_joint_translation(
-    fb: FrameBuilder, plan: _Planner, before: str, after: str, point: FloatArray,
-    axis: FloatArray, stiffness: float, label: str,
+    fb: FrameBuilder,
+    plan: _Planner,
+    before: str,
+    after: str,
+    point: FloatArray,
+    axis: FloatArray,
+    stiffness: float,
+    label: str,
 ) -> None:
     """A translational spring along ``axis``: two Spring3D in series through Y."""
     s = fb.s
@@ -267,15 +286,18 @@ def _add_joint_translation(
         holder = fb.ground(pos + s * (across + Z_AXIS) / np.sqrt(2.0))
         fb.axial_spring(y_node, holder, stiffness)
     else:
-        raise DesignError(
-            f"FE model, {label}: joint axes must lie in the plane or along z"
-        )
+        raise DesignError(f"FE model, {label}: joint axes must lie in the plane or along z")
     fb.axial_spring(before, y_node, 2.0 * stiffness)
     fb.axial_spring(y_node, after, 2.0 * stiffness)
 
 
 def _add_joint(
-    fb: FrameBuilder, plan: _Planner, before: str, joint: Joint, k_act: float, label: str,
+    fb: FrameBuilder,
+    plan: _Planner,
+    before: str,
+    joint: Joint,
+    k_act: float,
+    label: str,
 ) -> str:
     """Add one joint after node ``before``; returns the node after it."""
     point = _point(joint.point)
@@ -287,8 +309,9 @@ def _add_joint(
     k_trans = np.where(np.isinf(k[3:]), _rigid(fb)[1], k[3:])
     for i in range(3):
         if k_trans[i] > 0:
-            _add_joint_translation(fb, plan, before, after, point, frame[i],
-                                   float(k_trans[i]), label)
+            _add_joint_translation(
+                fb, plan, before, after, point, frame[i], float(k_trans[i]), label
+            )
     return after
 
 
@@ -312,8 +335,12 @@ def _plan_segments(chain: Sequence[Element], plan: _Planner) -> None:
 
 
 def _add_leg(
-    fb: FrameBuilder, plan: _Planner, chain: Sequence[Element], k_act: float,
-    p_node: str, label: str,
+    fb: FrameBuilder,
+    plan: _Planner,
+    chain: Sequence[Element],
+    k_act: float,
+    p_node: str,
+    label: str,
 ) -> None:
     """Add one leg's chain from the ground to node P (module doc)."""
     if not chain or not isinstance(chain[0], Joint):
@@ -353,8 +380,11 @@ def _add_leg(
 
 
 def build_model(
-    design: Design, pose: ArrayLike, actuator_stiffness: ArrayLike | None = None,
-    settings: FESettings | None = None, legs: tuple[int, ...] | None = None,
+    design: Design,
+    pose: ArrayLike,
+    actuator_stiffness: ArrayLike | None = None,
+    settings: FESettings | None = None,
+    legs: tuple[int, ...] | None = None,
 ) -> tuple[FrameBuilder, str]:
     """The FE model of the manipulator (or of some legs) at ``pose``.
 
@@ -406,7 +436,9 @@ def _balanced_asymmetry(c: FloatArray) -> float:
 
 
 def fe_stiffness_at_pose(
-    design: Design, pose: ArrayLike, actuator_stiffness: ArrayLike | None = None,
+    design: Design,
+    pose: ArrayLike,
+    actuator_stiffness: ArrayLike | None = None,
     settings: FESettings | None = None,
 ) -> FEResult:
     """Cartesian stiffness at P of the FE frame model (unit loads, ``K = inv(C)``).
@@ -435,13 +467,20 @@ def fe_stiffness_at_pose(
     k = np.linalg.inv(c)
     m = fb.model
     return FEResult(
-        stiffness=0.5 * (k + k.T), compliance=c, asymmetry=_balanced_asymmetry(c),
-        n_nodes=len(m.nodes), n_members=len(m.members), n_springs=len(m.springs),
+        stiffness=0.5 * (k + k.T),
+        compliance=c,
+        asymmetry=_balanced_asymmetry(c),
+        n_nodes=len(m.nodes),
+        n_members=len(m.members),
+        n_springs=len(m.springs),
     )
 
 
 def fe_leg_stiffness(
-    design: Design, leg: int, pose: ArrayLike, actuator_stiffness: ArrayLike | None = None,
+    design: Design,
+    leg: int,
+    pose: ArrayLike,
+    actuator_stiffness: ArrayLike | None = None,
     settings: FESettings | None = None,
 ) -> FloatArray:
     """Stiffness at P of one leg alone (with the rigid platform member), by unit

@@ -127,7 +127,10 @@ class FrameBuilder:
             name, section.young_modulus * l2, section.shear_modulus * l2, 0.3, 0.0
         )
         self.model.add_section(
-            name, section.area / l2, section.inertia_y / l4, section.inertia_z / l4,
+            name,
+            section.area / l2,
+            section.inertia_y / l4,
+            section.inertia_z / l4,
             section.torsion_constant / l4,
         )
         return name
@@ -194,8 +197,12 @@ class FrameBuilder:
         return self.segment(a, b, name, "unit")
 
     def moment_member(
-        self, i_node: str, j_node: str, axes: tuple[FloatArray, FloatArray],
-        stiffness: FloatArray, free: tuple[bool, bool, bool],
+        self,
+        i_node: str,
+        j_node: str,
+        axes: tuple[FloatArray, FloatArray],
+        stiffness: FloatArray,
+        free: tuple[bool, bool, bool],
     ) -> str:
         """A member that transmits only a moment: rotational springs in its own axes.
 

@@ -53,7 +53,9 @@ def plot_actuator_fit(
         ax.plot(grid * 1e3, power_law_force(grid, fit.k_a, fit.q), "-", label=label)
         if reference is not None:
             ax.plot(
-                grid * 1e3, power_law_force(grid, *reference), "--",
+                grid * 1e3,
+                power_law_force(grid, *reference),
+                "--",
                 label=f"{reference_label}: k_a = {reference[0]:.4g}, q = {reference[1]:.4g}",
             )
         ax.set_xlabel("actuator displacement |δ| [mm]")

@@ -81,15 +81,23 @@ def plot_deflection_curves(
                 c = cs[k]
                 for n, i in enumerate(comps):
                     ax.plot(
-                        c.loads, c.twists[:, i] * factor, _STYLES[j % len(_STYLES)],
-                        color=colours[n % 10], label=f"{_NAMES[i]} model ({c.method})",
+                        c.loads,
+                        c.twists[:, i] * factor,
+                        _STYLES[j % len(_STYLES)],
+                        color=colours[n % 10],
+                        label=f"{_NAMES[i]} model ({c.method})",
                     )
             for m in meas:
                 for n, i in enumerate(comps):
                     if i in m.components:
                         ax.plot(
-                            m.loads, m.twists[:, i] * factor, "o", ms=4, mfc="none",
-                            color=colours[n % 10], label=f"{_NAMES[i]} measured",
+                            m.loads,
+                            m.twists[:, i] * factor,
+                            "o",
+                            ms=4,
+                            mfc="none",
+                            color=colours[n % 10],
+                            label=f"{_NAMES[i]} measured",
                         )
             ax.set_xlabel(f"load [{unit}]")
             ax.set_ylabel(name)

@@ -47,8 +47,9 @@ def esc(text: Any) -> str:
     return html.escape(str(text), quote=True)
 
 
-def table(head: Sequence[str], rows: Sequence[Sequence[str]], caption: str = "",
-           cls: str = "") -> str:
+def table(
+    head: Sequence[str], rows: Sequence[Sequence[str]], caption: str = "", cls: str = ""
+) -> str:
     """A table; ``rows`` hold ready-made cells (``<td>`` strings) or plain text."""
     out = [f'<table class="{cls}">' if cls else "<table>"]
     if caption:
@@ -61,8 +62,15 @@ def table(head: Sequence[str], rows: Sequence[Sequence[str]], caption: str = "",
     return "".join(out)
 
 
-def matrix(m: Any, path: str, rows: Sequence[str], cols: Sequence[str], sig: int = 5,
-            caption: str = "", cls: str = "") -> str:
+def matrix(
+    m: Any,
+    path: str,
+    rows: Sequence[str],
+    cols: Sequence[str],
+    sig: int = 5,
+    caption: str = "",
+    cls: str = "",
+) -> str:
     a = np.asarray(m, dtype=float)
     ref = float(np.max(np.abs(a))) if a.size else 0.0
     body = [
@@ -95,7 +103,6 @@ def figure_block(uri: str, caption: str, fig_id: str) -> str:
         f'<figure id="{fig_id}"><img src="{uri}" alt="{esc(caption)}">'
         f"<figcaption>{caption}</figcaption></figure>"
     )
-
 
 
 CSS = """

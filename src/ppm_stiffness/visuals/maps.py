@@ -91,8 +91,9 @@ def plot_stiffness_maps(
                 cbar.formatter.set_powerlimits((-3, 4))
                 cbar.update_ticks()
             else:
-                ax.text(0.5, 0.5, "no reachable pose", ha="center", va="center",
-                        transform=ax.transAxes)
+                ax.text(
+                    0.5, 0.5, "no reachable pose", ha="center", va="center", transform=ax.transAxes
+                )
             ax.set_xlim(xs[0], xs[-1])
             ax.set_ylim(ys[0], ys[-1])
             ax.set_xlabel("x [mm]")

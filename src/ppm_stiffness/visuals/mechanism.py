@@ -126,14 +126,16 @@ def mechanism_legs(design: Design, pose: ArrayLike) -> list[LegView]:
     for i, leg in enumerate(design.legs, start=1):
         lp = leg.solve(p)
         solvable = bool(np.all(lp.solvable))
-        out.append(LegView(
-            index=i,
-            leg_pose=lp,
-            points={k: np.asarray(v + origin)[:2] for k, v in lp.points.items()},
-            chain=leg.chain(lp) if solvable else None,
-            base=leg.base_feature(lp),
-            violations=limit_violations(leg, lp),
-        ))
+        out.append(
+            LegView(
+                index=i,
+                leg_pose=lp,
+                points={k: np.asarray(v + origin)[:2] for k, v in lp.points.items()},
+                chain=leg.chain(lp) if solvable else None,
+                base=leg.base_feature(lp),
+                violations=limit_violations(leg, lp),
+            )
+        )
     return out
 
 
@@ -238,9 +240,18 @@ def plot_mechanism(
     d_all = np.array([np.asarray(leg.platform_point(p[2]))[:2] for leg in design.legs]) * MM
     d_all = d_all + centre
     order = platform_order(d_all, centre)
-    ax.add_patch(Polygon(d_all[order], closed=True, facecolor="0.85", edgecolor="0.15", lw=2.0,
-                         zorder=3, gid="platform",
-                         label="platform " + "-".join(f"D{k + 1}" for k in order)))
+    ax.add_patch(
+        Polygon(
+            d_all[order],
+            closed=True,
+            facecolor="0.85",
+            edgecolor="0.15",
+            lw=2.0,
+            zorder=3,
+            gid="platform",
+            label="platform " + "-".join(f"D{k + 1}" for k in order),
+        )
+    )
 
     labelled: set[str] = set()
 
@@ -259,40 +270,82 @@ def plot_mechanism(
         a = np.asarray(v.base.point)[:2] * MM
         out = a - centre
         out = 24.0 * out / max(float(np.linalg.norm(out)), 1e-12)
-        ax.annotate(f"leg {i}", a, xytext=tuple(out), textcoords="offset points", fontsize=9,
-                    color=col, fontweight="bold", ha="center", va="center", zorder=9)
+        ax.annotate(
+            f"leg {i}",
+            a,
+            xytext=tuple(out),
+            textcoords="offset points",
+            fontsize=9,
+            color=col,
+            fontweight="bold",
+            ha="center",
+            va="center",
+            zorder=9,
+        )
         if v.chain is None:
             continue
         links = [e for e in v.chain if isinstance(e, Link)]
         pts = np.array(list(v.points.values())) * MM
         rigid = [k for k in range(len(pts) - 1) if not _is_link(pts[k], pts[k + 1], links, centre)]
         for k in rigid:
-            ax.plot(*pts[k:k + 2].T, color="0.35", lw=1.3, zorder=2, gid=f"rigid-{i}-{k + 1}",
-                    label=once("rigid connection (no link modelled)"))
+            ax.plot(
+                *pts[k : k + 2].T,
+                color="0.35",
+                lw=1.3,
+                zorder=2,
+                gid=f"rigid-{i}-{k + 1}",
+                label=once("rigid connection (no link modelled)"),
+            )
         for j, link in enumerate(links, start=1):
             if link.name not in link_names:
                 link_names.append(link.name)
             style = LINK_STYLES[link_names.index(link.name) % len(LINK_STYLES)]
             seg = np.stack([np.asarray(link.start)[:2], np.asarray(link.end)[:2]]) * MM + centre
             colour = col if style["lw"] > 5 else "0.1"
-            ax.plot(*seg.T, color=colour, zorder=4, gid=f"link-{i}-{j}",
-                    label=once(f"{link.name or 'link'} link"), **style)
+            ax.plot(
+                *seg.T,
+                color=colour,
+                zorder=4,
+                gid=f"link-{i}-{j}",
+                label=once(f"{link.name or 'link'} link"),
+                **style,
+            )
         joints = [e for e in v.chain if isinstance(e, Joint)]
         for j, joint in enumerate(joints, start=1):
             _draw_joint(ax, joint, i, j, col, centre, unit, once)
         for name, pt in v.points.items():
             q = pt * MM
             rel = q - centre
-            off = (7.0, 7.0) if name != "D" else tuple(
-                14.0 * rel / max(float(np.linalg.norm(rel)), 1e-12))
-            ax.annotate(f"{name}{i}", q, xytext=off, textcoords="offset points", fontsize=7,
-                        color="0.15", ha="center", va="center", zorder=9)
+            off = (
+                (7.0, 7.0)
+                if name != "D"
+                else tuple(14.0 * rel / max(float(np.linalg.norm(rel)), 1e-12))
+            )
+            ax.annotate(
+                f"{name}{i}",
+                q,
+                xytext=off,
+                textcoords="offset points",
+                fontsize=7,
+                color="0.15",
+                ha="center",
+                va="center",
+                zorder=9,
+            )
 
     _draw_frames(ax, p, centre, unit)
     ax.scatter(*centre, marker="+", s=90, color="k", zorder=8, gid="P", label="P")
     if has_tool:
-        ax.scatter(*tool, marker="*", s=110, color="gold", edgecolor="k", zorder=8, gid="tool",
-                   label="tool point T")
+        ax.scatter(
+            *tool,
+            marker="*",
+            s=110,
+            color="gold",
+            edgecolor="k",
+            zorder=8,
+            gid="tool",
+            label="tool point T",
+        )
         ax.annotate("T", tool, xytext=(7, -9), textcoords="offset points", fontsize=9)
 
     ax.set_xlim(lo[0], hi[0])
@@ -301,10 +354,14 @@ def plot_mechanism(
     ax.set_xlabel("x [mm] (F_b)")
     ax.set_ylabel("y [mm] (F_b)")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.9,
-              borderaxespad=0.0)
-    ax.set_title(_title(design, p, views, title), fontsize=9,
-                 color="tab:red" if any(v.violations for v in views) else "k")
+    ax.legend(
+        loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.9, borderaxespad=0.0
+    )
+    ax.set_title(
+        _title(design, p, views, title),
+        fontsize=9,
+        color="tab:red" if any(v.violations for v in views) else "k",
+    )
     return fig
 
 
@@ -315,17 +372,21 @@ def _is_link(a: FloatArray, b: FloatArray, links: list[Link], centre: FloatArray
         e = np.asarray(link.end)[:2] * MM + centre
         tol = 1e-9 * max(float(np.linalg.norm(e - s)), 1.0)
         if (np.allclose(a, s, atol=tol) and np.allclose(b, e, atol=tol)) or (
-                np.allclose(a, e, atol=tol) and np.allclose(b, s, atol=tol)):
+            np.allclose(a, e, atol=tol) and np.allclose(b, s, atol=tol)
+        ):
             return True
     return False
 
 
 def _title(design: Design, p: FloatArray, views: list[LegView], head: str | None) -> str:
     """Pose, the joint coordinates of every leg, and what is out of range."""
-    lines = [head or (
-        f"{design.name} ({design.architecture})\npose x = {p[0] * MM:.2f} mm, "
-        f"y = {p[1] * MM:.2f} mm, phi = {np.degrees(p[2]):.2f} deg"
-    )]
+    lines = [
+        head
+        or (
+            f"{design.name} ({design.architecture})\npose x = {p[0] * MM:.2f} mm, "
+            f"y = {p[1] * MM:.2f} mm, phi = {np.degrees(p[2]):.2f} deg"
+        )
+    ]
     names: list[str] = []
     units: dict[str, str] = {}
     for leg in design.legs:
@@ -338,8 +399,9 @@ def _title(design: Design, p: FloatArray, views: list[LegView], head: str | None
         vals = []
         for v in views:
             q = v.leg_pose.coordinates.get(name)
-            vals.append("–" if q is None or not v.solvable
-                        else f"{_display(float(q), units[name])[0]:.1f}")
+            vals.append(
+                "–" if q is None or not v.solvable else f"{_display(float(q), units[name])[0]:.1f}"
+            )
         parts.append(f"{name} [{_display(0.0, units[name])[1]}] = ({', '.join(vals)})")
     lines.append("; ".join(parts))
     bad = [f"leg {v.index}: " + ", ".join(v.violations) for v in views if v.violations]
@@ -348,55 +410,125 @@ def _title(design: Design, p: FloatArray, views: list[LegView], head: str | None
     return "\n".join(lines)
 
 
-def _draw_base(ax: Any, base: BaseFeature, i: int, col: str, lo: FloatArray, hi: FloatArray,
-               unit: float, pivot_r: float, once: Any) -> None:
+def _draw_base(
+    ax: Any,
+    base: BaseFeature,
+    i: int,
+    col: str,
+    lo: FloatArray,
+    hi: FloatArray,
+    unit: float,
+    pivot_r: float,
+    once: Any,
+) -> None:
     """A rail (line across the view, stroke band, end ticks) or a pivot (and arc) [mm]."""
     a = np.asarray(base.point, dtype=float)[:2] * MM
     stroke = _stroke_points(base, pivot_r / MM)
     if base.kind == "rail":
         u = np.asarray(base.axis, dtype=float)[:2]
         s0, s1 = _line_extent(a, u, lo, hi)
-        ax.plot(*(a + np.outer([s0, s1], u)).T, color=col, ls=":", lw=1.0, alpha=0.7,
-                zorder=1, gid=f"base-{i}")
-        ax.scatter(*a, marker="x", s=25, color=col, zorder=2,
-                   label=once("rail origin (actuator coordinate 0)"))
+        ax.plot(
+            *(a + np.outer([s0, s1], u)).T,
+            color=col,
+            ls=":",
+            lw=1.0,
+            alpha=0.7,
+            zorder=1,
+            gid=f"base-{i}",
+        )
+        ax.scatter(
+            *a,
+            marker="x",
+            s=25,
+            color=col,
+            zorder=2,
+            label=once("rail origin (actuator coordinate 0)"),
+        )
         if stroke is not None:
             seg = stroke * MM
-            ax.plot(*seg.T, color=col, lw=5.0, alpha=0.3, solid_capstyle="butt", zorder=1,
-                    gid=f"stroke-{i}", label=once("rail over the actuator stroke"))
+            ax.plot(
+                *seg.T,
+                color=col,
+                lw=5.0,
+                alpha=0.3,
+                solid_capstyle="butt",
+                zorder=1,
+                gid=f"stroke-{i}",
+                label=once("rail over the actuator stroke"),
+            )
             nrm = np.array([-u[1], u[0]]) * 0.3 * unit
             for e in seg:
                 ax.plot(*np.stack([e - nrm, e + nrm]).T, color=col, lw=1.5, zorder=2)
         return
-    ax.scatter(*a, marker="^", s=160, color=col, edgecolor="k", hatch="///", zorder=5,
-               gid=f"base-{i}", label=once("base pivot"))
+    ax.scatter(
+        *a,
+        marker="^",
+        s=160,
+        color=col,
+        edgecolor="k",
+        hatch="///",
+        zorder=5,
+        gid=f"base-{i}",
+        label=once("base pivot"),
+    )
     if stroke is not None:
         arc = stroke * MM
-        ax.plot(*arc.T, color=col, lw=4.0, alpha=0.35, solid_capstyle="butt", zorder=1,
-                gid=f"stroke-{i}", label=once("actuated angle's stroke"))
+        ax.plot(
+            *arc.T,
+            color=col,
+            lw=4.0,
+            alpha=0.35,
+            solid_capstyle="butt",
+            zorder=1,
+            gid=f"stroke-{i}",
+            label=once("actuated angle's stroke"),
+        )
         for e in (arc[0], arc[-1]):
             r = (e - a) / max(float(np.linalg.norm(e - a)), 1e-12) * 0.3 * unit
             ax.plot(*np.stack([e - r, e + r]).T, color=col, lw=1.5, zorder=2)
 
 
-def _draw_joint(ax: Any, joint: Joint, i: int, j: int, col: str, centre: FloatArray,
-                unit: float, once: Any) -> None:
+def _draw_joint(
+    ax: Any, joint: Joint, i: int, j: int, col: str, centre: FloatArray, unit: float, once: Any
+) -> None:
     """A joint's symbol at its point [mm]: slider/sleeve along the axis, ring if actuated."""
     q = np.asarray(joint.point, dtype=float)[:2] * MM + centre
     e = np.asarray(joint.axis, dtype=float)[:2]
     if joint.kind in ("P", "C") and float(np.linalg.norm(e)) > 1e-9:
         e = e / np.linalg.norm(e)
         bar = np.stack([q - 0.45 * unit * e, q + 0.45 * unit * e])
-        ax.plot(*bar.T, color="k" if joint.kind == "C" else col, lw=7.0, alpha=0.8,
-                solid_capstyle="butt", zorder=5)
+        ax.plot(
+            *bar.T,
+            color="k" if joint.kind == "C" else col,
+            lw=7.0,
+            alpha=0.8,
+            solid_capstyle="butt",
+            zorder=5,
+        )
     size = {"R": 45, "P": 70, "C": 55}[joint.kind]
     face = "w" if joint.kind == "R" else col
-    ax.scatter(*q, marker=JOINT_MARKERS[joint.kind], s=size, color=face, edgecolor="k",
-               linewidth=1.0, zorder=7 if joint.kind == "R" else 6, gid=f"joint-{i}-{j}",
-               label=once(JOINT_NAMES[joint.kind]))
+    ax.scatter(
+        *q,
+        marker=JOINT_MARKERS[joint.kind],
+        s=size,
+        color=face,
+        edgecolor="k",
+        linewidth=1.0,
+        zorder=7 if joint.kind == "R" else 6,
+        gid=f"joint-{i}-{j}",
+        label=once(JOINT_NAMES[joint.kind]),
+    )
     if joint.actuated:
-        ax.scatter(*q, marker="o", s=330, facecolor="none", edgecolor="gold", linewidth=2.5,
-                   zorder=5, label=once("actuated joint"))
+        ax.scatter(
+            *q,
+            marker="o",
+            s=330,
+            facecolor="none",
+            edgecolor="gold",
+            linewidth=2.5,
+            zorder=5,
+            label=once("actuated joint"),
+        )
 
 
 def _draw_frames(ax: Any, p: FloatArray, centre: FloatArray, unit: float) -> None:
@@ -406,14 +538,32 @@ def _draw_frames(ax: Any, p: FloatArray, centre: FloatArray, unit: float) -> Non
     frames = [(centre, rot, "p", "k")]
     if float(np.linalg.norm(centre)) > 0.5 * unit:
         frames.insert(0, (np.zeros(2), np.eye(2), "b", "0.5"))
-        ax.annotate("O", (0.0, 0.0), xytext=(-10, -10), textcoords="offset points",
-                    fontsize=9, color="0.5")
+        ax.annotate(
+            "O", (0.0, 0.0), xytext=(-10, -10), textcoords="offset points", fontsize=9, color="0.5"
+        )
     for origin, axes, name, col in frames:
         for j, lab in enumerate(("x", "y")):
-            ax.annotate("", origin + unit * axes[:, j], origin,
-                        arrowprops={"arrowstyle": "-|>", "color": col, "lw": 1.2}, zorder=7)
-            ax.annotate(f"${lab}_{name}$", origin + 1.2 * unit * axes[:, j], fontsize=9,
-                        color=col, ha="center", va="center")
+            ax.annotate(
+                "",
+                origin + unit * axes[:, j],
+                origin,
+                arrowprops={"arrowstyle": "-|>", "color": col, "lw": 1.2},
+                zorder=7,
+            )
+            ax.annotate(
+                f"${lab}_{name}$",
+                origin + 1.2 * unit * axes[:, j],
+                fontsize=9,
+                color=col,
+                ha="center",
+                va="center",
+            )
     at_origin = float(np.linalg.norm(centre)) <= 0.5 * unit
-    ax.annotate("P = O" if at_origin else "P", centre, xytext=(-8, -12),
-                textcoords="offset points", fontsize=9, ha="right")
+    ax.annotate(
+        "P = O" if at_origin else "P",
+        centre,
+        xytext=(-8, -12),
+        textcoords="offset points",
+        fontsize=9,
+        ha="right",
+    )

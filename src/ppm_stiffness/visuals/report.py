@@ -83,14 +83,23 @@ Progress = Callable[[str, float], None]
 # ----------------------------------------------------------------------------- sections
 #: How an SI unit is shown in the report: unit -> (shown unit, scale).
 _DISPLAY_UNITS: dict[str, tuple[str, float]] = {
-    "m": ("mm", 1e3), "rad": ("deg", 180 / math.pi), "Pa": ("GPa", 1e-9),
-    "m^2": ("m²", 1.0), "m^4": ("m⁴", 1.0), "1": ("–", 1.0),
+    "m": ("mm", 1e3),
+    "rad": ("deg", 180 / math.pi),
+    "Pa": ("GPa", 1e-9),
+    "m^2": ("m²", 1.0),
+    "m^4": ("m⁴", 1.0),
+    "1": ("–", 1.0),
 }
 
 
 def _param_text(key: str, value: Any, si_unit: str | None = None) -> tuple[str, str]:
-    si = si_unit if si_unit is not None else ("m" if key in ("centre_x", "centre_y", "tool_point")
-                                             else "rad" if key == "phi" else "")
+    si = (
+        si_unit
+        if si_unit is not None
+        else (
+            "m" if key in ("centre_x", "centre_y", "tool_point") else "rad" if key == "phi" else ""
+        )
+    )
     if key.endswith("threshold_displacement") and si == "m":
         unit, scale = "µm", 1e6
     else:
@@ -120,8 +129,13 @@ def _design_section(design: Design) -> str:
         unit = next((u for t, u in texts if t != "–"), "")
         leg_rows.append([key] + [f'<td class="num">{t}</td>' for t, _ in texts] + [unit])
     legs = design.legs
-    parts.append(_table(["leg parameter"] + [f"leg {i + 1}" for i in range(len(legs))]
-                        + ["unit"], leg_rows, cls="params"))
+    parts.append(
+        _table(
+            ["leg parameter"] + [f"leg {i + 1}" for i in range(len(legs))] + ["unit"],
+            leg_rows,
+            cls="params",
+        )
+    )
     toml = _esc(dump_design(design))
     parts.append(f"<details><summary>Design file (TOML, SI)</summary><pre>{toml}</pre></details>")
     return '<div class="cols">' + "".join(parts[:2]) + "</div>" + parts[2]
@@ -129,8 +143,14 @@ def _design_section(design: Design) -> str:
 
 def _stiffness_table(result: dict[str, Any], key: str, caption: str) -> str:
     cols = [f"{c} [{u}]" for c, u in zip(TWIST_LABELS, ("rad",) * 3 + ("m",) * 3, strict=True)]
-    return _matrix(result["stiffness_matrix"], f"{key}/stiffness_matrix", TWIST_LABELS, cols,
-                   caption=caption, cls="matrix")
+    return _matrix(
+        result["stiffness_matrix"],
+        f"{key}/stiffness_matrix",
+        TWIST_LABELS,
+        cols,
+        caption=caption,
+        cls="matrix",
+    )
 
 
 def _springs_table(result: dict[str, Any], key: str, caption: str) -> str:
@@ -138,16 +158,29 @@ def _springs_table(result: dict[str, Any], key: str, caption: str) -> str:
     for i, s in enumerate(result["eigenscrews"]):
         p = f"{key}/eigenscrews/{i}"
         rows.append(
-            [f"s{i + 1}", _cell(s["eigenvalue"], f"{p}/eigenvalue"),
-             _cell(s["eigenforce"], f"{p}/eigenforce"),
-             _cell(s["spring_constant"], f"{p}/spring_constant"),
-             _cell(s["pitch"], f"{p}/pitch", sig=4),
-             *_vector_cells(s["axis"], f"{p}/axis"),
-             *_vector_cells(s["position"], f"{p}/position", scale=1e3)]
+            [
+                f"s{i + 1}",
+                _cell(s["eigenvalue"], f"{p}/eigenvalue"),
+                _cell(s["eigenforce"], f"{p}/eigenforce"),
+                _cell(s["spring_constant"], f"{p}/spring_constant"),
+                _cell(s["pitch"], f"{p}/pitch", sig=4),
+                *_vector_cells(s["axis"], f"{p}/axis"),
+                *_vector_cells(s["position"], f"{p}/position", scale=1e3),
+            ]
         )
-    head = ["spring", "λ [N]", "κ [N]", "k [N/m]", "pitch h [m/rad]",
-            "e<sub>x</sub>", "e<sub>y</sub>", "e<sub>z</sub>",
-            "p<sub>x</sub> [mm]", "p<sub>y</sub> [mm]", "p<sub>z</sub> [mm]"]
+    head = [
+        "spring",
+        "λ [N]",
+        "κ [N]",
+        "k [N/m]",
+        "pitch h [m/rad]",
+        "e<sub>x</sub>",
+        "e<sub>y</sub>",
+        "e<sub>z</sub>",
+        "p<sub>x</sub> [mm]",
+        "p<sub>y</sub> [mm]",
+        "p<sub>z</sub> [mm]",
+    ]
     return _table(head, rows, caption, cls="springs")
 
 
@@ -177,29 +210,60 @@ def _decoupling_section(result: dict[str, Any], key: str) -> str:
         base = f"{key}/{dkey}"
         d_cells = _vector_cells(dec["d"], f"{base}/d", scale=1e3, sig=4)
         res = _cell(dec["residual_coupling"], f"{base}/residual_coupling", sig=4)
-        block = [f"<h3>Decoupling: {title}</h3>",
-                 _table(["d<sub>x</sub> [mm]", "d<sub>y</sub> [mm]", "d<sub>z</sub> [mm]",
-                         "residual coupling ‖K′<sub>rt</sub>‖/‖K<sub>rt</sub>‖"],
-                        [d_cells + [res]]),
-                 '<div class="cols">',
-                 _matrix(dec["M"], f"{base}/M", ("x", "y", "z"), ("x", "y", "z"),
-                         caption="M [N/m] (eq. 19)"),
-                 _matrix(dec["K_rr"], f"{base}/K_rr", TWIST_LABELS[:3], TWIST_LABELS[:3],
-                         caption="K′<sub>rr</sub> [N·m/rad]"),
-                 _matrix(dec["K_tt"], f"{base}/K_tt", TWIST_LABELS[3:], TWIST_LABELS[3:],
-                         caption="K′<sub>tt</sub> [N/m]"),
-                 "</div>"]
+        block = [
+            f"<h3>Decoupling: {title}</h3>",
+            _table(
+                [
+                    "d<sub>x</sub> [mm]",
+                    "d<sub>y</sub> [mm]",
+                    "d<sub>z</sub> [mm]",
+                    "residual coupling ‖K′<sub>rt</sub>‖/‖K<sub>rt</sub>‖",
+                ],
+                [d_cells + [res]],
+            ),
+            '<div class="cols">',
+            _matrix(
+                dec["M"], f"{base}/M", ("x", "y", "z"), ("x", "y", "z"), caption="M [N/m] (eq. 19)"
+            ),
+            _matrix(
+                dec["K_rr"],
+                f"{base}/K_rr",
+                TWIST_LABELS[:3],
+                TWIST_LABELS[:3],
+                caption="K′<sub>rr</sub> [N·m/rad]",
+            ),
+            _matrix(
+                dec["K_tt"],
+                f"{base}/K_tt",
+                TWIST_LABELS[3:],
+                TWIST_LABELS[3:],
+                caption="K′<sub>tt</sub> [N/m]",
+            ),
+            "</div>",
+        ]
         rows = []
         for blk, unit in (("rotational", "N·m/rad"), ("translational", "N/m")):
             vals, dirs = pr[blk]["values"], np.asarray(pr[blk]["directions"])
             for j in range(3):
                 p = f"{key}/{pkey}/{blk}"
-                cells = [_cell(dirs[j, i], f"{p}/directions/{j}/{i}", sig=4,
-                               ref=float(np.max(np.abs(dirs[j])))) for i in range(3)]
+                cells = [
+                    _cell(
+                        dirs[j, i],
+                        f"{p}/directions/{j}/{i}",
+                        sig=4,
+                        ref=float(np.max(np.abs(dirs[j]))),
+                    )
+                    for i in range(3)
+                ]
                 rows.append([f"{blk} {j + 1}", _cell(vals[j], f"{p}/values/{j}"), unit, *cells])
-        block.append(_table(["principal", "stiffness", "unit", "dir x", "dir y", "dir z"], rows,
-                            caption="Principal stiffnesses (eigenvalues of K′<sub>rr</sub>, "
-                            "K′<sub>tt</sub>) and directions"))
+        block.append(
+            _table(
+                ["principal", "stiffness", "unit", "dir x", "dir y", "dir z"],
+                rows,
+                caption="Principal stiffnesses (eigenvalues of K′<sub>rr</sub>, "
+                "K′<sub>tt</sub>) and directions",
+            )
+        )
         parts.append("".join(block))
     return "".join(parts)
 
@@ -221,27 +285,57 @@ def _actuator_units(design: Design) -> list[tuple[str, str, float, str]]:
 def _loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, Any]) -> str:
     w = loaded["wrench"]
     wrench_rows = [[_cell(w[j], f"loaded/wrench/{j}", sig=4) for j in (3, 4, 5, 0, 1, 2)]]
-    parts = [_table(["f<sub>x</sub> [N]", "f<sub>y</sub> [N]", "f<sub>z</sub> [N]",
-                     "m<sub>x</sub> [N·m]", "m<sub>y</sub> [N·m]", "m<sub>z</sub> [N·m]"],
-                    wrench_rows, caption="Applied wrench at P (axes of F<sub>b</sub>)")]
+    parts = [
+        _table(
+            [
+                "f<sub>x</sub> [N]",
+                "f<sub>y</sub> [N]",
+                "f<sub>z</sub> [N]",
+                "m<sub>x</sub> [N·m]",
+                "m<sub>y</sub> [N·m]",
+                "m<sub>z</sub> [N·m]",
+            ],
+            wrench_rows,
+            caption="Applied wrench at P (axes of F<sub>b</sub>)",
+        )
+    ]
     units = _actuator_units(design)
     shared = len(set(units)) == 1  # one set of units: in the header, else per row
     rows = []
     for i in range(len(loaded["actuator_forces"])):
         force, disp, scale, stiff = units[i]
-        row = [f"leg {i + 1}",
-               _cell(loaded["actuator_forces"][i], f"loaded/actuator_forces/{i}", sig=4),
-               _cell(loaded["actuator_displacements"][i],
-                     f"loaded/actuator_displacements/{i}", scale=scale, sig=4),
-               _cell(unloaded["actuator_stiffness"][i], f"unloaded/actuator_stiffness/{i}"),
-               _cell(loaded["actuator_stiffness"][i], f"loaded/actuator_stiffness/{i}")]
+        row = [
+            f"leg {i + 1}",
+            _cell(loaded["actuator_forces"][i], f"loaded/actuator_forces/{i}", sig=4),
+            _cell(
+                loaded["actuator_displacements"][i],
+                f"loaded/actuator_displacements/{i}",
+                scale=scale,
+                sig=4,
+            ),
+            _cell(unloaded["actuator_stiffness"][i], f"unloaded/actuator_stiffness/{i}"),
+            _cell(loaded["actuator_stiffness"][i], f"loaded/actuator_stiffness/{i}"),
+        ]
         rows.append(row if shared else row + [f"{force}, {disp}, {stiff}"])
     force, disp, _, stiff = units[0]
-    head = (["actuator", f"force G [{force}]", f"displacement δ [{disp}]",
-             f"K<sub>act</sub> unloaded [{stiff}]", f"K<sub>act</sub> loaded [{stiff}]"]
-            if shared else
-            ["actuator", "force G", "displacement δ", "K<sub>act</sub> unloaded",
-             "K<sub>act</sub> loaded", "units (G, δ, K<sub>act</sub>)"])
+    head = (
+        [
+            "actuator",
+            f"force G [{force}]",
+            f"displacement δ [{disp}]",
+            f"K<sub>act</sub> unloaded [{stiff}]",
+            f"K<sub>act</sub> loaded [{stiff}]",
+        ]
+        if shared
+        else [
+            "actuator",
+            "force G",
+            "displacement δ",
+            "K<sub>act</sub> unloaded",
+            "K<sub>act</sub> loaded",
+            "units (G, δ, K<sub>act</sub>)",
+        ]
+    )
     parts.append(_table(head, rows, caption="Actuators under the wrench (eq. 20–21)"))
     parts.append(_stiffness_table(loaded, "loaded", "K under the wrench, at P (compare eq. 33)"))
     return "".join(parts)
@@ -249,8 +343,11 @@ def _loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, 
 
 # ----------------------------------------------------------------------------- assembly
 _STEPS = (
-    ("analysis (unloaded and loaded)", 1.0), ("mechanism picture", 1.0),
-    ("screw-spring pictures", 2.0), ("deflection curves", 2.0), ("stiffness maps", 8.0),
+    ("analysis (unloaded and loaded)", 1.0),
+    ("mechanism picture", 1.0),
+    ("screw-spring pictures", 2.0),
+    ("deflection curves", 2.0),
+    ("stiffness maps", 8.0),
 )
 
 
@@ -317,10 +414,15 @@ def build_report(
 
     step(2)
     spring_uris = [
-        figure_data_uri(plot_screw_springs(
-            eigenscrews(np.asarray(res["stiffness_matrix"])), design, p, title=title))
-        for res, title in ((unloaded, "Screw springs of K, unloaded (Fig. 5)"),
-                           (loaded, "Screw springs of K under the wrench (Table 5)"))
+        figure_data_uri(
+            plot_screw_springs(
+                eigenscrews(np.asarray(res["stiffness_matrix"])), design, p, title=title
+            )
+        )
+        for res, title in (
+            (unloaded, "Screw springs of K, unloaded (Fig. 5)"),
+            (loaded, "Screw springs of K under the wrench (Table 5)"),
+        )
     ]
     finish(2)
 
@@ -335,29 +437,31 @@ def build_report(
 
     map_figs: list[tuple[float, str, str, str]] = []
     n_maps = len(MAP_PHIS_DEG) * len(MAP_ACTUATORS)
-    for m, (phi_deg, acts) in enumerate(
-        (ph, ac) for ph in MAP_PHIS_DEG for ac in MAP_ACTUATORS
-    ):
+    for m, (phi_deg, acts) in enumerate((ph, ac) for ph in MAP_PHIS_DEG for ac in MAP_ACTUATORS):
         step(4, m / n_maps)
 
         def inner(done_poses: int, total_poses: int, m: int = m) -> None:
             step(4, (m + done_poses / max(total_poses, 1)) / n_maps)
 
         try:
-            smap = stiffness_map(design, phi=math.radians(phi_deg), actuators=acts, grid=grid,
-                                 progress=inner)
+            smap = stiffness_map(
+                design, phi=math.radians(phi_deg), actuators=acts, grid=grid, progress=inner
+            )
         except UnreachablePoseError as exc:
             map_figs.append((phi_deg, acts, "", f"no map: {_esc(exc)}"))
             continue
-        title = (f"φ = {phi_deg:g}°, actuators at the {'maximum' if acts == 'max' else 'minimum'}"
-                 " stiffness")
+        title = (
+            f"φ = {phi_deg:g}°, actuators at the {'maximum' if acts == 'max' else 'minimum'}"
+            " stiffness"
+        )
         uri = figure_data_uri(plot_stiffness_maps(smap, title=title))
         map_figs.append((phi_deg, acts, uri, _map_summary(design, smap)))
     finish(4)
     if progress is not None:
         progress("done", 1.0)
-    return _assemble(design, p, unloaded, loaded, mech_uri, spring_uris, defl_uri, map_figs,
-                     grid, source)
+    return _assemble(
+        design, p, unloaded, loaded, mech_uri, spring_uris, defl_uri, map_figs, grid, source
+    )
 
 
 def _map_summary(design: Design, smap: Any) -> str:
@@ -366,29 +470,53 @@ def _map_summary(design: Design, smap: Any) -> str:
     by_unit: dict[str, list[float]] = {}
     for i, (_, _, _, stiff) in enumerate(_actuator_units(design)):
         by_unit.setdefault(stiff, []).append(float(np.nanmin(k_act[:, i])))
-    act_txt = ("actuator stiffness "
-               + ", ".join(f"{format_number(min(v), 5)} {u}" for u, v in by_unit.items())
-               + (f" (tangent stiffness under {smap.reference_force:g} N, eq. 21)"
-                  if getattr(smap, "reference_force", None) else " (locked)"))
+    act_txt = (
+        "actuator stiffness "
+        + ", ".join(f"{format_number(min(v), 5)} {u}" for u, v in by_unit.items())
+        + (
+            f" (tangent stiffness under {smap.reference_force:g} N, eq. 21)"
+            if getattr(smap, "reference_force", None)
+            else " (locked)"
+        )
+    )
     rows = []
     summary = smap.summary()
-    for key, name, unit in (("k_phi", "k<sub>φ</sub>", "N·m/rad"), ("k_x", "k<sub>x</sub>", "N/m"),
-                            ("k_y", "k<sub>y</sub>", "N/m")):
+    for key, name, unit in (
+        ("k_phi", "k<sub>φ</sub>", "N·m/rad"),
+        ("k_x", "k<sub>x</sub>", "N/m"),
+        ("k_y", "k<sub>y</sub>", "N/m"),
+    ):
         st = summary[key]
-        rows.append([name, f'<td class="num">{format_number(st["min"])}</td>',
-                     f'<td class="num">{format_number(st["max"])}</td>',
-                     f'<td class="num">{format_number(st["ratio"], 3)}</td>', unit])
+        rows.append(
+            [
+                name,
+                f'<td class="num">{format_number(st["min"])}</td>',
+                f'<td class="num">{format_number(st["max"])}</td>',
+                f'<td class="num">{format_number(st["ratio"], 3)}</td>',
+                unit,
+            ]
+        )
     x, y = np.asarray(smap.x) * 1e3, np.asarray(smap.y) * 1e3
     reach = float(np.mean(np.asarray(smap.reachable)))
-    cap = (f"{act_txt}; grid x ∈ [{x[0]:.1f}, {x[-1]:.1f}] mm, y ∈ [{y[0]:.1f}, {y[-1]:.1f}] "
-           f"mm, {reach * 100:.0f}% reachable")
+    cap = (
+        f"{act_txt}; grid x ∈ [{x[0]:.1f}, {x[-1]:.1f}] mm, y ∈ [{y[0]:.1f}, {y[-1]:.1f}] "
+        f"mm, {reach * 100:.0f}% reachable"
+    )
     return f'<p class="meta">{cap}</p>' + _table(["", "min", "max", "max/min", "unit"], rows)
 
 
-def _assemble(design: Design, pose: np.ndarray, unloaded: dict[str, Any],
-              loaded: dict[str, Any], mech_uri: str, spring_uris: list[str], defl_uri: str,
-              map_figs: list[tuple[float, str, str, str]], grid: int,
-              source: str | None) -> str:
+def _assemble(
+    design: Design,
+    pose: np.ndarray,
+    unloaded: dict[str, Any],
+    loaded: dict[str, Any],
+    mech_uri: str,
+    spring_uris: list[str],
+    defl_uri: str,
+    map_figs: list[tuple[float, str, str, str]],
+    grid: int,
+    source: str | None,
+) -> str:
     try:
         from importlib.metadata import version
 
@@ -396,58 +524,106 @@ def _assemble(design: Design, pose: np.ndarray, unloaded: dict[str, Any],
     except Exception:  # pragma: no cover - not installed
         ver = "unknown"
     stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
-    pose_txt = (f"x = {pose[0] * 1e3:.3f} mm, y = {pose[1] * 1e3:.3f} mm, "
-                f"φ = {math.degrees(pose[2]):.3f}° (P in F<sub>b</sub>)")
+    pose_txt = (
+        f"x = {pose[0] * 1e3:.3f} mm, y = {pose[1] * 1e3:.3f} mm, "
+        f"φ = {math.degrees(pose[2]):.3f}° (P in F<sub>b</sub>)"
+    )
     w = loaded["wrench"]
-    wrench_txt = (f"f = ({w[3]:g}, {w[4]:g}, {w[5]:g}) N, m = ({w[0]:g}, {w[1]:g}, {w[2]:g}) N·m")
+    wrench_txt = f"f = ({w[3]:g}, {w[4]:g}, {w[5]:g}) N, m = ({w[0]:g}, {w[1]:g}, {w[2]:g}) N·m"
     sections = [
         ("design", "Design parameters", _design_section(design)),
-        ("mechanism", "The mechanism at the pose",
-         _figure(mech_uri, f"Top view of the {_esc(design.architecture)} in F<sub>b</sub> "
-                 "[mm]: each leg's base rail (over the actuator stroke) or base pivot, its "
-                 "links and joints (R circle, P square with slider, C diamond with sleeve; "
-                 "the actuated joint ringed), the platform, P and the frames.",
-                 "fig-mechanism")),
-        ("stiffness", "Cartesian stiffness matrix K (unloaded)",
-         "<p>w = K t at P with the axes of F<sub>b</sub>; t = (φ, u) [rad, m], w = (m, f) "
-         "[N·m, N]. Blocks: K<sub>rr</sub> [N·m/rad], K<sub>rt</sub> [N], K<sub>tt</sub> "
-         "[N/m]; actuators locked (compare eq. 22).</p>"
-         + _stiffness_table(unloaded, "unloaded", "K [SI], unloaded")),
-        ("screw-springs", "Screw springs (eigenscrews, Table 4 and Fig. 5)",
-         _springs_table(unloaded, "unloaded", "Six screw springs of K (unloaded); "
-                        "position p relative to P")
-         + _figure(spring_uris[0], "Screw springs: axes through p along e; helix right-handed "
-                   "for pitch &gt; 0, left-handed for pitch &lt; 0; colour and radius show k.",
-                   "fig-springs")),
-        ("decoupling", "Decoupling and principal stiffnesses (eq. 28–32)",
-         _decoupling_section(unloaded, "unloaded")),
-        ("loaded", f"Loaded case: {wrench_txt} (eq. 33–35, Table 5)",
-         _loaded_section(design, loaded, unloaded)
-         + "<h3>Principal stiffnesses under the wrench</h3>"
-         + _principal_cards(loaded, "loaded")
-         + _springs_table(loaded, "loaded", "Screw springs under the wrench (Table 5)")
-         + _figure(spring_uris[1], "Screw springs under the wrench.", "fig-springs-loaded")
-         + "<details><summary>Decoupling under the wrench</summary>"
-         + _decoupling_section(loaded, "loaded") + "</details>"),
-        ("deflection", "Deflection curves (Figs. 9–10)",
-         _figure(defl_uri, "Platform deflection at the pose under a growing planar force "
-                 "(45°), moment m<sub>z</sub> and vertical force f<sub>z</sub>: with the "
-                 "actuators' law (eq. 20–21) in the loop (integrate) and with the unloaded, "
-                 "locked matrix (linear, as the paper's Fig. 10 model).", "fig-deflection")),
-        ("maps", "Stiffness maps (Figs. 6–7)",
-         f"<p>Principal stiffnesses k<sub>φ</sub>, k<sub>x</sub>, k<sub>y</sub> over the "
-         f"reachable workspace, {grid} × {grid} grid.</p>"
-         + "".join(
-             (_figure(uri, f"φ = {ph:g}°, actuators at their "
-                      f"{'maximum' if ac == 'max' else 'minimum'} stiffness.",
-                      f"fig-map-{ph:g}-{ac}") if uri else f'<p class="note">{note}</p>')
-             + (note if uri else "")
-             for ph, ac, uri, note in map_figs)),
+        (
+            "mechanism",
+            "The mechanism at the pose",
+            _figure(
+                mech_uri,
+                f"Top view of the {_esc(design.architecture)} in F<sub>b</sub> "
+                "[mm]: each leg's base rail (over the actuator stroke) or base pivot, its "
+                "links and joints (R circle, P square with slider, C diamond with sleeve; "
+                "the actuated joint ringed), the platform, P and the frames.",
+                "fig-mechanism",
+            ),
+        ),
+        (
+            "stiffness",
+            "Cartesian stiffness matrix K (unloaded)",
+            "<p>w = K t at P with the axes of F<sub>b</sub>; t = (φ, u) [rad, m], w = (m, f) "
+            "[N·m, N]. Blocks: K<sub>rr</sub> [N·m/rad], K<sub>rt</sub> [N], K<sub>tt</sub> "
+            "[N/m]; actuators locked (compare eq. 22).</p>"
+            + _stiffness_table(unloaded, "unloaded", "K [SI], unloaded"),
+        ),
+        (
+            "screw-springs",
+            "Screw springs (eigenscrews, Table 4 and Fig. 5)",
+            _springs_table(
+                unloaded, "unloaded", "Six screw springs of K (unloaded); position p relative to P"
+            )
+            + _figure(
+                spring_uris[0],
+                "Screw springs: axes through p along e; helix right-handed "
+                "for pitch &gt; 0, left-handed for pitch &lt; 0; colour and radius show k.",
+                "fig-springs",
+            ),
+        ),
+        (
+            "decoupling",
+            "Decoupling and principal stiffnesses (eq. 28–32)",
+            _decoupling_section(unloaded, "unloaded"),
+        ),
+        (
+            "loaded",
+            f"Loaded case: {wrench_txt} (eq. 33–35, Table 5)",
+            _loaded_section(design, loaded, unloaded)
+            + "<h3>Principal stiffnesses under the wrench</h3>"
+            + _principal_cards(loaded, "loaded")
+            + _springs_table(loaded, "loaded", "Screw springs under the wrench (Table 5)")
+            + _figure(spring_uris[1], "Screw springs under the wrench.", "fig-springs-loaded")
+            + "<details><summary>Decoupling under the wrench</summary>"
+            + _decoupling_section(loaded, "loaded")
+            + "</details>",
+        ),
+        (
+            "deflection",
+            "Deflection curves (Figs. 9–10)",
+            _figure(
+                defl_uri,
+                "Platform deflection at the pose under a growing planar force "
+                "(45°), moment m<sub>z</sub> and vertical force f<sub>z</sub>: with the "
+                "actuators' law (eq. 20–21) in the loop (integrate) and with the unloaded, "
+                "locked matrix (linear, as the paper's Fig. 10 model).",
+                "fig-deflection",
+            ),
+        ),
+        (
+            "maps",
+            "Stiffness maps (Figs. 6–7)",
+            f"<p>Principal stiffnesses k<sub>φ</sub>, k<sub>x</sub>, k<sub>y</sub> over the "
+            f"reachable workspace, {grid} × {grid} grid.</p>"
+            + "".join(
+                (
+                    _figure(
+                        uri,
+                        f"φ = {ph:g}°, actuators at their "
+                        f"{'maximum' if ac == 'max' else 'minimum'} stiffness.",
+                        f"fig-map-{ph:g}-{ac}",
+                    )
+                    if uri
+                    else f'<p class="note">{note}</p>'
+                )
+                + (note if uri else "")
+                for ph, ac, uri, note in map_figs
+            ),
+        ),
     ]
-    nav = "<nav><ol>" + "".join(f'<li><a href="#{sid}">{title}</a></li>'
-                                for sid, title, _ in sections) + "</ol></nav>"
-    body = "".join(f'<section id="{sid}"><h2>{title}</h2>{content}</section>'
-                   for sid, title, content in sections)
+    nav = (
+        "<nav><ol>"
+        + "".join(f'<li><a href="#{sid}">{title}</a></li>' for sid, title, _ in sections)
+        + "</ol></nav>"
+    )
+    body = "".join(
+        f'<section id="{sid}"><h2>{title}</h2>{content}</section>'
+        for sid, title, content in sections
+    )
     src = f"design file {_esc(source)}" if source else "built-in design"
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'

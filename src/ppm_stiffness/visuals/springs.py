@@ -97,9 +97,7 @@ def helix_points(
     s = -0.5 * length + length * t / t[-1]
     hand = 1.0 if pitch_sign >= 0 else -1.0
     return np.asarray(
-        p
-        + s[:, None] * e
-        + radius * (np.cos(t)[:, None] * a + hand * np.sin(t)[:, None] * b)
+        p + s[:, None] * e + radius * (np.cos(t)[:, None] * a + hand * np.sin(t)[:, None] * b)
     )
 
 
@@ -147,10 +145,18 @@ def _draw_mechanism_plane(
     poly = d[order]
     ring = np.vstack([poly, poly[:1]])
     ax.add_collection3d(Poly3DCollection([poly], facecolor="0.8", alpha=0.35, edgecolor="none"))
-    ax.plot(ring[:, 0], ring[:, 1], np.zeros(len(ring)), color="0.2", lw=2.0,
-            label="platform " + "-".join(f"D{k + 1}" for k in order))
-    styles = ({"color": "tab:blue", "lw": 2.5, "alpha": 0.6},
-              {"color": "0.45", "lw": 1.5, "alpha": 0.9})
+    ax.plot(
+        ring[:, 0],
+        ring[:, 1],
+        np.zeros(len(ring)),
+        color="0.2",
+        lw=2.0,
+        label="platform " + "-".join(f"D{k + 1}" for k in order),
+    )
+    styles = (
+        {"color": "tab:blue", "lw": 2.5, "alpha": 0.6},
+        {"color": "0.45", "lw": 1.5, "alpha": 0.9},
+    )
     labelled: set[str] = set()
     for i, (leg, g) in enumerate(zip(design.legs, geoms, strict=True), start=1):
         dd = g.points["D"] * MM

@@ -101,8 +101,10 @@ class ReducedLeg:
         """Mask of the joint values inside the stroke and the rod length range."""
         r, length = np.asarray(rho), np.asarray(rod)
         return np.asarray(
-            (r >= self.stroke[0]) & (r <= self.stroke[1])
-            & (length >= self.rod_length_range[0]) & (length <= self.rod_length_range[1])
+            (r >= self.stroke[0])
+            & (r <= self.stroke[1])
+            & (length >= self.rod_length_range[0])
+            & (length <= self.rod_length_range[1])
         )
 
 

@@ -69,9 +69,15 @@ class PPRLeg(LegModel):
         "rod": Coordinate("rod free length", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS, "base_point": "m", "alpha": "rad", "beta": "rad",
-        "bearing_offset": "m", "guide_offset_u": "m", "guide_offset_w": "m",
-        "stroke": "m", "rod_length_range": "m",
+        **LegModel.UNITS,
+        "base_point": "m",
+        "alpha": "rad",
+        "beta": "rad",
+        "bearing_offset": "m",
+        "guide_offset_u": "m",
+        "guide_offset_w": "m",
+        "stroke": "m",
+        "rod_length_range": "m",
     }
     DESCRIPTION: ClassVar[str] = (
         "actuated prismatic on a rail, rod sliding in a bearing, revolute at the platform"
@@ -93,8 +99,12 @@ class PPRLeg(LegModel):
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The rail through ``base_point`` along u, over the stroke (pose-independent)."""
-        return BaseFeature("rail", planar(np.asarray(self.base_point)), self.directions()[0],
-                           (float(self.stroke[0]), float(self.stroke[1])))
+        return BaseFeature(
+            "rail",
+            planar(np.asarray(self.base_point)),
+            self.directions()[0],
+            (float(self.stroke[0]), float(self.stroke[1])),
+        )
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke, "rod": self.rod_length_range}
@@ -128,10 +138,13 @@ class PPRLeg(LegModel):
             Link(pts["B"], pts["C"], self.proximal.section(), name="proximal"),
             Joint("C", w, pts["C"], self.bearing.stiffnesses(), name="bearing"),
             Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
-            Joint("R", Z_AXIS, pts["D"],
-                  None if self.platform_revolute is None
-                  else self.platform_revolute.stiffnesses(),
-                  name="platform_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["D"],
+                None if self.platform_revolute is None else self.platform_revolute.stiffnesses(),
+                name="platform_revolute",
+            ),
         ]
 
     def reduced_form(self) -> Any | None:

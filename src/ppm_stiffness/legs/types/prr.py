@@ -56,8 +56,12 @@ class PRRLeg(LegModel):
         "rho": Coordinate("actuator coordinate", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS, "base_point": "m", "alpha": "rad", "link_length": "m",
-        "stroke": "m", "branch": "1",
+        **LegModel.UNITS,
+        "base_point": "m",
+        "alpha": "rad",
+        "link_length": "m",
+        "stroke": "m",
+        "branch": "1",
     }
     DESCRIPTION: ClassVar[str] = (
         "actuated prismatic on a rail, revolute on the carriage, link, platform revolute"
@@ -74,8 +78,12 @@ class PRRLeg(LegModel):
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The rail through ``base_point`` along u, over the stroke (pose-independent)."""
-        return BaseFeature("rail", planar(np.asarray(self.base_point)), self.rail_direction(),
-                           (float(self.stroke[0]), float(self.stroke[1])))
+        return BaseFeature(
+            "rail",
+            planar(np.asarray(self.base_point)),
+            self.rail_direction(),
+            (float(self.stroke[0]), float(self.stroke[1])),
+        )
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke}
@@ -104,9 +112,19 @@ class PRRLeg(LegModel):
         u = self.rail_direction()
         return [
             Joint("P", u, pts["C"], self.guide.stiffnesses(), actuated=True, name="guide"),
-            Joint("R", Z_AXIS, pts["C"], joint_springs(self.carriage_revolute),
-                  name="carriage_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["C"],
+                joint_springs(self.carriage_revolute),
+                name="carriage_revolute",
+            ),
             Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
-            Joint("R", Z_AXIS, pts["D"], joint_springs(self.platform_revolute),
-                  name="platform_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["D"],
+                joint_springs(self.platform_revolute),
+                name="platform_revolute",
+            ),
         ]

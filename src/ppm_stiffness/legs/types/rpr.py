@@ -54,7 +54,10 @@ class RPRLeg(LegModel):
         "rho": Coordinate("pivot distance |AD|", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS, "base_point": "m", "housing_length": "m", "stroke": "m",
+        **LegModel.UNITS,
+        "base_point": "m",
+        "housing_length": "m",
+        "stroke": "m",
     }
     DESCRIPTION: ClassVar[str] = (
         "base revolute, actuated prismatic along the leg, revolute at the platform"
@@ -97,6 +100,11 @@ class RPRLeg(LegModel):
             Link(pts["A"], pts["C"], self.proximal.section(), name="proximal"),
             Joint("P", e, pts["C"], self.guide.stiffnesses(), actuated=True, name="guide"),
             Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
-            Joint("R", Z_AXIS, pts["D"], joint_springs(self.platform_revolute),
-                  name="platform_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["D"],
+                joint_springs(self.platform_revolute),
+                name="platform_revolute",
+            ),
         ]

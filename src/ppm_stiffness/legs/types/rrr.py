@@ -59,14 +59,17 @@ class RRRLeg(LegModel):
         "theta": Coordinate("actuator angle", "rad"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS, "base_point": "m", "proximal_length": "m", "distal_length": "m",
-        "stroke": "rad", "branch": "1",
+        **LegModel.UNITS,
+        "base_point": "m",
+        "proximal_length": "m",
+        "distal_length": "m",
+        "stroke": "rad",
+        "branch": "1",
     }
     ACTUATED_KIND: ClassVar[str] = "R"
     ACTUATED_COORDINATE: ClassVar[str] = "theta"
     DESCRIPTION: ClassVar[str] = (
-        "actuated base revolute, proximal link, elbow revolute, distal link, "
-        "platform revolute"
+        "actuated base revolute, proximal link, elbow revolute, distal link, platform revolute"
     )
 
     @model_validator(mode="after")
@@ -79,8 +82,12 @@ class RRRLeg(LegModel):
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The actuated pivot at ``base_point`` with the stroke of theta (pose-independent)."""
-        return BaseFeature("pivot", planar(np.asarray(self.base_point)), np.zeros(3),
-                           (float(self.stroke[0]), float(self.stroke[1])))
+        return BaseFeature(
+            "pivot",
+            planar(np.asarray(self.base_point)),
+            np.zeros(3),
+            (float(self.stroke[0]), float(self.stroke[1])),
+        )
 
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"theta": self.stroke}
@@ -111,12 +118,22 @@ class RRRLeg(LegModel):
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
         pts = leg_pose.points
         return [
-            Joint("R", Z_AXIS, pts["A"], joint_springs(self.base_revolute), actuated=True,
-                  name="base_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["A"],
+                joint_springs(self.base_revolute),
+                actuated=True,
+                name="base_revolute",
+            ),
             Link(pts["A"], pts["C"], self.proximal.section(), name="proximal"),
-            Joint("R", Z_AXIS, pts["C"], joint_springs(self.elbow_revolute),
-                  name="elbow_revolute"),
+            Joint("R", Z_AXIS, pts["C"], joint_springs(self.elbow_revolute), name="elbow_revolute"),
             Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
-            Joint("R", Z_AXIS, pts["D"], joint_springs(self.platform_revolute),
-                  name="platform_revolute"),
+            Joint(
+                "R",
+                Z_AXIS,
+                pts["D"],
+                joint_springs(self.platform_revolute),
+                name="platform_revolute",
+            ),
         ]
