@@ -76,7 +76,7 @@ from ppm_stiffness.statics import actuator as act
 #: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
 DEFAULT_REFERENCE_FORCE = 10.0
 #: Poses evaluated at once by :func:`stiffness_map` on the reduced path (memory bound);
-#: the general path uses :data:`ppm_stiffness.maps.batch.GENERAL_CHUNK`.
+#: the others use :func:`ppm_stiffness.maps.batch.default_chunk`.
 DEFAULT_CHUNK = batch.REDUCED_CHUNK
 #: Relative inward margin of the grid so that no grid point lies on a joint limit.
 _EDGE_MARGIN = 1e-9
@@ -490,13 +490,13 @@ def stiffness_map(
     reference_force : float
         [N, or N·m for a rotary actuator], defines the "min" state.
     chunk_size : int, optional
-        Poses per chunk (memory bound: about 1 kB per pose on the reduced path, 6 kB
-        per pose and leg on the general path); default
-        :data:`~ppm_stiffness.maps.batch.REDUCED_CHUNK` or
-        :data:`~ppm_stiffness.maps.batch.GENERAL_CHUNK`.
-    path : {"auto", "reduced", "general"}
+        Poses per chunk (memory bound: about 1 kB per pose on the reduced path, 2 kB
+        on the planar engine, 6 kB per pose and leg on the general path); default
+        :func:`~ppm_stiffness.maps.batch.default_chunk`.
+    path : {"auto", "reduced", "planar", "general"}
         :func:`ppm_stiffness.maps.batch.select_path`: the reduced P-P-R form when every
-        leg offers it ("auto"), or the general path for any leg type.
+        leg offers it, else the planar engine ("auto"); or the general path (the
+        reference) for any leg type.
     tool_point : array_like (3,), optional
         Platform frame [m]; ``design.tool_point`` if None. The principal stiffnesses are
         those of K at that point (a wrench of the "wrench" state acts there too); the
@@ -551,8 +551,9 @@ def stiffness_map(
         k_const = None
     # the batched locked statics split the load right only for a non-redundant design
     batched_wrench = legs is not None and n_legs == 3
+    planar = path != "general"
     if chunk_size is None:
-        chunk_size = batch.REDUCED_CHUNK if legs is not None else batch.GENERAL_CHUNK
+        chunk_size = batch.default_chunk(legs, planar)
     ny, nx = y.size, x.size
     rows = max(1, int(chunk_size) // nx)
     k_phi, k_x, k_y = (np.empty((ny, nx)) for _ in range(3))
@@ -596,8 +597,11 @@ def stiffness_map(
                 pr = batch.principal_from_entries(entries)
             ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
         else:
-            k_p, _, ok, pr = batch.evaluate_chunk(design, legs, poses, k_act)
+            k_p, _, ok, pr, _ = batch.chunk_result(
+                design, legs, poses, k_act, planar, matrices=at_tool
+            )
             if at_tool:
+                assert k_p is not None
                 k_t = shift @ np.where(ok[:, None, None], k_p, np.eye(6)) @ shift.T
                 pr = batch.principal_from_matrices(k_t)
         if loaded_ok is not None:
