@@ -90,11 +90,13 @@ from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 
 __all__ = [
     "IN_PLANE",
+    "LoadedBatch",
     "OUT_OF_PLANE",
     "ReducedLeg",
     "reduce_design",
     "reduce_leg",
     "reduced_design",
+    "loaded_poses",
 ]
 
 #: Poses per chunk of the general path (about 6 kB per pose and leg of temporaries).
@@ -770,3 +772,8 @@ def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatA
     krt_t = np.swapaxes(krt, -1, -2)
     new_rr = krr - krt @ dd + dd @ (krt_t - ktt @ dd)
     return d, new_rr, ktt.copy()
+
+
+# The batched loaded state lives in its own module (it builds on this one); it is
+# re-exported here so that ``maps.batch.loaded_poses`` is the batch API's one place.
+from ppm_stiffness.maps.loaded import LoadedBatch, loaded_poses  # noqa: E402

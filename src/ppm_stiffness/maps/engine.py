@@ -202,11 +202,13 @@ class Block:
 @dataclass(frozen=True)
 class ReducedBlock:
     """``W`` (columns, block vectors), ``W^T S W`` (r x r, upper triangle row by row)
-    and ``v = W^T a`` (r entries, or None) of one block; r = 3 - p."""
+    and ``v = W^T a`` (r entries, or None) of one block; r = 3 - p. ``twist`` is the
+    actuator's unit twist ``a`` (block vector) when it acts in this block."""
 
     basis: list[Vec3]
     compliance: list[Scalar]
     actuator: list[Scalar] | None
+    twist: Vec3 | None = None
 
 
 @dataclass(frozen=True)
@@ -339,7 +341,7 @@ def sym_get(s: Sym3, i: int, j: int) -> Scalar:
 def _reduce(block: Block) -> ReducedBlock:
     basis = _basis(block.passive)
     if basis is None:
-        return ReducedBlock([], [], None)
+        return ReducedBlock([], [], None, block.actuator)
     s = block.compliance
     sw = [
         (
@@ -352,7 +354,7 @@ def _reduce(block: Block) -> ReducedBlock:
     r = len(basis)
     m = [dot3(basis[a], sw[b]) for a in range(r) for b in range(a, r)]
     v = None if block.actuator is None else [dot3(w, block.actuator) for w in basis]
-    return ReducedBlock(basis, m, v)
+    return ReducedBlock(basis, m, v, block.actuator)
 
 
 def leg_blocks(chain: Sequence[Element]) -> LegBlocks | None:
@@ -408,6 +410,16 @@ def sym3_inverse(m: Sym3) -> Sym3:
     det = add(add(mul(a, c00), mul(b, c01)), mul(c, c02))
     inv = 1.0 / det
     return [mul(x, inv) for x in (c00, c01, c02, c11, c12, c22)]
+
+
+def sym3_apply(m: Sym3, v: Vec3) -> Vec3:
+    """``m @ v`` for a symmetric 3x3 ``m`` (upper triangle)."""
+    a, b, c, d, e, f = m
+    return (
+        dot3((a, b, c), v),
+        dot3((b, d, e), v),
+        dot3((c, e, f), v),
+    )
 
 
 def leg_stiffness_blocks(leg: LegBlocks, actuator_stiffness: Scalar | None) -> tuple[Sym3, Sym3]:

@@ -46,9 +46,9 @@ Actuator states of a map (``actuators``), each leg with its own actuator law
     pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
     statics, then eq. (20)-(21). For a 3-leg design whose legs offer the reduced form
     (3-PPR) the locked statics are batched (the split is determinate); for any other
-    design (more than 3 legs, or the general path) each reachable pose calls
-    ``loaded_state(design, wrench, pose).actuator_stiffness`` in a Python loop (about
-    2-5 ms per pose), so wrench maps of those designs are slow on large grids.
+    design (more than 3 legs, or not on the reduced path) the loaded state of every
+    reachable pose is batched by :func:`ppm_stiffness.maps.loaded.loaded_poses` (the
+    same equilibrium, Newton's method run on all poses at once).
 """
 
 from __future__ import annotations
@@ -64,8 +64,8 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
 from ppm_stiffness.core.errors import (
     DesignError,
+    EquilibriumError,
     InputDataError,
-    SingularConfigurationError,
     UnreachablePoseError,
 )
 from ppm_stiffness.design import Design
@@ -437,19 +437,41 @@ def load_npz(path: str | Path) -> StiffnessMap:
 def _wrench_actuator_stiffness(
     design: Design, wrench: FloatArray, poses: FloatArray, reachable: BoolArray
 ) -> tuple[FloatArray, BoolArray]:
-    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), one
-    :func:`~ppm_stiffness.statics.loading.loaded_state` per reachable pose (a Python
-    loop); the second array is False where the loaded state is singular. Unreachable
-    poses get the locked values (they are masked anyway)."""
-    from ppm_stiffness.statics.loading import loaded_state
+    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), the loaded state
+    of :func:`~ppm_stiffness.statics.loading.loaded_state` at every reachable pose
+    (batched: :func:`ppm_stiffness.maps.loaded.loaded_poses`); the second array is False
+    where the loaded state is singular. Unreachable poses get the locked values (they
+    are masked anyway).
+
+    Raises
+    ------
+    InputDataError
+        Where ``loaded_state`` would (an actuator beyond its stroke, a rotation beyond
+        the small-displacement model).
+    EquilibriumError
+        Where Newton's method does not converge.
+    """
+    from ppm_stiffness.maps.loaded import loaded_poses
+    from ppm_stiffness.model import pose_label
+    from ppm_stiffness.statics.loading import check_actuator_travel, check_small_rotation
 
     k_act = np.tile(locked_actuator_stiffness(design), (poses.shape[0], 1))
-    ok = np.array(reachable, dtype=bool, copy=True)
-    for n in np.flatnonzero(reachable):
-        try:
-            k_act[n] = loaded_state(design, wrench, poses[n]).actuator_stiffness
-        except SingularConfigurationError:
-            ok[n] = False
+    ok = np.zeros(poses.shape[0], dtype=bool)
+    index = np.flatnonzero(reachable)
+    if index.size == 0:
+        return k_act, ok
+    res = loaded_poses(design, poses[index], wrench)
+    failed = res.reachable & ~res.singular & ~res.solved
+    if np.any(failed):
+        raise EquilibriumError(
+            "no equilibrium found after Newton iterations"
+            + pose_label(poses[index[int(np.argmax(failed))]])
+        )
+    solved = res.solved
+    check_actuator_travel(design, res.actuator_displacements.data[solved])
+    check_small_rotation(res.twist.data[solved])
+    k_act[index[solved]] = res.actuator_stiffness.data[solved]
+    ok[index] = res.valid
     return k_act, ok
 
 
@@ -481,8 +503,8 @@ def stiffness_map(
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N], axes of F_b, acting at the tool point
         (P by default); for "wrench" only.
-        Except for 3-leg designs on the reduced path, every reachable grid pose is a
-        call of :func:`~ppm_stiffness.statics.loading.loaded_state` (a Python loop).
+        Except for 3-leg designs on the reduced path, the loaded state of every
+        reachable grid pose comes from :func:`ppm_stiffness.maps.loaded.loaded_poses`.
     progress : callable(done, total), optional
         Called after each chunk with the number of poses done and the total.
     bounds : array_like (4,), optional
