@@ -1,6 +1,6 @@
 """Every fast path equals the general reference path (chain springs + bordered inverse).
 
-The planar engine (:mod:`ppm_stiffness.maps.engine`, ``path="planar"``) and the P-P-R
+The planar engine (:mod:`ppm_stiffness.legs.planar`, ``path="planar"``) and the P-P-R
 reduced form (``path="reduced"``) against ``path="general"`` (itself tested against
 ``model.stiffness_at_pose`` in test_general_maps.py): on random seeded poses of every
 shipped design, with random actuator stiffnesses, the length-balanced K agree to 1e-9
@@ -22,8 +22,9 @@ from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import Z_AXIS, length_balanced
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.chain import Joint, Link, leg_springs
-from ppm_stiffness.maps import batch, engine
+from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.workspace import stiffness_map, workspace_bounds
 from ppm_stiffness.model import eigenvalue_ratio
 

@@ -75,9 +75,9 @@ from ppm_stiffness.core.errors import (
 )
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.base import LegPose
 from ppm_stiffness.legs.chain import leg_springs
-from ppm_stiffness.maps import engine
 from ppm_stiffness.maps.reduced_leg import (
     IN_PLANE,
     OUT_OF_PLANE,
@@ -454,7 +454,8 @@ def general_stiffness(
 def planar_engine_entries(
     design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
 ) -> tuple[PlanarEntries, BoolArray] | None:
-    """Stiffness entries at poses by the planar engine (:mod:`.engine`), one chunk.
+    """Stiffness entries at poses by the planar engine (:mod:`ppm_stiffness.legs.planar`),
+    one chunk.
 
     Same inputs as :func:`general_stiffness`. Returns the planar entries of K (n,)
     (meaningless where not reachable) and the reachability mask, or None when a leg's

@@ -12,7 +12,7 @@ and ``b_i = K_i^S a_i``; ``C^S = (sum K_i^S)^-1``; ``g0 = B^T C^S w``,
 search, tolerance and iteration limit on ``G - g0 + M delta(G) = 0`` for every pose
 at once (a 3-leg design's forces are statically determinate: ``G = g0``); then
 ``t = C^S (w + B delta)``. The leg terms come from the planar engine
-(:mod:`ppm_stiffness.maps.engine`); a chunk whose chains are not planar is solved pose
+(:mod:`ppm_stiffness.legs.planar`); a chunk whose chains are not planar is solved pose
 by pose with the statics module itself.
 
 Where the single-pose call raises, the batch masks instead (:class:`LoadedBatch`).
@@ -33,7 +33,7 @@ from ppm_stiffness.core.errors import (
     SingularConfigurationError,
 )
 from ppm_stiffness.design import Design
-from ppm_stiffness.maps import engine
+from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.maps.batch import (
     PLANAR_CHUNK,
     PlanarEntries,

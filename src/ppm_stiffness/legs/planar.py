@@ -29,6 +29,7 @@ skipped), so constant geometry costs nothing per pose.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -54,29 +55,29 @@ PLANAR_ATOL = 1e-12
 
 # -- arithmetic on entries that may be the constant 0.0 ------------------------------
 def _is_zero(a: Scalar) -> bool:
-    return isinstance(a, float) and a == 0.0
+    return type(a) is float and a == 0.0
 
 
 def mul(a: Scalar, b: Scalar) -> Scalar:
     """``a * b`` skipping exact scalar zeros."""
-    if _is_zero(a) or _is_zero(b):
+    if (type(a) is float and a == 0.0) or (type(b) is float and b == 0.0):
         return 0.0
     return a * b
 
 
 def add(a: Scalar, b: Scalar) -> Scalar:
     """``a + b`` skipping exact scalar zeros."""
-    if _is_zero(a):
+    if type(a) is float and a == 0.0:
         return b
-    if _is_zero(b):
+    if type(b) is float and b == 0.0:
         return a
     return a + b
 
 
 def sub(a: Scalar, b: Scalar) -> Scalar:
-    if _is_zero(b):
+    if type(b) is float and b == 0.0:
         return a
-    if _is_zero(a):
+    if type(a) is float and a == 0.0:
         return -b
     return a - b
 
@@ -104,6 +105,34 @@ def cross3(a: Vec3, b: Vec3) -> Vec3:
 
 def add_outer(acc: Sym3, c: Scalar, u: Vec3, v: Vec3 | None = None) -> None:
     """``acc += c u u^T`` (or ``c (u v^T + v u^T)`` when v is given), in place."""
+    u0, u1, u2 = u
+    if (
+        type(c) is float
+        and type(u0) is float
+        and type(u1) is float
+        and type(u2) is float
+        and (v is None or (type(v[0]) is float and type(v[1]) is float and type(v[2]) is float))
+    ):  # one pose (or constant geometry): plain float arithmetic
+        cu0, cu1, cu2 = c * u0, c * u1, c * u2
+        if v is None:
+            terms: tuple[Scalar, ...] = (cu0 * u0, cu0 * u1, cu0 * u2, cu1 * u1, cu1 * u2, cu2 * u2)
+        else:
+            v0, v1, v2 = v
+            terms = (
+                2.0 * cu0 * v0,
+                cu0 * v1 + cu1 * v0,
+                cu0 * v2 + cu2 * v0,
+                2.0 * cu1 * v1,
+                cu1 * v2 + cu2 * v1,
+                2.0 * cu2 * v2,
+            )
+        acc[0] = acc[0] + terms[0]
+        acc[1] = acc[1] + terms[1]
+        acc[2] = acc[2] + terms[2]
+        acc[3] = acc[3] + terms[3]
+        acc[4] = acc[4] + terms[4]
+        acc[5] = acc[5] + terms[5]
+        return
     cu = (mul(c, u[0]), mul(c, u[1]), mul(c, u[2]))
     for n, (i, j) in enumerate(PAIRS):
         if v is None:
@@ -115,6 +144,9 @@ def add_outer(acc: Sym3, c: Scalar, u: Vec3, v: Vec3 | None = None) -> None:
 
 def _components(v: ArrayLike) -> tuple[Scalar, Scalar, Scalar]:
     """x, y, z of points or axes (3,) or (n, 3): floats when constant."""
+    if isinstance(v, np.ndarray) and v.shape == (3,):
+        x, y, z = v.tolist()
+        return float(x), float(y), float(z)
     a = np.asarray(v, dtype=float)
     if a.ndim == 1:
         return float(a[0]), float(a[1]), float(a[2])
@@ -126,7 +158,15 @@ def _components(v: ArrayLike) -> tuple[Scalar, Scalar, Scalar]:
 
 
 def _all_small(a: Scalar, tol: float) -> bool:
+    if isinstance(a, float):
+        return abs(a) <= tol
     return bool(np.all(np.abs(a) <= tol))
+
+
+def _hypot(a: Scalar, b: Scalar) -> Scalar:
+    if isinstance(a, float) and isinstance(b, float):
+        return math.hypot(a, b)
+    return np.asarray(np.hypot(a, b))
 
 
 @dataclass(frozen=True)
@@ -144,6 +184,8 @@ def _direction(axis: ArrayLike) -> Direction | None:
     the plane at every pose (a non-planar chain)."""
     ax, ay, az = _components(axis)
     if _all_small(ax, PLANAR_ATOL) and _all_small(ay, PLANAR_ATOL):
+        if isinstance(az, float):
+            return None if az == 0.0 else Direction(True, sign=math.copysign(1.0, az))
         s = np.sign(az)
         if isinstance(s, np.ndarray):
             if not (np.all(s == s.flat[0]) and s.size and s.flat[0] != 0):
@@ -154,10 +196,10 @@ def _direction(axis: ArrayLike) -> Direction | None:
         return Direction(True, sign=float(s))
     if not _all_small(az, PLANAR_ATOL):
         return None
-    norm = np.hypot(ax, ay)
-    if np.ndim(norm) == 0:
-        n = float(norm) or 1.0
-        return Direction(False, float(ax) / n, float(ay) / n)
+    norm = _hypot(ax, ay)
+    if isinstance(norm, float):
+        n = norm or 1.0
+        return Direction(False, div(ax, n), div(ay, n))
     norm = np.where(norm > 0, norm, 1.0)
     return Direction(False, div(ax, norm), div(ay, norm))
 
@@ -244,9 +286,8 @@ def _link(element: Link, blocks: dict[bool, Block]) -> bool:
     if not (_all_small(sz, PLANAR_ATOL) and _all_small(ez_, PLANAR_ATOL)):
         return False
     dx, dy = sub(ex_, sx), sub(ey_, sy)
-    length: Scalar = np.hypot(dx, dy)
-    if np.ndim(length) == 0:
-        length = float(length)
+    length = _hypot(dx, dy)
+    if isinstance(length, float):
         safe: Scalar = length if length > 0 else 1.0
     else:
         safe = np.where(length > 0, length, 1.0)
@@ -298,9 +339,9 @@ def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
         for inplane, vec in free:
             blocks[inplane].passive.append(vec)
     if element.springs is not None:
-        k = np.asarray(element.springs, dtype=float)
+        k = np.asarray(element.springs, dtype=float).tolist()
         for stiffness, (kind, axis) in zip(k, _constrained(element.kind, frame), strict=True):
-            if np.isinf(stiffness):
+            if math.isinf(stiffness):
                 continue
             inplane, vec = screw(kind, axis)
             add_outer(blocks[inplane].compliance, 1.0 / float(stiffness), vec)
@@ -317,6 +358,11 @@ def _basis(passive: list[Vec3]) -> list[Vec3] | None:
     if len(passive) == 1:
         q = passive[0]
         # q x e_k for the axis e_k along which q is smallest, then q x (q x e_k)
+        if all(isinstance(v, float) for v in q):
+            qf = [abs(float(v)) for v in q]
+            k = 0 if qf[0] <= qf[1] and qf[0] <= qf[2] else 1 if qf[1] <= qf[2] else 2
+            w1 = cross3(q, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))[k])
+            return [w1, cross3(q, w1)]
         qa = [np.abs(np.asarray(v, dtype=float)) for v in q]
         pick0 = (qa[0] <= qa[1]) & (qa[0] <= qa[2])
         pick1 = ~pick0 & (qa[1] <= qa[2])
