@@ -91,15 +91,30 @@ def neg(a: Scalar) -> Scalar:
     return 0.0 if _is_zero(a) else -a
 
 
+def _floats(*values: Scalar) -> bool:
+    for v in values:
+        if type(v) is not float:
+            return False
+    return True
+
+
 def dot3(a: Vec3, b: Vec3) -> Scalar:
-    return add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]))
+    a0, a1, a2 = a
+    b0, b1, b2 = b
+    if _floats(a0, a1, a2, b0, b1, b2):
+        return a0 * b0 + a1 * b1 + a2 * b2
+    return add(add(mul(a0, b0), mul(a1, b1)), mul(a2, b2))
 
 
 def cross3(a: Vec3, b: Vec3) -> Vec3:
+    a0, a1, a2 = a
+    b0, b1, b2 = b
+    if _floats(a0, a1, a2, b0, b1, b2):
+        return (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
     return (
-        sub(mul(a[1], b[2]), mul(a[2], b[1])),
-        sub(mul(a[2], b[0]), mul(a[0], b[2])),
-        sub(mul(a[0], b[1]), mul(a[1], b[0])),
+        sub(mul(a1, b2), mul(a2, b1)),
+        sub(mul(a2, b0), mul(a0, b2)),
+        sub(mul(a0, b1), mul(a1, b0)),
     )
 
 
