@@ -28,7 +28,8 @@ sampled (any leg type)
     0.3 rad it contains the sweep's box and exceeds it by at most 1.0 sweep step
     (0.12 mm on a ~170 mm box) (tests/test_workspace_bounds.py). A part of the
     workspace narrower than one coarse cell (1 % of the box) and disconnected from the
-    rest may be missed. It costs 0.05-0.15 s per orientation.
+    rest may be missed. It costs 0.05-0.15 s per orientation, once per design object
+    and orientation (the boxes are cached: a design is frozen).
 
 Actuator states of a map (``actuators``), each leg with its own actuator law
 (``design.legs[i].actuator``: linear [N/m] or rotary [N·m/rad]):
@@ -245,7 +246,32 @@ def workspace_bounds(design: Design, phi: float = 0.0, legs: object = None) -> F
     if not np.isfinite(phi):
         raise InputDataError("phi must be finite")
     box = _half_plane_bounds(design, phi)
-    return _sampled_bounds(design, phi) if box is None else box
+    return _cached_sampled_bounds(design, phi) if box is None else box
+
+
+#: Sampled bounds already computed: id(design) -> (design, {phi: box}). A design is
+#: frozen, so its bounds are design-level work, done once per design object and
+#: orientation (the entry keeps the design alive, so its id cannot be reused).
+_BOUNDS_CACHE: dict[int, tuple[Design, dict[float, FloatArray]]] = {}
+_BOUNDS_CACHE_DESIGNS = 8
+_BOUNDS_CACHE_ORIENTATIONS = 64
+
+
+def _cached_sampled_bounds(design: Design, phi: float) -> FloatArray:
+    entry = _BOUNDS_CACHE.get(id(design))
+    if entry is None or entry[0] is not design:
+        if len(_BOUNDS_CACHE) >= _BOUNDS_CACHE_DESIGNS:
+            _BOUNDS_CACHE.pop(next(iter(_BOUNDS_CACHE)))
+        entry = (design, {})
+        _BOUNDS_CACHE[id(design)] = entry
+    boxes = entry[1]
+    box = boxes.get(phi)
+    if box is None:
+        box = _sampled_bounds(design, phi)
+        if len(boxes) >= _BOUNDS_CACHE_ORIENTATIONS:
+            boxes.pop(next(iter(boxes)))
+        boxes[phi] = box
+    return box.copy()
 
 
 def workspace_grid(
