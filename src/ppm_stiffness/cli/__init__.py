@@ -71,8 +71,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit code (0 ok, 2 bad input)."""
     warnings.showwarning = _one_line_warning
     parser = build_parser()
+    from ppm_stiffness.cli.common import join_negative_values
+
+    raw = sys.argv[1:] if argv is None else list(argv)
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(join_negative_values(raw))
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
         return int(exc.code or 0)
     try:

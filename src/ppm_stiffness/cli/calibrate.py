@@ -9,6 +9,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
+    add_overwrite_argument,
     add_pose_arguments,
     check_output_path,
     console,
@@ -25,6 +26,7 @@ HELP = "identify design parameters from a target 6x6 stiffness matrix (bounded l
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     parser.add_argument(
         "--list-parameters",
         action="store_true",
@@ -96,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.target or not args.free:
         raise InputDataError("calibrate needs --target K.csv and --free NAMES")
     pose = pose_from_args(args, design)
-    check_output_path(args.out, "--out", (".toml",))
+    check_output_path(args.out, "--out", (".toml",), overwrite=args.overwrite)
     target = read_matrix_csv(args.target, "--target")
     names = [n.strip() for n in args.free.split(",") if n.strip()]
     if args.starts < 1:

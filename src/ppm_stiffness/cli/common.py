@@ -6,7 +6,10 @@ import argparse
 import csv
 import math
 import sys
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from rich.console import Console
@@ -25,12 +28,18 @@ FIGURE_FORMATS = (".png", ".svg", ".pdf")
 
 
 def check_output_path(
-    path: str | None, option: str, suffixes: tuple[str, ...] | None = None
+    path: str | None,
+    option: str,
+    suffixes: tuple[str, ...] | None = None,
+    *,
+    overwrite: bool = False,
 ) -> str | None:
     """Validate an output path before any computation; None passes through.
 
-    Refuses an empty path, an unknown suffix, a directory, and a missing parent
-    directory (nothing is created on the user's behalf).
+    Refuses an empty path, an unknown suffix, a directory, a missing parent
+    directory (nothing is created on the user's behalf), an existing file unless
+    ``overwrite`` (the command's ``--overwrite``), and a path inside the installed
+    package (its data is read-only to every command).
     """
     if path is None:
         return None
@@ -49,22 +58,48 @@ def check_output_path(
         raise InputDataError(f"{option} {path}: {parent} is not a directory")
     if not parent.is_dir():
         raise InputDataError(f"{option} {path}: directory {parent} does not exist")
+    if _inside_package(p):
+        raise InputDataError(
+            f"{option} {path}: inside the installed ppm_stiffness package, whose files "
+            "are read-only to every command; write to another folder"
+        )
+    if p.exists() and not overwrite:
+        raise InputDataError(f"{option} {path}: file exists; pass --overwrite to replace it")
     return path
 
 
+def _inside_package(path: Path) -> bool:
+    """True if ``path`` lies inside the ppm_stiffness package folder."""
+    package = Path(__file__).resolve().parents[1]
+    try:
+        path.resolve().relative_to(package)
+    except ValueError:
+        return False
+    return True
+
+
+def add_overwrite_argument(parser: argparse.ArgumentParser) -> None:
+    """``--overwrite``: every command that writes files refuses existing ones without it."""
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace output files that already exist"
+    )
+
+
 def add_figure_output(parser: argparse.ArgumentParser) -> None:
-    """A required ``--out FIG`` option for commands whose product is a figure."""
+    """A required ``--out FIG`` option (and ``--overwrite``) for commands whose product
+    is a figure."""
     parser.add_argument(
         "--out",
         metavar="FIG",
         required=True,
         help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
     )
+    add_overwrite_argument(parser)
 
 
-def check_figure_path(path: str) -> str:
+def check_figure_path(path: str, overwrite: bool = False) -> str:
     """The --out figure path, checked before any computation."""
-    checked = check_output_path(path, "--out", FIGURE_FORMATS)
+    checked = check_output_path(path, "--out", FIGURE_FORMATS, overwrite=overwrite)
     assert checked is not None
     return checked
 
@@ -178,3 +213,97 @@ def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
         shape = f"{len(rows)} rows of {sorted({len(r) for r in rows})} columns"
         raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
     return np.array(rows)
+
+
+#: Version of the layout of every ``--json`` document (``docs/schemas/``): bumped when
+#: a key changes meaning or disappears (``docs/compatibility.md``).
+JSON_SCHEMA_VERSION = 1
+
+
+def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) -> str:
+    """The JSON text a command prints with ``--json``.
+
+    Every document carries ``schema_version`` (:data:`JSON_SCHEMA_VERSION`),
+    ``ppm_stiffness_version``, ``command`` and ``units`` (key -> SI unit of the
+    values under it) before the command's own keys.
+    """
+    from ppm_stiffness import __version__
+    from ppm_stiffness.analysis import dump_json
+
+    head = {
+        "schema_version": JSON_SCHEMA_VERSION,
+        "ppm_stiffness_version": __version__,
+        "command": command,
+        "units": units,
+    }
+    return dump_json({**head, **payload})
+
+
+@contextmanager
+def progress(
+    description: str, total: float, enabled: bool = True
+) -> Iterator[Callable[[float], None]]:
+    """A rich progress bar on stderr, shown only when stderr is a terminal.
+
+    Yields ``advance(amount)``; nothing is drawn when stderr is not a terminal (so
+    ``--json`` on stdout stays parseable and logs stay clean) or ``enabled`` is False.
+    """
+    if not (enabled and err_console.is_terminal):
+        yield lambda amount: None
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(),
+        console=err_console,
+        transient=True,
+    ) as bar:
+        task = bar.add_task(description, total=total)
+        yield lambda amount: bar.advance(task, amount)
+
+
+def eng(value: float, digits: int = 4) -> str:
+    """A number in engineering notation for tables: ``12.35e3``, ``-4.1e-6``, ``0``.
+
+    ``digits`` significant digits; exponents are multiples of 3 and omitted for
+    magnitudes in [1, 1000); no ``-0``; NaN as ``nan``.
+    """
+    v = float(value)
+    if math.isnan(v):
+        return "nan"
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    if v == 0:
+        return "0"
+    exp3 = int(math.floor(math.log10(abs(v)) / 3) * 3)
+    mant = v / 10.0**exp3
+    text = f"{mant:.{digits}g}"
+    if abs(float(text)) >= 1000:  # rounding carried into the next group
+        exp3 += 3
+        text = f"{v / 10.0**exp3:.{digits}g}"
+    if float(text) == 0:
+        return "0"
+    return text if exp3 == 0 else f"{text}e{exp3}"
+
+
+def join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``--wrench -5,0,...`` -> ``--wrench=-5,0,...``: argparse reads a value that starts
+    with ``-`` as an option, so negative numbers in comma lists (and single negative
+    numbers in exponent form) are attached to the option before them."""
+    out: list[str] = []
+    for arg in argv:
+        prev = out[-1] if out else ""
+        if (
+            prev.startswith("--")
+            and "=" not in prev
+            and len(arg) > 1
+            and arg[0] == "-"
+            and (arg[1].isdigit() or arg[1] == ".")
+        ):
+            out[-1] = f"{prev}={arg}"
+        else:
+            out.append(arg)
+    return out

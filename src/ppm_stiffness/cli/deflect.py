@@ -15,6 +15,7 @@ from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
+    add_overwrite_argument,
     add_pose_arguments,
     add_tool_point_argument,
     check_input_path,
@@ -46,6 +47,7 @@ _MAX_POINTS = 100_000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     add_design_argument(parser)
     add_pose_arguments(parser)
     add_tool_point_argument(parser)
@@ -254,8 +256,8 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    check_output_path(args.csv, "--csv", (".csv",))
-    check_output_path(args.plot, "--plot", FIGURE_FORMATS)
+    check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
+    check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
     curve, meas = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
     if args.csv:

@@ -10,6 +10,7 @@ from rich.markup import escape
 from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    add_overwrite_argument,
     check_input_path,
     check_output_path,
     console,
@@ -23,6 +24,7 @@ HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     parser.add_argument(
         "data",
         metavar="DATA.csv",
@@ -44,8 +46,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    check_output_path(args.plot, "--plot", FIGURE_FORMATS)
-    check_output_path(args.write_design, "--write-design", (".toml",))
+    check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
+    check_output_path(args.write_design, "--write-design", (".toml",), overwrite=args.overwrite)
     data = read_force_displacement(check_input_path(args.data, "DATA.csv"))
     fit = fit_power_law(data.displacement_m, data.force_n)
     if not (1e-6 < fit.q <= 1.0 and fit.k_a > 0.0):

@@ -13,6 +13,7 @@ from rich.table import Table
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
+    add_overwrite_argument,
     add_tool_point_argument,
     check_output_path,
     console,
@@ -37,6 +38,7 @@ _UNITS = {"k_phi": "N·m/rad", "k_x": "N/m", "k_y": "N/m"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     add_design_argument(parser)
     parser.add_argument(
         "--phi",
@@ -101,8 +103,8 @@ def _summary_table(smap: StiffnessMap) -> Table:
 
 def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
-    check_output_path(args.out, "--out", FIGURE_FORMATS)
-    check_output_path(args.data, "--data", DATA_SUFFIXES)
+    check_output_path(args.out, "--out", FIGURE_FORMATS, overwrite=args.overwrite)
+    check_output_path(args.data, "--data", DATA_SUFFIXES, overwrite=args.overwrite)
     if not 2 <= args.grid <= MAX_GRID:
         raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
     phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180

@@ -30,7 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_figure_path(args.out)
+    out = check_figure_path(args.out, args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     from ppm_stiffness.model import solve_legs

@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_figure_path(args.out)
+    out = check_figure_path(args.out, args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)

@@ -21,6 +21,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
+    add_overwrite_argument,
     check_output_path,
     console,
     err_console,
@@ -46,6 +47,7 @@ MAX_POSES = 1000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     add_design_argument(parser)
     parser.add_argument(
         "--poses",
@@ -141,7 +143,7 @@ def _write_csv(path: str, results: list[PoseComparison]) -> None:
 
 def run(args: argparse.Namespace) -> int:
     _check_args(args)
-    check_output_path(args.csv, "--csv", (".csv",))
+    check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
     require_pynite()
     design = load_design_arg(args)
     poses = validation_poses(
