@@ -6,7 +6,7 @@ import argparse
 import csv
 import math
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -18,8 +18,8 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.model import workspace_centre
 
-#: Tables go to stdout; piped output gets a fixed width wide enough for 6x6 matrices.
-console = Console(width=None if sys.stdout.isatty() else 140)
+#: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
+console = Console(width=None if sys.stdout.isatty() else 80)
 err_console = Console(stderr=True)
 
 
@@ -287,23 +287,3 @@ def eng(value: float, digits: int = 4) -> str:
     if float(text) == 0:
         return "0"
     return text if exp3 == 0 else f"{text}e{exp3}"
-
-
-def join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``--wrench -5,0,...`` -> ``--wrench=-5,0,...``: argparse reads a value that starts
-    with ``-`` as an option, so negative numbers in comma lists (and single negative
-    numbers in exponent form) are attached to the option before them."""
-    out: list[str] = []
-    for arg in argv:
-        prev = out[-1] if out else ""
-        if (
-            prev.startswith("--")
-            and "=" not in prev
-            and len(arg) > 1
-            and arg[0] == "-"
-            and (arg[1].isdigit() or arg[1] == ".")
-        ):
-            out[-1] = f"{prev}={arg}"
-        else:
-            out.append(arg)
-    return out

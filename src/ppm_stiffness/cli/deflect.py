@@ -21,6 +21,7 @@ from ppm_stiffness.cli.common import (
     check_input_path,
     check_output_path,
     console,
+    eng,
     load_design_arg,
     parse_wrench,
     pose_from_args,
@@ -37,8 +38,6 @@ from ppm_stiffness.statics.deflection import (
     deflection_path,
 )
 from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
-
-HELP = "deflection of the platform under a load growing from zero (actuator law in the loop)"
 
 #: Default largest load of each mode [N or N·m].
 DEFAULT_MAX = {"planar-force": 10.0, "moment": 0.5, "vertical-force": 20.0, "wrench": 1.0}
@@ -225,25 +224,32 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         f"pose: x = {p[0] * 1e3:.3f} mm, y = {p[1] * 1e3:.3f} mm, "
         f"phi = {math.degrees(p[2]):.3f} deg"
     )
-    t = Table(title=None)
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    t = Table(title="platform deflection at P (axes of F_b)", title_justify="left")
     t.add_column(f"load \\[{unit}]", justify="right")
     for name in TWIST_COMPONENTS:
         t.add_column(f"{name} \\[{'deg' if name.startswith('phi') else 'mm'}]", justify="right")
-    n_legs = curve.actuator_forces.shape[1]
-    for i in range(n_legs):
-        t.add_column(f"G{i + 1} \\[N]", justify="right")
-    for i in range(n_legs):
-        t.add_column(f"K{i + 1} \\[N/m]", justify="right")
-    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     for k, load in enumerate(curve.loads):
-        tw = curve.twists[k] * scale
-        t.add_row(
-            f"{load:.4g}",
-            *(f"{v + 0.0:.4f}" for v in tw),
-            *(f"{v + 0.0:.3f}" for v in curve.actuator_forces[k]),
-            *(f"{v:.4g}" for v in curve.actuator_stiffness[k]),
-        )
+        t.add_row(f"{load:g}", *(eng(v) for v in curve.twists[k] * scale))
     c.print(t)
+    n_legs = curve.actuator_forces.shape[1]
+    a = Table(
+        title="actuators: force G \\[N] and tangent stiffness K \\[N/m] per leg "
+        "(N·m and N·m/rad for a rotary actuator)",
+        title_justify="left",
+    )
+    a.add_column(f"load \\[{unit}]", justify="right")
+    for i in range(n_legs):
+        a.add_column(f"G{i + 1}", justify="right")
+    for i in range(n_legs):
+        a.add_column(f"K{i + 1}", justify="right")
+    for k, load in enumerate(curve.loads):
+        a.add_row(
+            f"{load:g}",
+            *(eng(v) for v in curve.actuator_forces[k]),
+            *(eng(v) for v in curve.actuator_stiffness[k]),
+        )
+    c.print(a)
     if rms is not None:
         o, q = rms["orientation_deg"], rms["position_mm"]
         c.print(

@@ -20,8 +20,6 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
 from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
 
-HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_overwrite_argument(parser)

@@ -17,6 +17,7 @@ from ppm_stiffness.cli.common import (
     add_tool_point_argument,
     check_output_path,
     console,
+    eng,
     err_console,
     load_design_arg,
     parse_floats,
@@ -25,11 +26,6 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
-
-HELP = (
-    "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7), "
-    "any architecture"
-)
 
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
@@ -85,19 +81,23 @@ def _parse_bounds(text: str | None) -> np.ndarray | None:
 
 
 def _summary_table(smap: StiffnessMap) -> Table:
-    table = Table(title="principal stiffness over the workspace")
-    for col in ("", "min", "at (x, y) [mm]", "max", "at (x, y) [mm]", "max/min", "unit"):
-        table.add_column(col, justify="left" if col in ("", "unit") else "right")
-    for name, s in smap.summary().items():
-        table.add_row(
-            name,
-            f"{s['min']:.5g}",
-            f"({s['x_at_min'] * 1e3:.2f}, {s['y_at_min'] * 1e3:.2f})",
-            f"{s['max']:.5g}",
-            f"({s['x_at_max'] * 1e3:.2f}, {s['y_at_max'] * 1e3:.2f})",
-            f"{s['ratio']:.4g}",
-            _UNITS[name],
-        )
+    """One column per principal stiffness; rows: extremes, where they are, their ratio."""
+    summary = smap.summary()
+    table = Table(title="principal stiffness over the workspace", title_justify="left")
+    table.add_column("")
+    for name in summary:
+        table.add_column(escape(f"{name} [{_UNITS[name]}]"), justify="right")
+    rows = (
+        ("min", "min", 1.0),
+        ("  at x [mm]", "x_at_min", 1e3),
+        ("  at y [mm]", "y_at_min", 1e3),
+        ("max", "max", 1.0),
+        ("  at x [mm]", "x_at_max", 1e3),
+        ("  at y [mm]", "y_at_max", 1e3),
+        ("max/min", "ratio", 1.0),
+    )
+    for label, key, factor in rows:
+        table.add_row(escape(label), *(eng(s[key] * factor, 5) for s in summary.values()))
     return table
 
 
@@ -175,7 +175,9 @@ def run(args: argparse.Namespace) -> int:
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
         + (f" (reference load {args.reference_force:g})" if state == "min" else "")
-        + "; actuator stiffness: "
+    )
+    console.print(
+        f"actuator stiffness ({state}): "
         + _values(k_lo)
         + ("" if np.allclose(k_lo, k_hi, equal_nan=True) else f" to {_values(k_hi)}")
     )

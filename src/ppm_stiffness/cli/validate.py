@@ -24,6 +24,7 @@ from ppm_stiffness.cli.common import (
     add_overwrite_argument,
     check_output_path,
     console,
+    eng,
     err_console,
     load_design_arg,
 )
@@ -38,9 +39,6 @@ from ppm_stiffness.validation.compare import (
     validation_poses,
 )
 from ppm_stiffness.validation.fe_model import require_pynite
-
-HELP = "compare the virtual-joint stiffness with an independent FE frame model (PyNite)"
-
 
 #: Upper bound of --poses: about 3 to 4 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
@@ -104,28 +102,32 @@ def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> l
 
 
 def _table(results: list[PoseComparison]) -> Table:
-    table = Table(title="virtual-joint K vs FE frame model (PyNite): max relative difference")
+    table = Table(
+        title="virtual-joint (VJ) K vs FE frame model (PyNite): largest relative "
+        "difference of the planar and out-of-plane (out-pl.) blocks; time per pose",
+        title_justify="left",
+    )
     for col in (
         "pose",
         "x [mm]",
         "y [mm]",
         "phi [deg]",
         "planar",
-        "out-of-plane",
-        "FE [ms]",
-        "VJ [ms]",
+        "out-of-pl.",
+        "FE [s]",
+        "VJ [s]",
     ):
         table.add_column(escape(col), justify="right")
     for i, r in enumerate(results):
         table.add_row(
             "centre" if i == 0 else str(i),
-            f"{r.pose[0] * 1e3:.3f}",
-            f"{r.pose[1] * 1e3:.3f}",
-            f"{np.degrees(r.pose[2]):.3f}",
-            f"{r.differences['planar']:.2e}",
-            f"{r.differences['out_of_plane']:.2e}",
-            f"{r.time_fe * 1e3:.1f}",
-            f"{r.time_virtual_joint * 1e3:.2f}",
+            f"{r.pose[0] * 1e3:.2f}",
+            f"{r.pose[1] * 1e3:.2f}",
+            f"{np.degrees(r.pose[2]):.2f}",
+            eng(r.differences["planar"], 3),
+            eng(r.differences["out_of_plane"], 3),
+            eng(r.time_fe, 3),
+            eng(r.time_virtual_joint, 3),
         )
     return table
 
