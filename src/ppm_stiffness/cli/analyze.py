@@ -9,7 +9,7 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import analyze_design, analyze_matrix, dump_json
+from ppm_stiffness.analysis import ANALYSIS_UNITS, analyze_design, analyze_matrix, json_document
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         )
         title = design.name
     if args.json:
-        print(dump_json(result))
+        print(json_document("analyze", result, ANALYSIS_UNITS))
     else:
         print_tables(result, title)
     return 0

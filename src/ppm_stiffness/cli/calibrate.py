@@ -134,10 +134,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 #: Units of the JSON document's values (parameters carry their own in ``parameters``).
+_BLOCKS = "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)"
 _JSON_UNITS = {
-    "parameters.*.start|fit|std|lower|upper": "the parameter's unit",
-    "target|fitted|residuals": "N·m/rad, N, N/m by block (order phi_x..z)",
-    "cost|weighted_rms|singular_values": "1 (residuals divided by sigma)",
+    "parameters": "each in its own unit (parameters[i].unit)",
+    "target": _BLOCKS,
+    "fitted": _BLOCKS,
+    "residuals": _BLOCKS,
+    "cost": "1 (residuals divided by sigma)",
+    "weighted_rms": "1 (residuals divided by sigma)",
+    "singular_values": "1 (of the Jacobian of the weighted residuals, scaled parameters)",
 }
 
 

@@ -9,14 +9,16 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from rich.console import Console
 
+from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.model import workspace_centre
+
+__all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
 
 #: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
 console = Console(width=None if sys.stdout.isatty() else 80)
@@ -213,30 +215,6 @@ def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
         shape = f"{len(rows)} rows of {sorted({len(r) for r in rows})} columns"
         raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
     return np.array(rows)
-
-
-#: Version of the layout of every ``--json`` document (``docs/schemas/``): bumped when
-#: a key changes meaning or disappears (``docs/compatibility.md``).
-JSON_SCHEMA_VERSION = 1
-
-
-def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) -> str:
-    """The JSON text a command prints with ``--json``.
-
-    Every document carries ``schema_version`` (:data:`JSON_SCHEMA_VERSION`),
-    ``ppm_stiffness_version``, ``command`` and ``units`` (key -> SI unit of the
-    values under it) before the command's own keys.
-    """
-    from ppm_stiffness import __version__
-    from ppm_stiffness.analysis import dump_json
-
-    head = {
-        "schema_version": JSON_SCHEMA_VERSION,
-        "ppm_stiffness_version": __version__,
-        "command": command,
-        "units": units,
-    }
-    return dump_json({**head, **payload})
 
 
 @contextmanager

@@ -11,7 +11,6 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
@@ -22,6 +21,7 @@ from ppm_stiffness.cli.common import (
     check_output_path,
     console,
     eng,
+    json_document,
     load_design_arg,
     parse_wrench,
     pose_from_args,
@@ -195,6 +195,20 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+#: SI units of the values of ``deflect --json``.
+_JSON_UNITS = {
+    "pose": "x, y [m], phi [rad]",
+    "alpha_deg": "deg (the direction of the planar force)",
+    "loads": "load_unit",
+    "wrenches": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
+    "twists": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+    "actuator_forces": "N (N·m for a rotary actuator)",
+    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
+    "actuator_displacements": "m (rad for a rotary actuator)",
+    "rms_differences": "orientation_deg deg, position_mm mm",
+}
+
+
 def _json(curve: DeflectionCurve, rms: dict[str, Any] | None) -> dict[str, Any]:
     return {
         "mode": curve.mode,
@@ -275,7 +289,7 @@ def run(args: argparse.Namespace) -> int:
         use_headless_backend()
         save_figure(plot_deflection_curves([curve], meas), args.plot)
     if args.json:
-        print(dump_json(_json(curve, rms)))
+        print(json_document("deflect", _json(curve, rms), _JSON_UNITS))
         return 0
     _print(curve, rms)
     if args.csv:
