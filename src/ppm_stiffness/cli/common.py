@@ -6,17 +6,22 @@ import argparse
 import csv
 import math
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 from rich.console import Console
 
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, default_design, load_design
-from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.model import solve_legs, workspace_centre
 
-#: Tables go to stdout; piped output gets a fixed width wide enough for 6x6 matrices.
-console = Console(width=None if sys.stdout.isatty() else 140)
+__all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
+
+#: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
+console = Console(width=None if sys.stdout.isatty() else 80)
 err_console = Console(stderr=True)
 
 
@@ -25,12 +30,18 @@ FIGURE_FORMATS = (".png", ".svg", ".pdf")
 
 
 def check_output_path(
-    path: str | None, option: str, suffixes: tuple[str, ...] | None = None
+    path: str | None,
+    option: str,
+    suffixes: tuple[str, ...] | None = None,
+    *,
+    overwrite: bool = False,
 ) -> str | None:
     """Validate an output path before any computation; None passes through.
 
-    Refuses an empty path, an unknown suffix, a directory, and a missing parent
-    directory (nothing is created on the user's behalf).
+    Refuses an empty path, an unknown suffix, a directory, a missing parent
+    directory (nothing is created on the user's behalf), an existing file unless
+    ``overwrite`` (the command's ``--overwrite``), and a path inside the installed
+    package (its data is read-only to every command).
     """
     if path is None:
         return None
@@ -49,22 +60,48 @@ def check_output_path(
         raise InputDataError(f"{option} {path}: {parent} is not a directory")
     if not parent.is_dir():
         raise InputDataError(f"{option} {path}: directory {parent} does not exist")
+    if _inside_package(p):
+        raise InputDataError(
+            f"{option} {path}: inside the installed ppm_stiffness package, whose files "
+            "are read-only to every command; write to another folder"
+        )
+    if p.exists() and not overwrite:
+        raise InputDataError(f"{option} {path}: file exists; pass --overwrite to replace it")
     return path
 
 
+def _inside_package(path: Path) -> bool:
+    """True if ``path`` lies inside the ppm_stiffness package folder."""
+    package = Path(__file__).resolve().parents[1]
+    try:
+        path.resolve().relative_to(package)
+    except ValueError:
+        return False
+    return True
+
+
+def add_overwrite_argument(parser: argparse.ArgumentParser) -> None:
+    """``--overwrite``: every command that writes files refuses existing ones without it."""
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace output files that already exist"
+    )
+
+
 def add_figure_output(parser: argparse.ArgumentParser) -> None:
-    """A required ``--out FIG`` option for commands whose product is a figure."""
+    """A required ``--out FIG`` option (and ``--overwrite``) for commands whose product
+    is a figure."""
     parser.add_argument(
         "--out",
         metavar="FIG",
         required=True,
         help="output image; format from the suffix: " + ", ".join(FIGURE_FORMATS),
     )
+    add_overwrite_argument(parser)
 
 
-def check_figure_path(path: str) -> str:
+def check_figure_path(path: str, overwrite: bool = False) -> str:
     """The --out figure path, checked before any computation."""
-    checked = check_output_path(path, "--out", FIGURE_FORMATS)
+    checked = check_output_path(path, "--out", FIGURE_FORMATS, overwrite=overwrite)
     assert checked is not None
     return checked
 
@@ -127,7 +164,9 @@ def load_design_arg(args: argparse.Namespace) -> Design:
 
 
 def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
-    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg]."""
+    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg], checked to be
+    within every leg's reach: an unreachable pose is refused with the reachable x and
+    y extent at its phi and the reachable phi at its (x, y)."""
     pose = workspace_centre(design).copy()
     for i, (name, factor) in enumerate((("x", 1e-3), ("y", 1e-3), ("phi", math.pi / 180))):
         value = getattr(args, name, None)
@@ -135,6 +174,12 @@ def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
             if not math.isfinite(value):
                 raise InputDataError(f"--{name} must be finite")
             pose[i] = value * factor
+    try:
+        solve_legs(design, pose)
+    except UnreachablePoseError as exc:
+        from ppm_stiffness.maps.reach import reach_hint
+
+        raise UnreachablePoseError(f"{exc}; {reach_hint(design, pose)}") from None
     return pose
 
 
@@ -178,3 +223,53 @@ def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
         shape = f"{len(rows)} rows of {sorted({len(r) for r in rows})} columns"
         raise InputDataError(f"{p}: a stiffness matrix must be 6x6, got {shape}")
     return np.array(rows)
+
+
+@contextmanager
+def progress(
+    description: str, total: float, enabled: bool = True
+) -> Iterator[Callable[[float], None]]:
+    """A rich progress bar on stderr, shown only when stderr is a terminal.
+
+    Yields ``advance(amount)``; nothing is drawn when stderr is not a terminal (so
+    ``--json`` on stdout stays parseable and logs stay clean) or ``enabled`` is False.
+    """
+    if not (enabled and err_console.is_terminal):
+        yield lambda amount: None
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(),
+        console=err_console,
+        transient=True,
+    ) as bar:
+        task = bar.add_task(description, total=total)
+        yield lambda amount: bar.advance(task, amount)
+
+
+def eng(value: float, digits: int = 4) -> str:
+    """A number in engineering notation for tables: ``12.35e3``, ``-4.1e-6``, ``0``.
+
+    ``digits`` significant digits; exponents are multiples of 3 and omitted for
+    magnitudes in [1, 1000); no ``-0``; NaN as ``nan``.
+    """
+    v = float(value)
+    if math.isnan(v):
+        return "nan"
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    if v == 0:
+        return "0"
+    exp3 = int(math.floor(math.log10(abs(v)) / 3) * 3)
+    mant = v / 10.0**exp3
+    text = f"{mant:.{digits}g}"
+    if abs(float(text)) >= 1000:  # rounding carried into the next group
+        exp3 += 3
+        text = f"{v / 10.0**exp3:.{digits}g}"
+    if float(text) == 0:
+        return "0"
+    return text if exp3 == 0 else f"{text}e{exp3}"

@@ -7,22 +7,22 @@ import argparse
 import numpy as np
 from rich.markup import escape
 
-from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    add_overwrite_argument,
     check_input_path,
     check_output_path,
     console,
+    json_document,
     load_design_arg,
 )
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
 from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
 
-HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     parser.add_argument(
         "data",
         metavar="DATA.csv",
@@ -44,8 +44,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    check_output_path(args.plot, "--plot", FIGURE_FORMATS)
-    check_output_path(args.write_design, "--write-design", (".toml",))
+    check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
+    check_output_path(args.write_design, "--write-design", (".toml",), overwrite=args.overwrite)
     data = read_force_displacement(check_input_path(args.data, "DATA.csv"))
     fit = fit_power_law(data.displacement_m, data.force_n)
     if not (1e-6 < fit.q <= 1.0 and fit.k_a > 0.0):
@@ -82,7 +82,14 @@ def run(args: argparse.Namespace) -> int:
         save_figure(fig, args.plot)
     if args.json:
         out = dict(fit.as_dict(), source=args.data, displacement_unit=data.displacement_unit)
-        print(dump_json(out))
+        units = {
+            "k_a": "N/m^q (displacement in m)",
+            "k_a_std": "N/m^q (displacement in m)",
+            "q": "1",
+            "q_std": "1",
+            "residual_std": "N",
+        }
+        print(json_document("fit-actuator", out, units))
         return 0
     c = console
     c.print(

@@ -14,8 +14,6 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
 )
 
-HELP = "top view of the manipulator at a pose: base rails or pivots, links, joints, platform"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
@@ -30,7 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_figure_path(args.out)
+    out = check_figure_path(args.out, args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     from ppm_stiffness.model import solve_legs

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
+    add_overwrite_argument,
     add_pose_arguments,
     add_wrench_argument,
+    check_output_path,
     console,
     err_console,
     load_design_arg,
@@ -17,13 +20,9 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = (
-    "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, "
-    "deflection curves and stiffness maps"
-)
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_overwrite_argument(parser)
     add_design_argument(parser)
     add_pose_arguments(parser)
     add_wrench_argument(parser)
@@ -44,6 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if not 2 <= args.grid <= 2000:
         raise InputDataError(f"--grid must be between 2 and 2000, got {args.grid}")
+    out_dir = Path(args.out)
+    if out_dir.is_dir():  # write_report creates a new one (its parent must exist)
+        check_output_path(str(out_dir / "report.html"), "--out", overwrite=args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)

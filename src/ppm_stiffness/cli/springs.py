@@ -18,8 +18,6 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
 )
 
-HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
@@ -29,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_figure_path(args.out)
+    out = check_figure_path(args.out, args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)
