@@ -1,19 +1,26 @@
 """Batched stiffness, decoupling and principal stiffnesses of planar designs.
 
-Two paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.model`,
+Three paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.model`,
 :func:`ppm_stiffness.core.decoupling.decouple` with ``method="paper"``):
 
-**The general path** (:func:`general_stiffness`, any architecture). Per chunk of poses
-and per leg: the batched inverse kinematics ``leg.solve(poses)``, the reachability mask
-``leg.reachable`` (IK solvable and every joint coordinate within its limits), and only
-at the reachable poses the joint chain ``leg.chain``, its virtual springs
+**The planar engine** (:func:`planar_engine_entries`, any planar joint chain: every
+shipped leg type, redundant designs): the general model in closed form per in-plane and
+out-of-plane block over arrays of poses (:mod:`ppm_stiffness.legs.planar`), about 10x
+the general path; ``"auto"`` takes it when a design has no reduced form. The batched
+loaded state under a wrench, :func:`loaded_poses`, builds on it
+(:mod:`ppm_stiffness.maps.loaded`).
+
+**The general path** (the reference; :func:`general_stiffness`, any architecture). Per
+chunk of poses and per leg: the batched inverse kinematics ``leg.solve(poses)``, the
+reachability mask ``leg.reachable`` (IK solvable and every joint coordinate within its
+limits), and only at the reachable poses the joint chain ``leg.chain``, its virtual springs
 (:func:`ppm_stiffness.legs.chain.leg_springs`) and the bordered inverse of eq. (1)
 (:func:`ppm_stiffness.core.solver.bordered_stiffness`); K is the sum over legs
 (N, 6, 6). Poses where a leg's IK has no solution never reach the solver, so no NaN
 leaks into the results: they are masked. A chunk whose batched bordered inverse fails
 is redone pose by pose and the failing poses are masked. Memory: about 6 kB per pose
 and leg (the (m, m) spring compliances, m ~ 22-28), bounded by
-:data:`GENERAL_CHUNK` poses per chunk. Cost: ~50 us per pose (benchmarks/bench_map.py).
+:data:`GENERAL_CHUNK` poses per chunk.
 
 **The reduced path** (P-P-R legs). When every leg offers an exact reduced form
 (:meth:`ppm_stiffness.legs.base.LegModel.reduced_form`, today the P-P-R leg:
