@@ -30,6 +30,8 @@ COMMANDS: dict[str, str] = {
     "report": "ppm_stiffness.cli.report",
     "validate": "ppm_stiffness.cli.validate",
     "compare": "ppm_stiffness.cli.compare",
+    "sweep": "ppm_stiffness.cli.sweep",
+    "optimize": "ppm_stiffness.cli.optimize",
 }
 
 
