@@ -37,11 +37,6 @@ from ppm_stiffness.cli.study_options import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = (
-    "summary figures of several designs over one required region, side by side "
-    "(k_x, k_y, k_phi min/mean/5th percentile, covered fraction, worst deflection)"
-)
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(

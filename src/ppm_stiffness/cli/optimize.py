@@ -37,11 +37,6 @@ from ppm_stiffness.cli.study_options import (
     region_text,
 )
 
-HELP = (
-    "optimise design parameters for a stiffness or deflection objective over the "
-    "required region (differential evolution; writes the best design file)"
-)
-
 #: Objectives, listed in --help (the optimize package defines them).
 OBJECTIVE_NAMES = (
     "worst-k-translational",

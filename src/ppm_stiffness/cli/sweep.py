@@ -37,11 +37,6 @@ from ppm_stiffness.cli.study_options import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = (
-    "summary figures over the required region for a grid or Sobol sample of parameter "
-    "values (CSV, JSON, a heat map or curves)"
-)
-
 #: Rows of the printed table (the best designs by --quantity).
 TOP_ROWS = 10
 
