@@ -264,7 +264,10 @@ def optimize_design(
             raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
     executor = SerialExecutor() if executor is None else executor
 
-    start = run_ordered(executor, summarize_candidate, [(design, None, region, w)])[0]
+    try:
+        start = run_ordered(executor, summarize_candidate, [(design, None, region, w)])[0]
+    except Interrupted:
+        raise KeyboardInterrupt from None
     if progress is not None:
         progress(1)
     _check_start(design, start, region, w, objective)
@@ -312,9 +315,10 @@ def optimize_design(
         if evaluator.best is None:
             raise KeyboardInterrupt from None
     if evaluator.best is None:
+        candidates = evaluator.evaluations - (0 if use_start else 1)
         raise DesignError(
-            f"no candidate of {evaluator.evaluations} covers the region and meets the "
-            "constraints; widen the --vary ranges, relax --constraint or shrink the region"
+            f"none of the {candidates} candidates evaluated covers the region and meets "
+            "the constraints; widen the --vary ranges, relax --constraint or shrink the region"
         )
     _, key, best_summary = evaluator.best
     best_parameters = assignments(variables, key)
