@@ -37,6 +37,9 @@ from ppm_stiffness.cli.study_options import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
+#: Designs per printed table (more go to further tables: each fits 80 columns).
+COLUMNS_PER_TABLE = 4
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
@@ -128,18 +131,17 @@ def run(args: argparse.Namespace) -> int:
         print(json_document("compare", payload, units))
     else:
         console.print(f"region: {region_text(region)}")
-        table = Table(title="summary over the required region")
-        table.add_column("figure [unit]", no_wrap=True)
-        for label in labels:
-            table.add_column(escape(label), justify="right", max_width=12)
-        table.add_row("architecture", *[d.architecture for d in designs])
-        for n in names:
-            unit = FIGURE_UNITS[n]
-            table.add_row(
-                escape(f"{FIGURE_LABELS[n]} [{unit}]"),
-                *[figure_cell(s.figures()[n]) for s in summaries],
-            )
-        console.print(table)
+        for first in range(0, len(designs), COLUMNS_PER_TABLE):
+            part = slice(first, first + COLUMNS_PER_TABLE)
+            table = Table(title="summary over the required region")
+            table.add_column("figure [unit]", no_wrap=True)
+            for label in labels[part]:
+                table.add_column(escape(label), justify="right", max_width=12, overflow="fold")
+            table.add_row("architecture", *[d.architecture for d in designs[part]])
+            for n in names:
+                cells = [figure_cell(s.figures()[n]) for s in summaries[part]]
+                table.add_row(escape(f"{FIGURE_LABELS[n]} [{FIGURE_UNITS[n]}]"), *cells)
+            console.print(table)
         for label, s in zip(labels, summaries, strict=True):
             if not s.covers:
                 console.print(

@@ -53,9 +53,9 @@ def make_region(
         return RequiredRegionModel.model_validate(data)
     except ValidationError as exc:
         first = exc.errors()[0]
-        key = ".".join(str(p) for p in first["loc"]) or "region"
+        key = ".".join(str(p) for p in first["loc"])
         msg = str(first["msg"]).removeprefix("Value error, ")
-        raise DesignError(f"region: {key}: {msg}") from None
+        raise DesignError(f"region: {key + ': ' if key else ''}{msg}") from None
 
 
 def region_of(design: Design, override: RequiredRegionModel | None = None) -> RequiredRegionModel:
