@@ -41,6 +41,44 @@ LINES = [
     ["mechanism", "--out", "{tmp}/mechanism.png"],
     ["report", "--out", "{tmp}/report", "--grid", "10"],
     ["validate"],
+    [
+        "compare",
+        *(
+            f"--design={ROOT / 'examples' / n}.toml"
+            for n in ("3prr", "3rpr", "3rrr", "redundant_4ppr")
+        ),
+        "--design",
+        str(ROOT / "examples/symmetric_3ppr.toml"),
+        "--region=-10,10,-10,10,-5,5,3,3,2",
+        "--wrench",
+        "5,5,0,0,0,0.1",
+    ],
+    [
+        "sweep",
+        "--design",
+        str(ROOT / "examples/3rpr.toml"),
+        "--vary",
+        "leg*.platform_radius=0.05:0.07:3",
+        "--vary",
+        "leg*.housing_length=0.08:0.1:2",
+        "--vary",
+        "leg1.actuator.locked_stiffness=1e7:2e7:2",
+        "--region=-10,10,-10,10,0,0,3,3,1",
+    ],
+    [
+        "optimize",
+        "--design",
+        str(ROOT / "examples/symmetric_3ppr.toml"),
+        "--vary",
+        "leg*.platform_radius=0.02:0.04",
+        "--vary",
+        "leg1.actuator.locked_stiffness=5e4:5e5",
+        "--budget",
+        "10",
+        "--region=-10,10,-10,10,0,0,3,3,1",
+        "--out",
+        "{tmp}/best.toml",
+    ],
 ]
 
 
