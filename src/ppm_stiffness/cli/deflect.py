@@ -149,7 +149,8 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     top = DEFAULT_MAX[mode] if args.max is None else args.max
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
-        loads = np.union1d(loads, meas.loads[meas.loads > 0])
+        measured = meas.load_values()
+        loads = np.union1d(loads, measured[measured > 0])
     if mode == "wrench":
         w = parse_wrench(args.wrench)
         assert w is not None

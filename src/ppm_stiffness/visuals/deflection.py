@@ -91,7 +91,7 @@ def plot_deflection_curves(
                 for n, i in enumerate(comps):
                     if i in m.components:
                         ax.plot(
-                            m.loads,
+                            m.load_values(),
                             m.twists[:, i] * factor,
                             "o",
                             ms=4,
