@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "mechanism": "ppm_stiffness.cli.mechanism",
     "report": "ppm_stiffness.cli.report",
     "validate": "ppm_stiffness.cli.validate",
+    "identify": "ppm_stiffness.cli.identify",
 }
 
 
