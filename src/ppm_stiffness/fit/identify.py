@@ -20,7 +20,8 @@ Residuals ``r = (predicted - measured) / sigma`` over every measured component.
 Estimation, in two stages:
 
 1. **Linear start in the compliances.** A stiffness-like parameter (unit N/m, N·m/rad or
-   Pa) enters as its relative compliance ``u = p^0 / p``, any other as ``u = p / p^0``;
+   Pa, and an actuator law's k_a, a stiffness when q = 1) enters as its relative
+   compliance ``u = p^0 / p``, any other as ``u = p / p^0``;
    the predictions are linearised in u at the catalogue (forward differences, step
    :data:`LINEAR_STEP`) and the weighted linear least-squares problem solved. Along a
    statically determinate load path with the actuators locked (in-plane loads on a
@@ -79,6 +80,12 @@ LINEAR_STEP = 1e-4
 FIT_STEP = 1e-7
 #: Bounds of a positive parameter relative to its catalogue value during the fit.
 RELATIVE_BOUNDS = (1e-3, 1e3)
+
+
+def _stiffness_like(unit: str) -> bool:
+    """A stiffness (N/m, N·m/rad, Pa) or an actuator law's coefficient k_a (N/m^q:
+    a stiffness when q = 1)."""
+    return unit in STIFFNESS_UNITS or unit.endswith("^q")
 
 
 class IdentifiabilityWarning(UserWarning):
@@ -346,7 +353,7 @@ class _Problem:
         self.scale = np.where(p0 != 0, np.abs(p0), 1.0)
         self.stiff = np.array(
             [
-                design.parameter_unit(n) in STIFFNESS_UNITS and v > 0
+                _stiffness_like(design.parameter_unit(n)) and v > 0
                 for n, v in zip(names, p0, strict=True)
             ]
         )
@@ -493,9 +500,9 @@ def identify(
         bounds=(lower, upper),
         diff_step=FIT_STEP,
         x_scale=1.0,
-        ftol=1e-14,
-        xtol=1e-14,
-        gtol=1e-14,
+        ftol=1e-10,
+        xtol=1e-10,
+        gtol=1e-10,
         max_nfev=200,
     )
     values = fit.x * problem.scale
