@@ -31,15 +31,15 @@ def test_analyze_prints_all_tables(capsys: pytest.CaptureFixture[str]) -> None:
         "N·m/rad",
         "Screw springs",
         "M [N/m]",
-        "d [m]",
+        "d [mm]",
         "K'_rr",
         "K'_tt",
         "Principal stiffnesses",
         "k_phi =",
     ):
         assert heading in out
-    # K_tt(x, x) of (22) appears with its value
-    assert "34570" in out
+    # K_tt(x, x) of (22) appears with its value, in engineering notation
+    assert "34.57e3" in out
 
 
 def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> None:

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from ppm_stiffness.cli import main
-from ppm_stiffness.cli.common import eng, join_negative_values
+from ppm_stiffness.cli import join_negative_values, main
+from ppm_stiffness.cli.common import eng
 
 PACKAGE = Path(__file__).parents[1] / "src" / "ppm_stiffness"
 

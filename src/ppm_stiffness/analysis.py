@@ -177,6 +177,56 @@ def to_jsonable(obj: Any) -> Any:
     return obj
 
 
+#: Version of the layout of every ``--json`` document (``docs/schemas/``): bumped when
+#: a key changes meaning or disappears (``docs/compatibility.md``).
+JSON_SCHEMA_VERSION = 1
+
+#: Keys every JSON document starts with (:func:`json_document`).
+ENVELOPE_KEYS = ("schema_version", "ppm_stiffness_version", "command", "units")
+
+#: SI units of the values of :func:`analyze_design` (keys, or ``a.b`` paths).
+ANALYSIS_UNITS = {
+    "pose": "x, y [m], phi [rad]",
+    "tool_point": "m (platform frame)",
+    "stiffness_matrix": "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)",
+    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator): see actuator_units",
+    "eigenscrews.eigenvalue": "N",
+    "eigenscrews.eigenforce": "N",
+    "eigenscrews.pitch": "m/rad",
+    "eigenscrews.position": "m",
+    "eigenscrews.spring_constant": "N/m",
+    "decoupling.M": "N/m",
+    "decoupling.d": "m",
+    "decoupling.K_rr": "N·m/rad",
+    "decoupling.K_tt": "N/m",
+    "principal.rotational.values": "N·m/rad",
+    "principal.translational.values": "N/m",
+    "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z), at the tool point",
+    "actuator_forces": "N (N·m for a rotary actuator)",
+    "actuator_displacements": "m (rad for a rotary actuator)",
+    "actuator_secant_stiffness": "N/m (N·m/rad for a rotary actuator)",
+    "twist": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+}
+
+
+def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) -> str:
+    """The JSON text a command prints with ``--json`` (and the report embeds).
+
+    Every document starts with ``schema_version`` (:data:`JSON_SCHEMA_VERSION`),
+    ``ppm_stiffness_version``, ``command`` and ``units`` (key or ``a.b`` path -> SI
+    unit of the values under it), then the command's own keys.
+    """
+    from ppm_stiffness import __version__
+
+    head = {
+        "schema_version": JSON_SCHEMA_VERSION,
+        "ppm_stiffness_version": __version__,
+        "command": command,
+        "units": units,
+    }
+    return dump_json({**head, **payload})
+
+
 def dump_json(obj: Any) -> str:
     """JSON text of an analysis (or any nested data), as ``analyze --json`` prints it."""
     return json.dumps(to_jsonable(obj), indent=2, allow_nan=False)

@@ -1,8 +1,10 @@
 """Command-line interface: ``ppm-stiffness COMMAND ...``.
 
 A thin layer: each command lives in its own module of this package, exposing
-``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``; it parses,
-calls the library and prints. Errors of the library (:class:`PPMStiffnessError`)
+``add_arguments(parser)`` and ``run(args) -> int`` (its one-line help is in
+:data:`COMMANDS`); it parses, calls the library and prints. A command module imports
+heavy libraries (scipy, matplotlib, PyNite, ...) inside ``run`` only, so that
+``--help`` stays fast. Errors of the library (:class:`PPMStiffnessError`)
 become one line on stderr and exit code 2, never a traceback.
 """
 
@@ -10,35 +12,71 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import TextIO
 
 from ppm_stiffness.core.errors import PPMStiffnessError
 
-#: command name -> module (imported only when the command runs)
-COMMANDS: dict[str, str] = {
-    "analyze": "ppm_stiffness.cli.analyze",
-    "calibrate": "ppm_stiffness.cli.calibrate",
-    "fit-actuator": "ppm_stiffness.cli.fit_actuator",
-    "deflect": "ppm_stiffness.cli.deflect",
-    "map": "ppm_stiffness.cli.map_cmd",
-    "springs": "ppm_stiffness.cli.springs",
-    "mechanism": "ppm_stiffness.cli.mechanism",
-    "report": "ppm_stiffness.cli.report",
-    "validate": "ppm_stiffness.cli.validate",
-    "identify": "ppm_stiffness.cli.identify",
+#: command name -> (module, one-line help). The help lives here so that
+#: ``ppm-stiffness --help`` imports no command module; a command module is imported
+#: only when it runs or its own ``--help`` is asked for.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "analyze": (
+        "ppm_stiffness.cli.analyze",
+        "stiffness matrix, screw springs, decoupling and principal stiffnesses at a pose",
+    ),
+    "calibrate": (
+        "ppm_stiffness.cli.calibrate",
+        "identify design parameters from a target 6x6 stiffness matrix (bounded least squares)",
+    ),
+    "fit-actuator": (
+        "ppm_stiffness.cli.fit_actuator",
+        "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data",
+    ),
+    "deflect": (
+        "ppm_stiffness.cli.deflect",
+        "deflection of the platform under a load growing from zero (actuator law in the loop)",
+    ),
+    "map": (
+        "ppm_stiffness.cli.map_cmd",
+        "contour maps of k_phi, k_x, k_y over the constant-orientation workspace "
+        "(Figs. 6-7), any architecture",
+    ),
+    "springs": (
+        "ppm_stiffness.cli.springs",
+        "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)",
+    ),
+    "mechanism": (
+        "ppm_stiffness.cli.mechanism",
+        "top view of the manipulator at a pose: base rails or pivots, links, joints, platform",
+    ),
+    "report": (
+        "ppm_stiffness.cli.report",
+        "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, "
+        "deflection curves and stiffness maps",
+    ),
+    "validate": (
+        "ppm_stiffness.cli.validate",
+        "compare the virtual-joint stiffness with an independent FE frame model (PyNite)",
+    ),
+    "identify": (
+        "ppm_stiffness.cli.identify",
+        "identify element stiffnesses from measured platform deflections under known loads",
+    ),
 }
 
 
-def _available() -> dict[str, str]:
-    return {name: mod for name, mod in COMMANDS.items() if importlib.util.find_spec(mod)}
+def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser.
 
-
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every available command."""
+    Parameters
+    ----------
+    commands : iterable of str, optional
+        The commands whose options are added (their modules are imported); every
+        command is listed with its help either way. None: all of them.
+    """
     parser = argparse.ArgumentParser(
         prog="ppm-stiffness",
         description="Stiffness of compliant planar parallel manipulators "
@@ -48,12 +86,39 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name, modname in _available().items():
-        module = importlib.import_module(modname)
-        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
-        module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+    wanted = set(COMMANDS) if commands is None else set(commands)
+    for name, (modname, text) in COMMANDS.items():
+        p = sub.add_parser(name, help=text, description=text)
+        if name in wanted:
+            module = importlib.import_module(modname)
+            module.add_arguments(p)
+            p.set_defaults(_run=module.run)
     return parser
+
+
+def join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``--wrench -5,0,...`` -> ``--wrench=-5,0,...``: argparse reads a value that starts
+    with ``-`` as an option, so a value that starts with ``-`` and a digit or a point
+    (a negative number, alone or in a comma list) is attached to the option before it."""
+    out: list[str] = []
+    for arg in argv:
+        prev = out[-1] if out else ""
+        if (
+            prev.startswith("--")
+            and "=" not in prev
+            and len(arg) > 1
+            and arg[0] == "-"
+            and (arg[1].isdigit() or arg[1] == ".")
+        ):
+            out[-1] = f"{prev}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+def _command_in(argv: Sequence[str]) -> str | None:
+    """The command named in ``argv`` (the first argument that is one), or None."""
+    return next((a for a in argv if a in COMMANDS), None)
 
 
 def _one_line_warning(
@@ -71,12 +136,11 @@ def _one_line_warning(
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit code (0 ok, 2 bad input)."""
     warnings.showwarning = _one_line_warning
-    parser = build_parser()
-    from ppm_stiffness.cli.common import join_negative_values
-
-    raw = sys.argv[1:] if argv is None else list(argv)
+    raw = join_negative_values(sys.argv[1:] if argv is None else argv)
+    command = _command_in(raw)
+    parser = build_parser([] if command is None else [command])
     try:
-        args = parser.parse_args(join_negative_values(raw))
+        args = parser.parse_args(raw)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
         return int(exc.code or 0)
     try:

@@ -9,13 +9,14 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import analyze_design, analyze_matrix, dump_json
+from ppm_stiffness.analysis import ANALYSIS_UNITS, analyze_design, analyze_matrix, json_document
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
     add_tool_point_argument,
     add_wrench_argument,
     console,
+    eng,
     load_design_arg,
     parse_wrench,
     pose_from_args,
@@ -26,10 +27,6 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.fit.calibration import validate_stiffness_matrix
 from ppm_stiffness.model import check_nonsingular
-
-HELP = "stiffness matrix, screw springs, decoupling and principal stiffnesses at a pose"
-
-_ROW_UNITS = ("N·m/rad, N",) * 3 + ("N, N/m",) * 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -75,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         )
         title = design.name
     if args.json:
-        print(dump_json(result))
+        print(json_document("analyze", result, ANALYSIS_UNITS))
     else:
         print_tables(result, title)
     return 0
@@ -87,22 +84,14 @@ def _clean(m: Any) -> np.ndarray:
     return np.where(np.abs(a) < 1e-12 * max(np.max(np.abs(a)), 1e-300), 0.0, a)
 
 
-def _matrix_table(
-    title: str,
-    m: Any,
-    labels: tuple[str, ...],
-    fmt: str = "{:.4g}",
-    units: tuple[str, ...] | None = None,
-) -> Table:
+def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 5) -> Table:
+    """A square matrix with labelled rows and columns, entries in engineering notation."""
     t = Table(title=escape(title), title_justify="left")
     t.add_column("")
     for lab in labels:
         t.add_column(lab, justify="right")
-    if units:
-        t.add_column("row units")
-    for i, (lab, row) in enumerate(zip(labels, _clean(m), strict=True)):
-        cells = [fmt.format(v + 0.0) for v in row]
-        t.add_row(lab, *cells, *([units[i]] if units else []))
+    for lab, row in zip(labels, _clean(m), strict=True):
+        t.add_row(lab, *(eng(v, digits) for v in row))
     return t
 
 
@@ -157,44 +146,38 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             )
         )
     k = np.asarray(result["stiffness_matrix"])
+    at = "T" if any(result.get("tool_point") or []) else "P"
     c.print(
         _matrix_table(
-            "Cartesian stiffness K at "
-            + ("T" if any(result.get("tool_point") or []) else "P")
-            + ", axes of F_b (w = K t; t = (phi, u) [rad, m], "
-            "w = (m, f) [N·m, N])",
+            f"Cartesian stiffness K at {at}, axes of F_b: w = K t, t = (phi, u) "
+            "[rad, m], w = (m, f) [N·m, N]; blocks K_rr [N·m/rad], K_rt [N], "
+            "K_tt [N/m]",
             k,
             TWIST_COMPONENTS,
-            "{:.5g}",
-            _ROW_UNITS,
         )
     )
-
+    springs = result["eigenscrews"]
     s = Table(
-        title="Screw springs (eigenscrews of K zeta = lambda Gamma zeta, eq. 5-11)",
+        title="Screw springs: eigenscrews of K zeta = lambda Gamma zeta (eq. 5-11)",
         title_justify="left",
     )
-    for col in (
-        "spring",
-        "lambda [N]",
-        "eigenforce [N]",
-        "k [N/m]",
-        "axis e",
-        "position p [m]",
-        "pitch [m/rad]",
-    ):
-        s.add_column(col, justify="right")
-    for i, sc in enumerate(result["eigenscrews"], start=1):
+    for col in ("spring", "lambda [N]", "eigenforce [N]", "k [N/m]", "pitch [m/rad]"):
+        s.add_column(escape(col), justify="right")
+    for i, sc in enumerate(springs, start=1):
         s.add_row(
             f"s{i}",
-            f"{sc['eigenvalue']:.1f}",
-            f"{sc['eigenforce']:.1f}",
-            f"{sc['spring_constant']:.0f}",
-            _vec(sc["axis"]),
-            _vec(sc["position"]),
-            f"{sc['pitch']:.4f}",
+            eng(sc["eigenvalue"], 5),
+            eng(sc["eigenforce"], 5),
+            eng(sc["spring_constant"], 5),
+            eng(sc["pitch"], 4),
         )
     c.print(s)
+    g = Table(title="Screw springs: axes and positions (F_b)", title_justify="left")
+    for col in ("spring", "axis e", "position p [mm]"):
+        g.add_column(escape(col), justify="right")
+    for i, sc in enumerate(springs, start=1):
+        g.add_row(f"s{i}", _vec(sc["axis"]), _vec(1e3 * np.asarray(sc["position"]), 2))
+    c.print(g)
 
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":
@@ -202,11 +185,9 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     for key, pkey in order:
         dec, pr = result[key], result[pkey]
         c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
-        c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z"), "{:.5g}"))
-        c.print(
-            f"d \\[m] = {_vec(dec['d'], 5)}   residual coupling ||K_rt + D K_tt|| / ||K_rt|| = "
-            f"{dec['residual_coupling']:.4f}"
-        )
+        c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
+        c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
+        c.print(f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}")
         c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
         c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
         pt = Table(title="Principal stiffnesses and directions", title_justify="left")
@@ -219,11 +200,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             vals = pr[block]["values"]
             dirs = np.asarray(pr[block]["directions"])
             for j in range(3):
-                pt.add_row(f"{name} {j + 1}", f"{vals[j]:.5g} {unit}", _vec(dirs[j]))
+                pt.add_row(f"{name} {j + 1}", f"{eng(vals[j], 5)} {unit}", _vec(dirs[j]))
         c.print(pt)
         if pr is result["principal"]:
             r, tr = pr["rotational"]["values"], pr["translational"]["values"]
             c.print(
-                f"k_phi = {r[2]:.5g} N·m/rad, k_x = {tr[0]:.5g} N/m, "
-                f"k_y = {tr[1]:.5g} N/m (paper's definitions)"
+                f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
+                f"k_y = {eng(tr[1], 5)} N/m (paper's definitions)"
             )

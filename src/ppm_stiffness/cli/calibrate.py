@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
+from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
@@ -13,16 +15,17 @@ from ppm_stiffness.cli.common import (
     add_pose_arguments,
     check_output_path,
     console,
+    eng,
+    json_document,
     load_design_arg,
     pose_from_args,
+    progress,
     read_matrix_csv,
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
-from ppm_stiffness.fit.calibration import calibrate
-
-HELP = "identify design parameters from a target 6x6 stiffness matrix (bounded least squares)"
+from ppm_stiffness.fit.calibration import CalibrationResult, calibrate, evaluations_per_start
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -70,6 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--seed", type=int, default=0, help="seed of the random starting points (default 0)"
     )
     parser.add_argument("--out", metavar="FILE.toml", help="write the calibrated design here")
+    parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
 
 def _parse_bounds(items: list[str]) -> dict[str, tuple[float, float]]:
@@ -105,41 +109,105 @@ def run(args: argparse.Namespace) -> int:
         raise InputDataError("--starts must be >= 1")
     if args.sigma is not None and not args.sigma > 0:
         raise InputDataError("--sigma must be > 0")
-    result = calibrate(
-        design,
-        target,
-        names,
-        bounds=_parse_bounds(args.bound),
-        pose=pose,
-        sigma=args.sigma,
-        starts=args.starts,
-        seed=args.seed,
-    )
+    budget = args.starts * evaluations_per_start(len(names))
+    with progress("calibrate", budget) as advance:
+        result = calibrate(
+            design,
+            target,
+            names,
+            bounds=_parse_bounds(args.bound),
+            pose=pose,
+            sigma=args.sigma,
+            starts=args.starts,
+            seed=args.seed,
+            progress=advance,
+        )
+    if args.json:
+        print(json_document("calibrate", _json(result, args.out), _JSON_UNITS))
+    else:
+        _print(result)
+    if args.out:
+        save_design(result.design, args.out)
+        if not args.json:
+            console.print(f"calibrated design written to {escape(args.out)}")
+    return 0
+
+
+#: Units of the JSON document's values (parameters carry their own in ``parameters``).
+_BLOCKS = "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)"
+_JSON_UNITS = {
+    "parameters": "each in its own unit (parameters[i].unit)",
+    "target": _BLOCKS,
+    "fitted": _BLOCKS,
+    "residuals": _BLOCKS,
+    "cost": "1 (residuals divided by sigma)",
+    "weighted_rms": "1 (residuals divided by sigma)",
+    "singular_values": "1 (of the Jacobian of the weighted residuals, scaled parameters)",
+}
+
+
+def _json(result: CalibrationResult, out: str | None) -> dict[str, Any]:
+    std = result.standard_deviations
+    return {
+        "parameters": [
+            {
+                "name": n,
+                "unit": result.design.parameter_unit(n),
+                "start": result.initial[i],
+                "fit": result.values[i],
+                "std": std[i] if np.isfinite(std[i]) else None,
+                "lower": result.lower[i],
+                "upper": result.upper[i],
+            }
+            for i, n in enumerate(result.names)
+        ],
+        "target": result.target,
+        "fitted": result.fitted,
+        "residuals": result.residuals,
+        "cost": result.cost,
+        "weighted_rms": result.weighted_rms,
+        "singular_values": result.singular_values,
+        "flat_directions": result.flat_directions(),
+        "at_bound": result.at_bound,
+        "design_written": out,
+    }
+
+
+def _print(result: CalibrationResult) -> None:
     c = console
-    t = Table(title="Fitted parameters (SI)", title_justify="left")
-    for col in ("parameter", "start", "fit", "std (1 sigma)", "lower", "upper"):
-        t.add_column(col, justify="right")
+    t = Table(title="Fitted parameters (SI; each in its unit)", title_justify="left")
+    for col in ("#", "parameter", "unit"):
+        t.add_column(col, no_wrap=col != "parameter", overflow="fold")
+    v = Table(title="Fit of each parameter #", title_justify="left")
+    for col in ("#", "start", "fit", "std (1σ)", "lower", "upper"):
+        v.add_column(escape(col), justify="right")
     for i, n in enumerate(result.names):
         std = result.standard_deviations[i]
-        t.add_row(
-            n,
-            f"{result.initial[i]:.6g}",
-            f"{result.values[i]:.6g}",
-            "undetermined" if not np.isfinite(std) else f"{std:.3g}",
-            f"{result.lower[i]:.4g}",
-            f"{result.upper[i]:.4g}",
+        t.add_row(str(i + 1), n, result.design.parameter_unit(n))
+        v.add_row(
+            str(i + 1),
+            eng(result.initial[i], 5),
+            eng(result.values[i], 5),
+            "undetermined" if not np.isfinite(std) else eng(std, 3),
+            eng(result.lower[i], 4),
+            eng(result.upper[i], 4),
         )
     c.print(t)
+    c.print(v)
     c.print(
         f"cost = {result.cost:.6g}, weighted RMS residual = {result.weighted_rms:.4g} "
         f"(residual / sigma over the upper triangle)"
     )
-    r = Table(title="Residuals fitted - target (SI: N·m/rad | N | N/m)", title_justify="left")
+    r = Table(
+        title="Residuals fitted - target (SI: N·m/rad | N | N/m by block)", title_justify="left"
+    )
     r.add_column("")
     for lab in TWIST_COMPONENTS:
         r.add_column(lab, justify="right")
+    scale = max(float(np.max(np.abs(result.target))), 1e-300)
     for lab, row in zip(TWIST_COMPONENTS, result.residuals, strict=True):
-        r.add_row(lab, *[f"{v:.3g}" for v in row])
+        # round-off (below 1e-12 of the target's largest entry) shown as 0
+        r.add_row(lab, *(eng(v if abs(v) > 1e-12 * scale else 0.0, 3) for v in row))
     c.print(r)
     s = result.singular_values
     condition = f"condition {s[0] / s[-1]:.3g}" if s[-1] > 0 else "condition infinite"
@@ -153,7 +221,3 @@ def run(args: argparse.Namespace) -> int:
         c.print(f"[yellow]flat direction (target cannot tell apart):[/yellow] {parts}")
     if result.at_bound:
         c.print(f"[yellow]at a bound:[/yellow] {', '.join(result.at_bound)}")
-    if args.out:
-        save_design(result.design, args.out)
-        c.print(f"calibrated design written to {args.out}")
-    return 0

@@ -6,20 +6,22 @@ import argparse
 import csv
 import math
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from rich.console import Console
 
+from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.model import workspace_centre
 
-#: Tables go to stdout; piped output gets a fixed width wide enough for 6x6 matrices.
-console = Console(width=None if sys.stdout.isatty() else 140)
+__all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
+
+#: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
+console = Console(width=None if sys.stdout.isatty() else 80)
 err_console = Console(stderr=True)
 
 
@@ -215,30 +217,6 @@ def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
     return np.array(rows)
 
 
-#: Version of the layout of every ``--json`` document (``docs/schemas/``): bumped when
-#: a key changes meaning or disappears (``docs/compatibility.md``).
-JSON_SCHEMA_VERSION = 1
-
-
-def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) -> str:
-    """The JSON text a command prints with ``--json``.
-
-    Every document carries ``schema_version`` (:data:`JSON_SCHEMA_VERSION`),
-    ``ppm_stiffness_version``, ``command`` and ``units`` (key -> SI unit of the
-    values under it) before the command's own keys.
-    """
-    from ppm_stiffness import __version__
-    from ppm_stiffness.analysis import dump_json
-
-    head = {
-        "schema_version": JSON_SCHEMA_VERSION,
-        "ppm_stiffness_version": __version__,
-        "command": command,
-        "units": units,
-    }
-    return dump_json({**head, **payload})
-
-
 @contextmanager
 def progress(
     description: str, total: float, enabled: bool = True
@@ -287,23 +265,3 @@ def eng(value: float, digits: int = 4) -> str:
     if float(text) == 0:
         return "0"
     return text if exp3 == 0 else f"{text}e{exp3}"
-
-
-def join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``--wrench -5,0,...`` -> ``--wrench=-5,0,...``: argparse reads a value that starts
-    with ``-`` as an option, so negative numbers in comma lists (and single negative
-    numbers in exponent form) are attached to the option before them."""
-    out: list[str] = []
-    for arg in argv:
-        prev = out[-1] if out else ""
-        if (
-            prev.startswith("--")
-            and "=" not in prev
-            and len(arg) > 1
-            and arg[0] == "-"
-            and (arg[1].isdigit() or arg[1] == ".")
-        ):
-            out[-1] = f"{prev}={arg}"
-        else:
-            out.append(arg)
-    return out

@@ -11,7 +11,6 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
@@ -21,6 +20,8 @@ from ppm_stiffness.cli.common import (
     check_input_path,
     check_output_path,
     console,
+    eng,
+    json_document,
     load_design_arg,
     parse_wrench,
     pose_from_args,
@@ -37,8 +38,6 @@ from ppm_stiffness.statics.deflection import (
     deflection_path,
 )
 from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
-
-HELP = "deflection of the platform under a load growing from zero (actuator law in the loop)"
 
 #: Default largest load of each mode [N or N·m].
 DEFAULT_MAX = {"planar-force": 10.0, "moment": 0.5, "vertical-force": 20.0, "wrench": 1.0}
@@ -197,6 +196,20 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+#: SI units of the values of ``deflect --json``.
+_JSON_UNITS = {
+    "pose": "x, y [m], phi [rad]",
+    "alpha_deg": "deg (the direction of the planar force)",
+    "loads": "load_unit",
+    "wrenches": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
+    "twists": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+    "actuator_forces": "N (N·m for a rotary actuator)",
+    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
+    "actuator_displacements": "m (rad for a rotary actuator)",
+    "rms_differences": "orientation_deg deg, position_mm mm",
+}
+
+
 def _json(curve: DeflectionCurve, rms: dict[str, Any] | None) -> dict[str, Any]:
     return {
         "mode": curve.mode,
@@ -226,25 +239,32 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         f"pose: x = {p[0] * 1e3:.3f} mm, y = {p[1] * 1e3:.3f} mm, "
         f"phi = {math.degrees(p[2]):.3f} deg"
     )
-    t = Table(title=None)
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    t = Table(title="platform deflection at P (axes of F_b)", title_justify="left")
     t.add_column(f"load \\[{unit}]", justify="right")
     for name in TWIST_COMPONENTS:
         t.add_column(f"{name} \\[{'deg' if name.startswith('phi') else 'mm'}]", justify="right")
-    n_legs = curve.actuator_forces.shape[1]
-    for i in range(n_legs):
-        t.add_column(f"G{i + 1} \\[N]", justify="right")
-    for i in range(n_legs):
-        t.add_column(f"K{i + 1} \\[N/m]", justify="right")
-    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     for k, load in enumerate(curve.loads):
-        tw = curve.twists[k] * scale
-        t.add_row(
-            f"{load:.4g}",
-            *(f"{v + 0.0:.4f}" for v in tw),
-            *(f"{v + 0.0:.3f}" for v in curve.actuator_forces[k]),
-            *(f"{v:.4g}" for v in curve.actuator_stiffness[k]),
-        )
+        t.add_row(f"{load:g}", *(eng(v) for v in curve.twists[k] * scale))
     c.print(t)
+    n_legs = curve.actuator_forces.shape[1]
+    a = Table(
+        title="actuators: force G \\[N] and tangent stiffness K \\[N/m] per leg "
+        "(N·m and N·m/rad for a rotary actuator)",
+        title_justify="left",
+    )
+    a.add_column(f"load \\[{unit}]", justify="right")
+    for i in range(n_legs):
+        a.add_column(f"G{i + 1}", justify="right")
+    for i in range(n_legs):
+        a.add_column(f"K{i + 1}", justify="right")
+    for k, load in enumerate(curve.loads):
+        a.add_row(
+            f"{load:g}",
+            *(eng(v) for v in curve.actuator_forces[k]),
+            *(eng(v) for v in curve.actuator_stiffness[k]),
+        )
+    c.print(a)
     if rms is not None:
         o, q = rms["orientation_deg"], rms["position_mm"]
         c.print(
@@ -270,7 +290,7 @@ def run(args: argparse.Namespace) -> int:
         use_headless_backend()
         save_figure(plot_deflection_curves([curve], meas), args.plot)
     if args.json:
-        print(dump_json(_json(curve, rms)))
+        print(json_document("deflect", _json(curve, rms), _JSON_UNITS))
         return 0
     _print(curve, rms)
     if args.csv:

@@ -7,20 +7,18 @@ import argparse
 import numpy as np
 from rich.markup import escape
 
-from ppm_stiffness.analysis import dump_json
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_overwrite_argument,
     check_input_path,
     check_output_path,
     console,
+    json_document,
     load_design_arg,
 )
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
 from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
-
-HELP = "fit the actuator law G = k_a delta^q (eq. 20) to force-displacement data"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -84,7 +82,14 @@ def run(args: argparse.Namespace) -> int:
         save_figure(fig, args.plot)
     if args.json:
         out = dict(fit.as_dict(), source=args.data, displacement_unit=data.displacement_unit)
-        print(dump_json(out))
+        units = {
+            "k_a": "N/m^q (displacement in m)",
+            "k_a_std": "N/m^q (displacement in m)",
+            "q": "1",
+            "q_std": "1",
+            "residual_std": "N",
+        }
+        print(json_document("fit-actuator", out, units))
         return 0
     c = console
     c.print(

@@ -18,11 +18,6 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = (
-    "identify design parameters (element stiffnesses) from measured platform "
-    "deflections under known loads (nonlinear least squares through the loaded model)"
-)
-
 #: Factor from SI to the unit in each measurement column name, and back.
 _COLUMN_FACTORS = {"deg": math.pi / 180, "mm": 1e-3}
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from rich.markup import escape
@@ -17,23 +18,26 @@ from ppm_stiffness.cli.common import (
     add_tool_point_argument,
     check_output_path,
     console,
-    err_console,
+    eng,
+    json_document,
     load_design_arg,
     parse_floats,
     parse_wrench,
+    progress,
     tool_point_from_args,
 )
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.design import Design
 from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
-
-HELP = (
-    "contour maps of k_phi, k_x, k_y over the constant-orientation workspace (Figs. 6-7), "
-    "any architecture"
-)
 
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
 MAX_GRID = 10_000
+#: Peak memory per map pose [bytes], for --max-memory: measured with
+#: ``/usr/bin/time -f %M ppm-stiffness map --grid 1000 [--data m.csv]``, 100 MB on the
+#: built-in design and 160 MB on examples/3rrr.toml for 10^6 poses, of which about
+#: 65 MB are the imports; rounded up.
+BYTES_PER_POSE = 110
 _UNITS = {"k_phi": "N·m/rad", "k_x": "N/m", "k_y": "N/m"}
 
 
@@ -76,6 +80,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="FIG", help="write the figure (.png, .svg or .pdf)")
     parser.add_argument("--data", metavar="FILE", help="write the map data (.csv or .npz, SI)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--max-memory",
+        type=float,
+        default=4.0,
+        metavar="GB",
+        help="refuse a grid whose estimated peak memory exceeds this (default 4 GB)",
+    )
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print the summary as one JSON object (SI) instead of tables",
+    )
 
 
 def _parse_bounds(text: str | None) -> np.ndarray | None:
@@ -85,19 +101,23 @@ def _parse_bounds(text: str | None) -> np.ndarray | None:
 
 
 def _summary_table(smap: StiffnessMap) -> Table:
-    table = Table(title="principal stiffness over the workspace")
-    for col in ("", "min", "at (x, y) [mm]", "max", "at (x, y) [mm]", "max/min", "unit"):
-        table.add_column(col, justify="left" if col in ("", "unit") else "right")
-    for name, s in smap.summary().items():
-        table.add_row(
-            name,
-            f"{s['min']:.5g}",
-            f"({s['x_at_min'] * 1e3:.2f}, {s['y_at_min'] * 1e3:.2f})",
-            f"{s['max']:.5g}",
-            f"({s['x_at_max'] * 1e3:.2f}, {s['y_at_max'] * 1e3:.2f})",
-            f"{s['ratio']:.4g}",
-            _UNITS[name],
-        )
+    """One column per principal stiffness; rows: extremes, where they are, their ratio."""
+    summary = smap.summary()
+    table = Table(title="principal stiffness over the workspace", title_justify="left")
+    table.add_column("")
+    for name in summary:
+        table.add_column(escape(f"{name} [{_UNITS[name]}]"), justify="right")
+    rows = (
+        ("min", "min", 1.0),
+        ("  at x [mm]", "x_at_min", 1e3),
+        ("  at y [mm]", "y_at_min", 1e3),
+        ("max", "max", 1.0),
+        ("  at x [mm]", "x_at_max", 1e3),
+        ("  at y [mm]", "y_at_max", 1e3),
+        ("max/min", "ratio", 1.0),
+    )
+    for label, key, factor in rows:
+        table.add_row(escape(label), *(eng(s[key] * factor, 5) for s in summary.values()))
     return table
 
 
@@ -107,6 +127,15 @@ def run(args: argparse.Namespace) -> int:
     check_output_path(args.data, "--data", DATA_SUFFIXES, overwrite=args.overwrite)
     if not 2 <= args.grid <= MAX_GRID:
         raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
+    estimate = BYTES_PER_POSE * args.grid**2 / 1e9
+    if not args.max_memory > 0:
+        raise InputDataError(f"--max-memory must be > 0 GB, got {args.max_memory:g}")
+    if estimate > args.max_memory:
+        raise InputDataError(
+            f"--grid {args.grid}: about {estimate:.3g} GB of memory estimated "
+            f"({BYTES_PER_POSE} bytes per pose), above --max-memory {args.max_memory:g} GB; "
+            "use a smaller grid or raise --max-memory"
+        )
     phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180
     if not math.isfinite(phi):
         raise InputDataError("--phi must be finite")
@@ -124,38 +153,21 @@ def run(args: argparse.Namespace) -> int:
         state = "wrench"
     bounds = _parse_bounds(args.bounds)
 
-    show = not args.quiet and err_console.is_terminal
-    if show:
-        from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+    show = not (args.quiet or args.json)
+    with progress("map", args.grid * args.grid, enabled=show) as advance:
+        done_before = [0]
 
-        bar = Progress(
-            TextColumn("map"),
-            BarColumn(),
-            TextColumn("{task.percentage:>3.0f}%"),
-            TimeRemainingColumn(),
-            console=err_console,
-            transient=True,
-        )
-        task = bar.add_task("map", total=args.grid * args.grid)
-        with bar:
-            smap = stiffness_map(
-                design,
-                phi=phi,
-                actuators=state,
-                grid=args.grid,
-                wrench=wrench,
-                progress=lambda done, total: bar.update(task, completed=done, total=total),
-                bounds=bounds,
-                reference_force=args.reference_force,
-                tool_point=tool_point_from_args(args, design),
-            )
-    else:
+        def report(done: int, total: int) -> None:
+            advance(done - done_before[0])
+            done_before[0] = done
+
         smap = stiffness_map(
             design,
             phi=phi,
             actuators=state,
             grid=args.grid,
             wrench=wrench,
+            progress=report,
             bounds=bounds,
             reference_force=args.reference_force,
             tool_point=tool_point_from_args(args, design),
@@ -166,6 +178,64 @@ def run(args: argparse.Namespace) -> int:
             f"no grid point of the map is in the workspace at phi = "
             f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
         )
+    if args.data:
+        path = Path(args.data)
+        if path.suffix.lower() == ".npz":
+            smap.to_npz(path)
+        else:
+            with progress("writing " + path.name, smap.reachable.size, enabled=show) as advance:
+                smap.to_csv(path, advance)
+    if args.out:
+        from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
+
+        save_map_figure(plot_stiffness_maps(smap), args.out)
+    if args.json:
+        print(json_document("map", _json(smap, design, args), _JSON_UNITS))
+        return 0
+    _print(smap, design, state, args)
+    if args.data:
+        console.print(f"data written to {escape(args.data)}")
+    if args.out:
+        console.print(f"figure written to {escape(args.out)}")
+    return 0
+
+
+_JSON_UNITS = {
+    "phi": "rad",
+    "grid.x_range": "m",
+    "grid.y_range": "m",
+    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator): [lowest, highest] per leg",
+    "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
+    "tool_point": "m (platform frame)",
+    "summary.k_phi": "N·m/rad (positions x_at_*, y_at_* in m; ratio 1)",
+    "summary.k_x": "N/m (positions in m; ratio 1)",
+    "summary.k_y": "N/m (positions in m; ratio 1)",
+}
+
+
+def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        "design": design.name,
+        "architecture": design.architecture,
+        "phi": smap.phi,
+        "actuators": smap.actuators,
+        "actuator_stiffness": np.asarray(smap.actuator_stiffness).T.tolist(),
+        "wrench": None if smap.wrench is None else smap.wrench,
+        "tool_point": tool_point_from_args(args, design),
+        "grid": {
+            "nx": int(smap.x.size),
+            "ny": int(smap.y.size),
+            "x_range": [float(smap.x[0]), float(smap.x[-1])],
+            "y_range": [float(smap.y[0]), float(smap.y[-1])],
+        },
+        "reachable_fraction": float(np.mean(smap.reachable)),
+        "summary": smap.summary(),
+        "data": args.data,
+        "figure": args.out,
+    }
+
+
+def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namespace) -> None:
     k_lo, k_hi = smap.actuator_stiffness
     units = [leg.actuator_units()[2] for leg in design.legs]
 
@@ -175,7 +245,9 @@ def run(args: argparse.Namespace) -> int:
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
         + (f" (reference load {args.reference_force:g})" if state == "min" else "")
-        + "; actuator stiffness: "
+    )
+    console.print(
+        f"actuator stiffness ({state}): "
         + _values(k_lo)
         + ("" if np.allclose(k_lo, k_hi, equal_nan=True) else f" to {_values(k_hi)}")
     )
@@ -185,16 +257,3 @@ def run(args: argparse.Namespace) -> int:
         f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
     )
     console.print(_summary_table(smap))
-    if args.data:
-        path = Path(args.data)
-        if path.suffix.lower() == ".npz":
-            smap.to_npz(path)
-        else:
-            smap.to_csv(path)
-        console.print(f"data written to {escape(str(path))}")
-    if args.out:
-        from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
-
-        save_map_figure(plot_stiffness_maps(smap), args.out)
-        console.print(f"figure written to {escape(args.out)}")
-    return 0

@@ -14,8 +14,6 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
 )
 
-HELP = "top view of the manipulator at a pose: base rails or pivots, links, joints, platform"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)

@@ -20,11 +20,6 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.core.errors import InputDataError
 
-HELP = (
-    "self-contained HTML report: parameters, K, screw springs, decoupling, loaded case, "
-    "deflection curves and stiffness maps"
-)
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_overwrite_argument(parser)

@@ -18,8 +18,6 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
 )
 
-HELP = "3D picture of the six screw springs of K, platform and legs in place (Fig. 5)"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)

@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 from rich.markup import escape
-from rich.progress import Progress
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
@@ -24,8 +23,10 @@ from ppm_stiffness.cli.common import (
     add_overwrite_argument,
     check_output_path,
     console,
-    err_console,
+    eng,
+    json_document,
     load_design_arg,
+    progress,
 )
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
@@ -38,9 +39,6 @@ from ppm_stiffness.validation.compare import (
     validation_poses,
 )
 from ppm_stiffness.validation.fe_model import require_pynite
-
-HELP = "compare the virtual-joint stiffness with an independent FE frame model (PyNite)"
-
 
 #: Upper bound of --poses: about 3 to 4 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
@@ -78,6 +76,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "pose and block)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--json", action="store_true", help="print the comparison as one JSON object (SI)"
+    )
 
 
 def _check_args(args: argparse.Namespace) -> None:
@@ -94,38 +95,40 @@ def _check_args(args: argparse.Namespace) -> None:
 
 def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:
     out: list[PoseComparison] = []
-    show = not args.quiet and err_console.is_terminal
-    with Progress(console=err_console, disable=not show, transient=True) as progress:
-        task = progress.add_task("FE model", total=len(poses))
+    with progress("FE model", len(poses), enabled=not (args.quiet or args.json)) as advance:
         for pose in poses:
             out.append(compare_at_pose(design, pose))
-            progress.advance(task)
+            advance(1)
     return out
 
 
 def _table(results: list[PoseComparison]) -> Table:
-    table = Table(title="virtual-joint K vs FE frame model (PyNite): max relative difference")
+    table = Table(
+        title="virtual-joint (VJ) K vs FE frame model (PyNite): largest relative "
+        "difference of the planar and out-of-plane (out-pl.) blocks; time per pose",
+        title_justify="left",
+    )
     for col in (
         "pose",
         "x [mm]",
         "y [mm]",
         "phi [deg]",
         "planar",
-        "out-of-plane",
-        "FE [ms]",
-        "VJ [ms]",
+        "out-of-pl.",
+        "FE [s]",
+        "VJ [s]",
     ):
         table.add_column(escape(col), justify="right")
     for i, r in enumerate(results):
         table.add_row(
             "centre" if i == 0 else str(i),
-            f"{r.pose[0] * 1e3:.3f}",
-            f"{r.pose[1] * 1e3:.3f}",
-            f"{np.degrees(r.pose[2]):.3f}",
-            f"{r.differences['planar']:.2e}",
-            f"{r.differences['out_of_plane']:.2e}",
-            f"{r.time_fe * 1e3:.1f}",
-            f"{r.time_virtual_joint * 1e3:.2f}",
+            f"{r.pose[0] * 1e3:.2f}",
+            f"{r.pose[1] * 1e3:.2f}",
+            f"{np.degrees(r.pose[2]):.2f}",
+            eng(r.differences["planar"], 3),
+            eng(r.differences["out_of_plane"], 3),
+            eng(r.time_fe, 3),
+            eng(r.time_virtual_joint, 3),
         )
     return table
 
@@ -150,15 +153,37 @@ def run(args: argparse.Namespace) -> int:
         design, args.poses, args.seed, args.radius * 1e-3, math.radians(args.angle)
     )
     results = _run_poses(design, poses, args)
+    worst = {name: max(r.differences[name] for r in results) for name in BLOCKS}
+    ok = all(worst[name] <= TOLERANCES[name] for name in BLOCKS)
+    if args.csv:
+        _write_csv(args.csv, results)
+    if args.json:
+        payload = {
+            "design": design.name,
+            "architecture": design.architecture,
+            "poses": [
+                {
+                    "pose": {"x": r.pose[0], "y": r.pose[1], "phi": r.pose[2]},
+                    "differences": r.differences,
+                    "stiffness_virtual_joint": r.k_virtual_joint,
+                    "stiffness_fe": r.k_fe,
+                    "time_fe": r.time_fe,
+                    "time_virtual_joint": r.time_virtual_joint,
+                }
+                for r in results
+            ],
+            "worst": worst,
+            "tolerances": {name: TOLERANCES[name] for name in BLOCKS},
+            "passed": ok,
+            "csv": args.csv,
+        }
+        print(json_document("validate", payload, _JSON_UNITS))
+        return 0 if ok else 1
     console.print(_table(results))
-    ok = True
     for name in BLOCKS:
-        worst = max(r.differences[name] for r in results)
-        passed = worst <= TOLERANCES[name]
-        ok &= passed
         console.print(
-            f"{name}: max {worst:.2e} (tolerance {TOLERANCES[name]:.0%}) "
-            f"{'ok' if passed else 'FAILED'}"
+            f"{name}: max {worst[name]:.2e} (tolerance {TOLERANCES[name]:.0%}) "
+            f"{'ok' if worst[name] <= TOLERANCES[name] else 'FAILED'}"
         )
     t_fe = float(np.mean([r.time_fe for r in results]))
     t_vj = float(np.mean([r.time_virtual_joint for r in results]))
@@ -166,6 +191,17 @@ def run(args: argparse.Namespace) -> int:
         f"time per pose: FE {t_fe * 1e3:.1f} ms, virtual joints {t_vj * 1e3:.2f} ms "
         f"(FE / VJ = {t_fe / t_vj:.0f})"
     )
-    if args.csv:
-        _write_csv(args.csv, results)
     return 0 if ok else 1
+
+
+_BLOCKS = "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)"
+_JSON_UNITS = {
+    "poses.pose": "x, y [m], phi [rad]",
+    "poses.differences": "1 (largest relative difference of the block)",
+    "poses.stiffness_virtual_joint": _BLOCKS,
+    "poses.stiffness_fe": _BLOCKS,
+    "poses.time_fe": "s",
+    "poses.time_virtual_joint": "s",
+    "worst": "1",
+    "tolerances": "1",
+}

@@ -11,6 +11,7 @@ this module knows none of them by name.
 from __future__ import annotations
 
 import fnmatch
+import math
 from collections import Counter
 from typing import Annotated, Any, Literal, Union
 
@@ -157,6 +158,30 @@ class Design(PartModel):
         from ppm_stiffness.design.io import design_from_dict
 
         return design_from_dict(data, source="parameters")
+
+    def check_range(self, name: str, low: float, high: float) -> None:
+        """Refuse a range ``[low, high]`` for parameter ``name`` (or glob) that is empty or
+        reaches values the design cannot take.
+
+        Both ends are validated as design values, so a range in the wrong unit gets
+        the same message as a wrong value in a design file (``alpha = 90: angles ...
+        are in radians; did you mean 1.5708?``), and a stiffness range reaching 0 is
+        refused.
+
+        Raises
+        ------
+        DesignError
+            Naming the parameter, the range and what is wrong.
+        """
+        if not (math.isfinite(low) and math.isfinite(high)) or not low < high:
+            raise DesignError(
+                f"range of {name!r}: [{low:g}, {high:g}] must be finite with low < high"
+            )
+        for end in (low, high):
+            try:
+                self.with_parameters({name: end})
+            except DesignError as exc:
+                raise DesignError(f"range of {name!r} [{low:g}, {high:g}]: {exc}") from None
 
     def scalar_parameter_names(self) -> list[str]:
         """Every scalar parameter name of this design, in file order."""

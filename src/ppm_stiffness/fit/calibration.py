@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import least_squares
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
@@ -120,6 +119,13 @@ def default_bounds(name: str, value: float, unit: str = "") -> tuple[float, floa
     return (value - 1.0, value + 1.0)
 
 
+def evaluations_per_start(n_free: int) -> int:
+    """Model evaluations one start of :func:`calibrate` is allotted for progress bars:
+    its least-squares budget (``200 n_free`` steps) plus a 2-point finite-difference
+    Jacobian (``n_free`` evaluations) per step. Most starts end well before it."""
+    return 200 * n_free * (n_free + 1)
+
+
 def validate_stiffness_matrix(matrix: ArrayLike, what: str = "matrix") -> FloatArray:
     """Return ``matrix`` as a (6, 6) float array, or raise :class:`InputDataError` if it
     is not 6x6, not finite or not symmetric (to 1e-6 of its largest entry)."""
@@ -144,6 +150,7 @@ def calibrate(
     starts: int = 1,
     seed: int = 0,
     model: Callable[[Design], FloatArray] | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> CalibrationResult:
     """Fit the ``free`` parameters of ``design`` so that its stiffness matches ``target``.
 
@@ -168,6 +175,9 @@ def calibrate(
     model : callable, optional
         ``design -> K``; :func:`~ppm_stiffness.model.stiffness_at_pose` at ``pose``
         by default.
+    progress : callable, optional
+        Called with the number of model evaluations done since the last call; the
+        total is :func:`evaluation_budget` ``(len(free), starts)``.
 
     Returns
     -------
@@ -197,6 +207,8 @@ def calibrate(
     )
     if np.any(lo >= hi):
         raise InputDataError("each bound must be (low, high) with low < high")
+    for n in bnds:
+        design.check_range(n, *bnds[n])
     x0 = np.clip(x0, lo, hi)
     if sigma is None:
         sig = default_sigma(t)
@@ -208,7 +220,12 @@ def calibrate(
     evaluate = model or (lambda d: stiffness_at_pose(d, pose))
     penalty = 1e6
 
+    advance = progress or (lambda amount: None)
+    calls = [0]  # model evaluations of the current start
+
     def residual(xs: FloatArray) -> FloatArray:
+        calls[0] += 1
+        advance(1)
         x = xs * scales
         try:
             k = evaluate(design.with_parameters(dict(zip(names, x, strict=True))))
@@ -220,6 +237,8 @@ def calibrate(
     candidates = [x0] + [rng.uniform(lo, hi) for _ in range(max(starts, 1) - 1)]
     best = None
     for start in candidates:
+        from scipy.optimize import least_squares  # lazily: scipy is heavy to import
+
         sol = least_squares(
             residual,
             start / scales,
@@ -230,6 +249,8 @@ def calibrate(
             gtol=1e-12,
             max_nfev=200 * len(names),
         )
+        advance(max(evaluations_per_start(len(names)) - calls[0], 0))  # the start is done
+        calls[0] = 0
         if best is None or sol.cost < best.cost:
             best = sol
     assert best is not None

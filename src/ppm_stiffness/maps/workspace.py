@@ -381,10 +381,11 @@ class StiffnessMap:
             )
         return p
 
-    def to_csv(self, path: str | Path) -> Path:
+    def to_csv(self, path: str | Path, progress: Callable[[int], None] | None = None) -> Path:
         """Write the map as CSV, one row per grid point (x fastest), SI columns
         ``x_m, y_m, reachable, k_phi_Nm_per_rad, k_x_N_per_m, k_y_N_per_m``; the k cells
-        are empty outside the workspace. ``#`` lines give phi and the actuator state."""
+        are empty outside the workspace. ``#`` lines give phi and the actuator state.
+        ``progress(rows)`` is called with the number of rows written since its last call."""
         p = Path(path)
         xx, yy = np.meshgrid(self.x, self.y)
         flat = [a.ravel() for a in (xx, yy)]
@@ -402,9 +403,14 @@ class StiffnessMap:
             writer.writerow(
                 ["x_m", "y_m", "reachable", "k_phi_Nm_per_rad", "k_x_N_per_m", "k_y_N_per_m"]
             )
+            step = 100_000
             for n in range(ok.size):
                 ks = [f"{v[n]:.12g}" if ok[n] else "" for v in values]
                 writer.writerow([f"{flat[0][n]:.12g}", f"{flat[1][n]:.12g}", int(ok[n]), *ks])
+                if progress is not None and (n + 1) % step == 0:
+                    progress(step)
+            if progress is not None:
+                progress(ok.size % step)
         return p
 
 

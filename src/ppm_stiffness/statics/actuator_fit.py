@@ -28,7 +28,6 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import least_squares
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
@@ -152,6 +151,8 @@ def fit_power_law(displacement_m: ArrayLike, force_n: ArrayLike) -> PowerLawFit:
 
     k0, q0 = _initial_guess(d, g)
     # Fit in (k_a, q) with k_a scaled: x_scale="jac" keeps the problem well balanced.
+    from scipy.optimize import least_squares  # lazily: scipy is heavy to import
+
     sol = least_squares(
         residual,
         np.array([k0, q0]),

@@ -34,7 +34,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import solve_ivp
 
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError
@@ -244,6 +243,8 @@ def _integrate(
             grow = rates(state, powered)[6:] * np.sign(state[6:])
             powered = powered | (at_edge & (grow > 0))
         events = [crossing(i, bool(powered[i])) for i in range(n) if g_th[i] > 0]
+        from scipy.integrate import solve_ivp  # lazily: scipy is heavy to import
+
         sol = solve_ivp(
             lambda _load, y, branch: rates(y, branch),
             (start, top),

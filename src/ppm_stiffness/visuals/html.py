@@ -131,7 +131,10 @@ figure{margin:1em 0;text-align:center}figure img{max-width:100%;height:auto;
 
 
 def json_block(block_id: str, data: dict[str, Any]) -> str:
-    from ppm_stiffness.analysis import dump_json
+    """An analysis (:func:`ppm_stiffness.analysis.analyze_design`) embedded as the very
+    document ``ppm-stiffness analyze --json`` prints, in a ``<script>`` element."""
+    from ppm_stiffness.analysis import ANALYSIS_UNITS, json_document
 
-    text = dump_json(data).replace("</", "<\\/").replace("<!--", "<\\!--")
+    text = json_document("analyze", data, ANALYSIS_UNITS)
+    text = text.replace("</", "<\\/").replace("<!--", "<\\!--")
     return f'<script type="application/json" id="{block_id}">{text}</script>'

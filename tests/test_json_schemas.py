@@ -1,0 +1,89 @@
+"""Every ``--json`` document validates against its JSON Schema in ``docs/schemas/`` and
+carries the common head: schema_version, ppm_stiffness_version, command and units."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from ppm_stiffness import __version__
+from ppm_stiffness.analysis import JSON_SCHEMA_VERSION
+from ppm_stiffness.cli import main
+
+jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is in the 'test' extra")
+
+ROOT = Path(__file__).parents[1]
+SCHEMAS = ROOT / "docs" / "schemas"
+DATA = ROOT / "src" / "ppm_stiffness" / "data"
+
+#: (schema name, command line) pairs: every command that prints JSON, in the variants
+#: whose documents differ in their keys.
+CASES = [
+    ("analyze", ["analyze", "--json"]),
+    ("analyze", ["analyze", "--json", "--wrench", "5,5,20,0,0,0.1"]),
+    ("analyze", ["analyze", "--json", "--design", str(ROOT / "examples/3rrr.toml")]),
+    ("analyze", ["analyze", "--json", "--matrix", str(DATA / "paper_eq22.csv")]),
+    ("deflect", ["deflect", "--json", "--mode", "moment"]),
+    ("fit-actuator", ["fit-actuator", "--json", str(DATA / "actuator_synthetic.csv")]),
+    (
+        "calibrate",
+        ["calibrate", "--json", "--target", str(DATA / "paper_eq22.csv"), "--free", "leg1.psi"],
+    ),
+    ("map", ["map", "--json", "--grid", "8"]),
+    (
+        "identify",
+        [
+            "identify",
+            "--json",
+            "--measurements",
+            str(ROOT / "examples/identification/measurements.csv"),
+            "--free",
+            "leg1.guide.yaw,leg2.guide.yaw",
+        ],
+    ),
+    ("map", ["map", "--json", "--grid", "8", "--actuators", "5,5,20,0,0,0.1"]),
+]
+
+
+def _document(capsys: pytest.CaptureFixture[str], argv: list[str]) -> dict[str, object]:
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    data: dict[str, object] = json.loads(out)
+    return data
+
+
+@pytest.mark.parametrize(("schema", "argv"), CASES)
+def test_json_output_validates(
+    schema: str, argv: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    document = _document(capsys, argv)
+    spec = json.loads((SCHEMAS / f"{schema}.schema.json").read_text(encoding="utf-8"))
+    jsonschema.Draft202012Validator.check_schema(spec)
+    jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+    assert document["schema_version"] == JSON_SCHEMA_VERSION
+    assert document["ppm_stiffness_version"] == __version__
+    assert list(document)[:4] == ["schema_version", "ppm_stiffness_version", "command", "units"]
+
+
+def test_validate_json_validates(capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("Pynite", reason="PyNite is in the 'validate' extra")
+    document = _document(capsys, ["validate", "--json", "--poses", "1"])
+    spec = json.loads((SCHEMAS / "validate.schema.json").read_text(encoding="utf-8"))
+    jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+
+
+def test_a_schema_rejects_a_wrong_document(capsys: pytest.CaptureFixture[str]) -> None:
+    """The schemas are not vacuous: a 5x6 stiffness matrix is refused."""
+    document = _document(capsys, ["analyze", "--json"])
+    document["stiffness_matrix"] = document["stiffness_matrix"][:5]  # type: ignore[index]
+    spec = json.loads((SCHEMAS / "analyze.schema.json").read_text(encoding="utf-8"))
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+
+
+def test_every_schema_has_a_case() -> None:
+    covered = {name for name, _ in CASES} | {"validate"}
+    assert {p.name.removesuffix(".schema.json") for p in SCHEMAS.glob("*.schema.json")} == covered
