@@ -301,6 +301,24 @@ def print_map_uncertainty(unc: dict[str, Any]) -> None:
     print_sensitivity(unc["sensitivity"], " (mean over the grid)")
 
 
+def report_sections(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any] | None,
+    pose: Any,
+    report_progress: Any,
+) -> list[tuple[str, str, str]] | None:
+    """The report's uncertainty section (None without tolerances)."""
+    if variables is None:
+        return None
+    from ppm_stiffness.visuals.uncertainty_report import uncertainty_section
+
+    report_progress("uncertainty bands", 0.0)
+    return [
+        uncertainty_section(design, variables, pose, args.grid, args.tolerance_method, args.samples)
+    ]
+
+
 __all__ = [
     "add_tolerance_arguments",
     "compute_bands",
@@ -311,4 +329,5 @@ __all__ = [
     "print_map_uncertainty",
     "print_pose_uncertainty",
     "read_tolerance_args",
+    "report_sections",
 ]
