@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from ppm_stiffness.cli import join_negative_values, main
@@ -122,3 +123,31 @@ def test_join_negative_values_leaves_other_arguments_alone() -> None:
 )
 def test_engineering_notation(value: float, text: str) -> None:
     assert eng(value) == text
+
+
+def test_unreachable_pose_names_what_is_reachable(capsys: pytest.CaptureFixture[str]) -> None:
+    """The message gives the x, y extent at the asked phi and the phi range at the asked
+    (x, y); poses just inside that phi range are reachable, poses 0.2 deg outside not."""
+    import re
+
+    from ppm_stiffness.core.errors import UnreachablePoseError
+    from ppm_stiffness.design import default_design
+    from ppm_stiffness.maps.workspace import workspace_bounds
+    from ppm_stiffness.model import solve_legs
+
+    assert main(["analyze", "--phi", "90"]) == 2
+    err = capsys.readouterr().err
+    assert "no position is reachable at phi = 90 deg" in err
+    lo, hi = (float(v) for v in re.search(r"phi may be in \[(\S+), (\S+)\] deg", err).groups())
+    design = default_design()
+    for phi in (lo, hi):
+        solve_legs(design, [0.0, 0.0, np.radians(phi)])
+    for phi in (lo - 0.2, hi + 0.2):
+        with pytest.raises(UnreachablePoseError):
+            solve_legs(design, [0.0, 0.0, np.radians(phi)])
+
+    assert main(["analyze", "--x", "100"]) == 2
+    err = capsys.readouterr().err
+    box = 1e3 * workspace_bounds(design, 0.0)
+    assert f"x in [{box[0]:.2f}, {box[1]:.2f}] mm, y in [{box[2]:.2f}, {box[3]:.2f}] mm" in err
+    assert "no orientation is reachable at (100.00, 0.00) mm" in err

@@ -183,6 +183,26 @@ def test_public_api_names_and_version() -> None:
 
 
 @pytest.mark.parametrize(
+    ("part_key", "value", "key", "hint"),
+    [
+        ("young_modulus", 69.0, "proximal.young_modulus", "did you mean 6.9e+10 (GPa)?"),
+        ("area", 210.0, "proximal.area", "did you mean 0.00021 (mm^2)?"),
+        ("inertia_y", 630.0, "proximal.inertia_y", "did you mean 6.3e-10 (mm^4)?"),
+        ("shear_modulus", 1e-300, "proximal.shear_modulus", "moduli in design files are in Pa"),
+    ],
+)
+def test_section_unit_mistakes_are_named_with_a_hint(
+    part_key: str, value: float, key: str, hint: str
+) -> None:
+    """Paper Table 2 in its printed units (GPa, mm^2 ...) is refused with the SI value."""
+    data = design_to_dict(default_design())
+    data["parts"]["proximal"][part_key] = value  # shared by every leg: leg 1 fails first
+    with pytest.raises(DesignError) as err:
+        design_from_dict(data)
+    assert f"key 'leg1.{key}'" in str(err.value) and hint in str(err.value)
+
+
+@pytest.mark.parametrize(
     ("leg_key", "value", "key", "hint"),
     [
         ("alpha", 90.0, "leg1.alpha", "did you mean 1.5708?"),  # degrees for radians

@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 import numpy as np
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -93,14 +94,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _clean(m: Any) -> np.ndarray:
-    """Round-off (below 1e-12 of the largest entry) shown as 0."""
+    """Round-off (below 1e-10 of the largest entry) shown as 0."""
     a = np.asarray(m, dtype=float)
-    return np.where(np.abs(a) < 1e-12 * max(np.max(np.abs(a)), 1e-300), 0.0, a)
+    return np.where(np.abs(a) < 1e-10 * max(np.max(np.abs(a)), 1e-300), 0.0, a)
 
 
-def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 5) -> Table:
+def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 4) -> Table:
     """A square matrix with labelled rows and columns, entries in engineering notation."""
-    t = Table(title=escape(title), title_justify="left")
+    t = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     t.add_column("")
     for lab in labels:
         t.add_column(lab, justify="right")

@@ -14,9 +14,9 @@ import numpy as np
 from rich.console import Console
 
 from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, default_design, load_design
-from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.model import solve_legs, workspace_centre
 
 __all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
 
@@ -164,7 +164,9 @@ def load_design_arg(args: argparse.Namespace) -> Design:
 
 
 def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
-    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg]."""
+    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg], checked to be
+    within every leg's reach: an unreachable pose is refused with the reachable x and
+    y extent at its phi and the reachable phi at its (x, y)."""
     pose = workspace_centre(design).copy()
     for i, (name, factor) in enumerate((("x", 1e-3), ("y", 1e-3), ("phi", math.pi / 180))):
         value = getattr(args, name, None)
@@ -172,6 +174,12 @@ def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
             if not math.isfinite(value):
                 raise InputDataError(f"--{name} must be finite")
             pose[i] = value * factor
+    try:
+        solve_legs(design, pose)
+    except UnreachablePoseError as exc:
+        from ppm_stiffness.maps.reach import reach_hint
+
+        raise UnreachablePoseError(f"{exc}; {reach_hint(design, pose)}") from None
     return pose
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -254,10 +255,15 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         f"phi = {math.degrees(p[2]):.3f} deg"
     )
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
-    t = Table(title="platform deflection at P (axes of F_b)", title_justify="left")
+    t = Table(
+        title="platform deflection at P (axes of F_b): rotations phi \\[deg], displacements \\[mm]",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
     t.add_column(f"load \\[{unit}]", justify="right")
     for name in TWIST_COMPONENTS:
-        t.add_column(f"{name} \\[{'deg' if name.startswith('phi') else 'mm'}]", justify="right")
+        t.add_column(name, justify="right", no_wrap=True)
     for k, load in enumerate(curve.loads):
         t.add_row(f"{load:g}", *(eng(v) for v in curve.twists[k] * scale))
     c.print(t)
@@ -266,6 +272,8 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         title="actuators: force G \\[N] and tangent stiffness K \\[N/m] per leg "
         "(N·m and N·m/rad for a rotary actuator)",
         title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
     )
     a.add_column(f"load \\[{unit}]", justify="right")
     for i in range(n_legs):

@@ -114,7 +114,7 @@ def _table(results: list[PoseComparison]) -> Table:
         "y [mm]",
         "phi [deg]",
         "planar",
-        "out-of-pl.",
+        "out-pl.",
         "FE [s]",
         "VJ [s]",
     ):

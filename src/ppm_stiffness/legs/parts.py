@@ -20,12 +20,21 @@ from __future__ import annotations
 from typing import Annotated
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import FloatArray
 
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+
+#: Plausible range of Young's and shear moduli [Pa]: from soft polymers (~1e8 Pa, with a
+#: margin) to diamond (~1.2e12 Pa). Outside it a value is a unit mistake.
+MIN_MODULUS = 1e6
+MAX_MODULUS = 2e12
+#: Largest section area [m^2] and second moment [m^4] of a link: a 1 m x 1 m solid bar
+#: (0.083 m^4). Above, mm^2 / mm^4 are likely.
+MAX_AREA = 1.0
+MAX_SECOND_MOMENT = 0.1
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 
@@ -44,6 +53,36 @@ class SectionModel(PartModel):
     torsion_constant: Positive
     inertia_y: Positive
     inertia_z: Positive
+
+    @model_validator(mode="after")
+    def _plausible_units(self) -> SectionModel:
+        """Refuse values no structural material or section has, naming the likely
+        unit mistake (moduli in GPa, sizes in mm^2 or mm^4)."""
+        for key in ("young_modulus", "shear_modulus"):
+            v = getattr(self, key)
+            if v < MIN_MODULUS:
+                hint = f"; did you mean {v * 1e9:.6g} (GPa)?" if 1e-3 <= v <= 1e4 else ""
+                raise ValueError(
+                    f"{key} = {v:g}: moduli in design files are in Pa "
+                    f"(between {MIN_MODULUS:g} and {MAX_MODULUS:g}){hint}"
+                )
+            if v > MAX_MODULUS:
+                raise ValueError(
+                    f"{key} = {v:g} Pa: above {MAX_MODULUS:g} Pa (stiffer than diamond)"
+                )
+        for key, power, limit in (
+            ("area", 2, MAX_AREA),
+            ("torsion_constant", 4, MAX_SECOND_MOMENT),
+            ("inertia_y", 4, MAX_SECOND_MOMENT),
+            ("inertia_z", 4, MAX_SECOND_MOMENT),
+        ):
+            v = getattr(self, key)
+            if v > limit:
+                raise ValueError(
+                    f"{key} = {v:g}: sections in design files are in m^{power} "
+                    f"(<= {limit:g}); did you mean {v * 1e-3**power:.6g} (mm^{power})?"
+                )
+        return self
 
     def section(self) -> BeamSection:
         return BeamSection(**self.model_dump())

@@ -1,0 +1,68 @@
+"""Every command's output fits 80 columns at its defaults: rendered at width 80, no line
+is longer and no cell is cut short with an ellipsis."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from ppm_stiffness.cli import COMMANDS, main
+from ppm_stiffness.cli.common import console
+
+ROOT = Path(__file__).parents[1]
+DATA = ROOT / "src" / "ppm_stiffness" / "data"
+
+#: Command lines at their defaults (plus what each requires); ``{tmp}`` is a scratch dir.
+LINES = [
+    ["analyze"],
+    ["analyze", "--wrench", "5,5,20,0,0,0.1"],
+    [
+        "analyze",
+        "--design",
+        str(ROOT / "examples/redundant_4ppr.toml"),
+        "--wrench",
+        "5,5,20,0,0,0.1",
+    ],
+    ["analyze", "--design", str(ROOT / "examples/3rrr.toml")],
+    ["calibrate", "--list-parameters"],
+    [
+        "calibrate",
+        "--target",
+        str(DATA / "paper_eq22.csv"),
+        "--free",
+        "leg*.actuator.threshold_displacement,leg1.psi",
+    ],
+    ["fit-actuator", str(DATA / "actuator_synthetic.csv")],
+    ["deflect"],
+    ["deflect", "--design", str(ROOT / "examples/3rrr.toml"), "--mode", "moment"],
+    ["map"],
+    ["springs", "--out", "{tmp}/springs.png"],
+    ["mechanism", "--out", "{tmp}/mechanism.png"],
+    ["report", "--out", "{tmp}/report", "--grid", "10"],
+    ["validate"],
+]
+
+
+def test_every_command_is_covered() -> None:
+    assert {line[0] for line in LINES} == set(COMMANDS)
+
+
+@pytest.mark.parametrize("argv", LINES, ids=lambda a: " ".join(a[:3]))
+def test_output_fits_80_columns(
+    argv: list[str],
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    if argv[0] == "validate":
+        pytest.importorskip("Pynite", reason="PyNite is in the 'validate' extra")
+    monkeypatch.setattr(console, "width", 80)
+    code = main([a.replace("{tmp}", str(tmp_path)) for a in argv])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines
+    too_long = [line for line in lines if len(line) > 80]
+    assert not too_long, too_long
+    assert not [line for line in lines if "…" in line]
