@@ -41,6 +41,14 @@ LINES = [
     ["mechanism", "--out", "{tmp}/mechanism.png"],
     ["report", "--out", "{tmp}/report", "--grid", "10"],
     ["validate"],
+    [
+        "identify",
+        "--measurements",
+        str(ROOT / "examples/identification/measurements.csv"),
+        "--free",
+        "leg1.guide.yaw,leg2.guide.yaw,leg*.actuator.locked_stiffness",
+    ],
+    ["analyze", "--tolerances", str(ROOT / "examples/identification/tolerances.toml")],
 ]
 
 
