@@ -175,10 +175,10 @@ def _json(result: CalibrationResult, out: str | None) -> dict[str, Any]:
 
 def _print(result: CalibrationResult) -> None:
     c = console
-    t = Table(title="Fitted parameters (SI; each in its unit)", title_justify="left")
+    t = Table(title="Fitted parameters", title_justify="left")
     for col in ("#", "parameter", "unit"):
         t.add_column(col, no_wrap=col != "parameter", overflow="fold")
-    v = Table(title="Fit of each parameter #", title_justify="left")
+    v = Table(title="Their fit (SI, each in its unit)", title_justify="left")
     for col in ("#", "start", "fit", "std (1σ)", "lower", "upper"):
         v.add_column(escape(col), justify="right")
     for i, n in enumerate(result.names):

@@ -163,10 +163,13 @@ def load_design_arg(args: argparse.Namespace) -> Design:
     return load_design(check_input_path(path, "--design"))
 
 
-def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
-    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg], checked to be
-    within every leg's reach: an unreachable pose is refused with the reachable x and
-    y extent at its phi and the reachable phi at its (x, y)."""
+def pose_from_args(
+    args: argparse.Namespace, design: Design, check_reach: bool = True
+) -> np.ndarray:
+    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg], checked (unless
+    ``check_reach`` is False) to be within every leg's reach: an unreachable pose is
+    refused with the reachable x and y extent at its phi and the reachable phi at its
+    (x, y)."""
     pose = workspace_centre(design).copy()
     for i, (name, factor) in enumerate((("x", 1e-3), ("y", 1e-3), ("phi", math.pi / 180))):
         value = getattr(args, name, None)
@@ -175,7 +178,8 @@ def pose_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
                 raise InputDataError(f"--{name} must be finite")
             pose[i] = value * factor
     try:
-        solve_legs(design, pose)
+        if check_reach:
+            solve_legs(design, pose)
     except UnreachablePoseError as exc:
         from ppm_stiffness.maps.reach import reach_hint
 

@@ -30,11 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     out = check_figure_path(args.out, args.overwrite)
     design = load_design_arg(args)
-    pose = pose_from_args(args, design)
-    from ppm_stiffness.model import solve_legs
-
-    if not args.allow_unreachable:
-        solve_legs(design, pose)  # an error, as in every command, unless asked
+    # an unreachable pose is an error, as in every command, unless asked for
+    pose = pose_from_args(args, design, check_reach=not args.allow_unreachable)
 
     from ppm_stiffness.visuals import save_figure, use_headless_backend
 

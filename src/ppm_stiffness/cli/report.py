@@ -53,11 +53,8 @@ def run(args: argparse.Namespace) -> int:
     if out_dir.is_dir():  # write_report creates a new one (its parent must exist)
         check_output_path(str(out_dir / "report.html"), "--out", overwrite=args.overwrite)
     design = load_design_arg(args)
-    pose = pose_from_args(args, design)
+    pose = pose_from_args(args, design)  # refuses an unreachable pose
     wrench = parse_wrench(args.wrench)
-    from ppm_stiffness.model import solve_legs
-
-    solve_legs(design, pose)
     variables = read_tolerance_args(args, design)
 
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
