@@ -31,7 +31,10 @@ Estimation, in two stages:
    with powered actuators it is a linearisation, only a start.
 2. **Nonlinear least squares** (``scipy.optimize.least_squares``, trust-region
    reflective, relative parameters bounded to ``[1e-3, 1e3]`` for positive catalogue
-   values) through the full model.
+   values) through the full model. Skipped when the model is linear in u along the
+   start's step (the model's residuals at the start equal the linear model's to
+   :data:`LINEARITY_TOLERANCE` of the largest residual at the catalogue): the start
+   is then the least-squares solution and the linear Jacobian exact there.
 
 Uncertainty. With ``J`` the Jacobian of the weighted residuals in the relative
 parameters at the solution (rows divided by sigma, columns relative), the covariance
@@ -78,6 +81,10 @@ STIFFNESS_UNITS = frozenset({"N/m", "N·m/rad", "Pa"})
 LINEAR_STEP = 1e-4
 #: Relative finite-difference step of the nonlinear fit's Jacobian.
 FIT_STEP = 1e-7
+#: The model counts as linear in u along the start's step when its residuals there
+#: match the linear model's to this fraction of the largest residual at the catalogue
+#: (forward differences of a linear model are exact to rounding: ~1e-10).
+LINEARITY_TOLERANCE = 1e-7
 #: Bounds of a positive parameter relative to its catalogue value during the fit.
 RELATIVE_BOUNDS = (1e-3, 1e3)
 
@@ -358,12 +365,17 @@ class _Problem:
             ]
         )
         self.mask = rows.measured
+        self._cache: dict[bytes, FloatArray] = {}
 
     def design_at(self, p: FloatArray) -> Design:
         return self.design.with_parameters(dict(zip(self.names, map(float, p), strict=True)))
 
     def predict(self, p: FloatArray) -> FloatArray:
-        return predict_twists(self.design_at(p), self.rows.poses, self.rows.wrenches)
+        key = np.asarray(p, dtype=float).tobytes()
+        if key not in self._cache:
+            design = self.design_at(p)
+            self._cache[key] = predict_twists(design, self.rows.poses, self.rows.wrenches)
+        return self._cache[key]
 
     def weighted(self, predicted: FloatArray) -> FloatArray:
         r = (predicted - self.rows.twists) / self.rows.sigmas
@@ -371,6 +383,29 @@ class _Problem:
 
     def residuals(self, theta: FloatArray) -> FloatArray:
         return self.weighted(self.predict(theta * self.scale))
+
+    def jacobian(self, theta: FloatArray) -> FloatArray:
+        """Forward-difference Jacobian of :meth:`residuals` (relative step FIT_STEP)."""
+        r = self.residuals(theta)
+        jac = np.zeros((r.size, theta.size))
+        for j in range(theta.size):
+            step = FIT_STEP * max(abs(theta[j]), 1.0)
+            t = theta.copy()
+            t[j] += step
+            jac[:, j] = (self.residuals(t) - r) / step
+        return jac
+
+    def du_dtheta(self, theta: FloatArray) -> FloatArray:
+        """Derivative of the linear start's variables u by theta (n,)."""
+        return np.where(self.stiff, -1.0 / np.where(self.stiff, theta, 1.0) ** 2, 1.0)
+
+    def p_from_u_inverse(self, p: FloatArray) -> FloatArray:
+        """The linear start's variables u of parameters p (inverse of p_from_u)."""
+        return np.asarray(
+            np.where(
+                self.stiff, self.p0 / np.where(self.stiff, p, 1.0), 1 + (p - self.p0) / self.scale
+            )
+        )
 
     def p_from_u(self, u: FloatArray) -> FloatArray:
         """Parameters from the linear start's variables (compliances for stiffnesses)."""
@@ -493,20 +528,34 @@ def identify(
     lower = np.where(positive, lo_rel, -np.inf)
     upper = np.where(positive, hi_rel, np.inf)
     theta0 = np.clip(start / problem.scale, lower, upper)
-    fit = least_squares(
-        problem.residuals,
-        theta0,
-        jac="2-point",
-        bounds=(lower, upper),
-        diff_step=FIT_STEP,
-        x_scale=1.0,
-        ftol=1e-10,
-        xtol=1e-10,
-        gtol=1e-10,
-        max_nfev=200,
+    # Where the model is linear in u (a determinate path, actuators locked), the
+    # residuals at the start equal the linear model's and its Jacobian is exact there:
+    # the fit then starts with it (and ends at once: the start is the minimum).
+    r_start = problem.residuals(theta0)
+    u0 = problem.p_from_u_inverse(theta0 * problem.scale)
+    r_linear = r0 + jac_u @ (u0 - 1.0)
+    linear = float(np.max(np.abs(r_start - r_linear))) <= LINEARITY_TOLERANCE * max(
+        float(np.max(np.abs(r0))), 1.0
     )
-    values = fit.x * problem.scale
-    final = combinations(np.asarray(fit.jac), names)
+    linear_jac = jac_u * problem.du_dtheta(theta0)[None, :]
+    if linear:
+        # the linear solution is the least-squares minimum: no second stage
+        theta, jac_final, nfev = theta0, linear_jac, 0
+    else:
+        fit = least_squares(
+            problem.residuals,
+            theta0,
+            jac=problem.jacobian,
+            bounds=(lower, upper),
+            x_scale=1.0,
+            ftol=1e-10,
+            xtol=1e-10,
+            gtol=1e-10,
+            max_nfev=200,
+        )
+        theta, jac_final, nfev = fit.x, np.asarray(fit.jac), int(fit.nfev)
+    values = theta * problem.scale
+    final = combinations(jac_final, names)
     weak = unidentifiable(final)
     if weak:
         warnings.warn(
@@ -515,7 +564,7 @@ def identify(
             IdentifiabilityWarning,
             stacklevel=2,
         )
-    _, s, vt = np.linalg.svd(np.asarray(fit.jac), full_matrices=False)
+    _, s, vt = np.linalg.svd(jac_final, full_matrices=False)
     with np.errstate(divide="ignore"):
         inv_s2 = np.where(s > 0, 1.0 / s**2, np.inf)
     cov = (vt.T * inv_s2) @ vt
@@ -544,7 +593,7 @@ def identify(
         n_rows=rows.n_rows,
         n_values=rows.n_values,
         predicted=predicted,
-        nfev=int(fit.nfev),
+        nfev=nfev,
     )
 
 
