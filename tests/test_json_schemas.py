@@ -18,6 +18,9 @@ ROOT = Path(__file__).parents[1]
 SCHEMAS = ROOT / "docs" / "schemas"
 DATA = ROOT / "src" / "ppm_stiffness" / "data"
 
+#: A small required region for compare, sweep and optimize [mm, mm, deg, counts].
+_REGION = ["--region=-5,5,-5,5,0,0,3,3,1"]
+
 #: (schema name, command line) pairs: every command that prints JSON, in the variants
 #: whose documents differ in their keys.
 CASES = [
@@ -44,6 +47,31 @@ CASES = [
         ],
     ),
     ("map", ["map", "--json", "--grid", "8", "--actuators", "5,5,20,0,0,0.1"]),
+    ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
+    (
+        "compare",
+        [
+            "compare",
+            "--json",
+            "--design",
+            str(ROOT / "examples/3prr.toml"),
+            "--wrench",
+            "5,5,0,0,0,0.1",
+            *_REGION,
+        ],
+    ),
+    (
+        "sweep",
+        [
+            "sweep",
+            "--json",
+            "--design",
+            str(ROOT / "examples/3rpr.toml"),
+            "--vary",
+            "leg*.platform_radius=0.05:0.07:3",
+            *_REGION,
+        ],
+    ),
 ]
 
 
@@ -84,6 +112,14 @@ def test_a_schema_rejects_a_wrong_document(capsys: pytest.CaptureFixture[str]) -
         jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
 
 
+def test_optimize_json_validates(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    argv = ["optimize", "--json", "--design", str(ROOT / "examples/symmetric_3ppr.toml")]
+    argv += ["--vary", "leg*.platform_radius=0.02:0.04", "--budget", "10", *_REGION]
+    document = _document(capsys, [*argv, "--out", str(tmp_path / "best.toml")])
+    spec = json.loads((SCHEMAS / "optimize.schema.json").read_text(encoding="utf-8"))
+    jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+
+
 def test_every_schema_has_a_case() -> None:
-    covered = {name for name, _ in CASES} | {"validate"}
+    covered = {name for name, _ in CASES} | {"validate", "optimize"}
     assert {p.name.removesuffix(".schema.json") for p in SCHEMAS.glob("*.schema.json")} == covered

@@ -61,6 +61,18 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "ppm_stiffness.cli.validate",
         "compare the virtual-joint stiffness with an independent FE frame model (PyNite)",
     ),
+    "compare": (
+        "ppm_stiffness.cli.compare",
+        "summary figures of several designs over one required region",
+    ),
+    "sweep": (
+        "ppm_stiffness.cli.sweep",
+        "summary figures over the required region for a grid or sample of parameters",
+    ),
+    "optimize": (
+        "ppm_stiffness.cli.optimize",
+        "optimise design parameters over the required region (differential evolution)",
+    ),
     "identify": (
         "ppm_stiffness.cli.identify",
         "identify element stiffnesses from measured platform deflections under known loads",

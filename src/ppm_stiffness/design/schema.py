@@ -15,7 +15,7 @@ import math
 from collections import Counter
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, model_validator
 
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs.base import LegModel
@@ -26,12 +26,84 @@ from ppm_stiffness.legs.registry import leg_types
 SCHEMA_VERSION = 2
 
 
+#: Largest |x|, |y| of a required region [m]: beyond it, a length in mm is likely.
+MAX_REGION_LENGTH = 1.0
+#: Largest |phi| of a required region [rad] (half a turn): beyond it, degrees are likely.
+MAX_REGION_ANGLE = math.pi
+#: Most grid values along one axis of a required region.
+MAX_REGION_AXIS = 1000
+#: Most poses in a required region (the product of its grid).
+MAX_REGION_POSES = 1_000_000
+
+GridCount = Annotated[int, Field(ge=1, le=MAX_REGION_AXIS, strict=True)]
+
+
+class RequiredRegionModel(PartModel):
+    """The required workspace ``[workspace.required]``: a grid of poses the design must
+    reach without singularity (``ppm-stiffness compare``, ``sweep``, ``optimize``).
+
+    Attributes
+    ----------
+    x, y : (lo, hi) [m]
+        Range of the position of P in F_b.
+    phi : (lo, hi) [rad]
+        Range of the platform orientation.
+    grid : (nx, ny, nphi)
+        Grid values along each range, ends included; a range with ``lo == hi`` has
+        one value, and one value needs ``lo == hi``.
+
+    It is a table, not a scalar parameter: ``sweep`` and ``optimize`` do not vary it.
+    Values beyond :data:`MAX_REGION_LENGTH` (1 m) or :data:`MAX_REGION_ANGLE` (pi rad)
+    are refused with the likely unit mistake (mm, degrees) named.
+    """
+
+    x: tuple[Finite, Finite]
+    y: tuple[Finite, Finite]
+    phi: tuple[Finite, Finite]
+    grid: tuple[GridCount, GridCount, GridCount]
+
+    @model_validator(mode="after")
+    def _consistent(self) -> RequiredRegionModel:
+        """Ranges ordered, in SI (the likely unit mistake named), matching the grid."""
+        for key, n in zip(("x", "y", "phi"), self.grid, strict=True):
+            lo, hi = getattr(self, key)
+            text = f"{key} = [{lo:g}, {hi:g}]"
+            big = max(abs(lo), abs(hi))
+            if key == "phi" and big > MAX_REGION_ANGLE:
+                raise ValueError(
+                    f"{text}: angles in design files are in radians (a region's |phi| "
+                    "<= pi); "
+                    f"did you mean [{math.radians(lo):.6g}, {math.radians(hi):.6g}]?"
+                )
+            if key != "phi" and big > MAX_REGION_LENGTH:
+                raise ValueError(
+                    f"{text}: lengths in design files are in metres (a region's |{key}| "
+                    f"<= {MAX_REGION_LENGTH:g} m); did you mean [{lo / 1000:.6g}, "
+                    f"{hi / 1000:.6g}]?"
+                )
+            if lo > hi:
+                raise ValueError(f"{text}: inverted range (lo > hi)")
+            if (n == 1) != (lo == hi):
+                raise ValueError(
+                    f"{text}: a range with lo == hi has grid value 1, and grid value 1 "
+                    f"needs lo == hi (grid gives {n})"
+                )
+        if math.prod(self.grid) > MAX_REGION_POSES:
+            raise ValueError(
+                f"grid = {list(self.grid)}: {math.prod(self.grid)} poses, more than "
+                f"{MAX_REGION_POSES}"
+            )
+        return self
+
+
 class WorkspaceModel(PartModel):
-    """The workspace centre [m, m, rad] in F_b (the default pose of the CLI)."""
+    """The workspace centre [m, m, rad] in F_b (the default pose of the CLI), and an
+    optional required region (:class:`RequiredRegionModel`, ``[workspace.required]``)."""
 
     centre_x: Finite = 0.0
     centre_y: Finite = 0.0
     phi: Finite = 0.0
+    required: RequiredRegionModel | None = None
 
 
 _LEG_UNION: Any = Annotated[
@@ -245,7 +317,14 @@ def leg_label(index: int) -> str:
     return f"leg {index + 1}"
 
 
-__all__ = ["SCHEMA_VERSION", "Design", "LegModel", "WorkspaceModel", "leg_label"]
+__all__ = [
+    "SCHEMA_VERSION",
+    "Design",
+    "LegModel",
+    "RequiredRegionModel",
+    "WorkspaceModel",
+    "leg_label",
+]
 
 
 def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:

@@ -1,0 +1,261 @@
+"""``ppm-stiffness optimize``: the best design over a required region by differential
+evolution (seeded; the same result on every executor), written as a design file."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from typing import Any
+
+from rich.markup import escape
+from rich.table import Table
+
+from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
+    add_design_argument,
+    add_overwrite_argument,
+    add_wrench_argument,
+    check_output_path,
+    console,
+    err_console,
+    json_document,
+    load_design_arg,
+    parse_wrench,
+    progress,
+)
+from ppm_stiffness.cli.study_options import (
+    MAP_GRID,
+    add_execution_arguments,
+    add_region_argument,
+    check_workers,
+    executor_label,
+    figure_cell,
+    region_box,
+    region_from_args,
+    region_json,
+    region_maps,
+    region_text,
+)
+
+#: Objectives, listed in --help (the optimize package defines them).
+OBJECTIVE_NAMES = (
+    "worst-k-translational",
+    "worst-k-rotational",
+    "max-displacement",
+    "max-rotation",
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    parser.add_argument(
+        "--vary",
+        action="append",
+        required=True,
+        metavar="NAME=LO:HI",
+        help="a design variable: a parameter name or glob (as `calibrate "
+        "--list-parameters` prints it; a glob's matches vary together) and its range "
+        "[SI]; repeat for more",
+    )
+    parser.add_argument(
+        "--objective",
+        default="worst-k-translational",
+        choices=OBJECTIVE_NAMES,
+        help="worst-k-translational: min over the region of min(k_x, k_y) [N/m], "
+        "maximised; worst-k-rotational: min k_phi [N·m/rad], maximised; "
+        "max-displacement: max |(dx, dy)| under --wrench [m], minimised; max-rotation: "
+        "max |phi_z| under --wrench [rad], minimised (default worst-k-translational)",
+    )
+    parser.add_argument(
+        "--constraint",
+        action="append",
+        default=[],
+        metavar="Q<=V",
+        help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name or a "
+        "summary figure (k_phi_p5, ...); repeat for more",
+    )
+    parser.add_argument(
+        "--budget",
+        type=int,
+        default=300,
+        metavar="N",
+        help="most design evaluations, the start design's included (default 300)",
+    )
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    add_region_argument(parser)
+    add_wrench_argument(parser)
+    add_execution_arguments(parser)
+    parser.add_argument(
+        "--out", metavar="FILE", required=True, help="write the best design (.toml)"
+    )
+    parser.add_argument(
+        "--convergence", metavar="FIG", help="write the convergence picture (.png, .svg, .pdf)"
+    )
+    parser.add_argument(
+        "--maps",
+        metavar="FIG",
+        help="write the start and best designs' stiffness maps (.png, .svg, .pdf)",
+    )
+    parser.add_argument(
+        "--map-grid",
+        type=int,
+        default=MAP_GRID,
+        metavar="N",
+        help=f"grid points per axis of the maps (default {MAP_GRID})",
+    )
+    parser.add_argument("--json", action="store_true", help="print a JSON document (SI)")
+    add_overwrite_argument(parser)
+
+
+def _payload(
+    result: Any, args: argparse.Namespace, region: Any, wrench: Any, wall: float
+) -> dict[str, Any]:
+    return {
+        "objective": result.objective.name,
+        "objective_unit": result.objective.unit,
+        "maximise": result.objective.maximise,
+        "initial_objective": result.initial_objective,
+        "best_objective": result.best_objective,
+        "improvement": result.improvement,
+        "evaluations": result.evaluations,
+        "budget": args.budget,
+        "seed": args.seed,
+        "population": result.population,
+        "generations": result.generations,
+        "interrupted": result.interrupted,
+        "initial_parameters": result.initial_parameters,
+        "best_parameters": result.best_parameters,
+        "variables": [
+            {"name": v.name, "matches": list(v.matches), "lo": v.lo, "hi": v.hi, "unit": v.unit}
+            for v in result.variables
+        ],
+        "constraints": [str(c) for c in result.constraints],
+        "best_design": args.out,
+        "region": region_json(region),
+        "wrench": None if wrench is None else wrench.tolist(),
+        "initial_figures": result.initial_summary.figures(),
+        "best_figures": result.best_summary.figures(),
+        "history": [{"evaluations": n, "best_objective": b} for n, b in result.history],
+        "executor": executor_label(args),
+        "wall_time": wall,
+        "convergence_figure": args.convergence,
+        "maps_figure": args.maps,
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.core.errors import InputDataError
+    from ppm_stiffness.design.io import save_design
+    from ppm_stiffness.optimize.executors import open_executor
+    from ppm_stiffness.optimize.objectives import OBJECTIVES, parse_constraint
+    from ppm_stiffness.optimize.optimizer import optimize_design, population_plan
+    from ppm_stiffness.optimize.summary import FIGURE_UNITS
+    from ppm_stiffness.optimize.variables import check_distinct, parse_variable
+
+    design = load_design_arg(args)
+    check_output_path(args.out, "--out", (".toml",), overwrite=args.overwrite)
+    check_output_path(args.convergence, "--convergence", FIGURE_FORMATS, overwrite=args.overwrite)
+    check_output_path(args.maps, "--maps", FIGURE_FORMATS, overwrite=args.overwrite)
+    if len({p for p in (args.out, args.convergence, args.maps) if p}) < sum(
+        1 for p in (args.out, args.convergence, args.maps) if p
+    ):
+        raise InputDataError("--out, --convergence and --maps must be different files")
+    if not 2 <= args.map_grid <= 1000:
+        raise InputDataError(f"--map-grid must be between 2 and 1000, got {args.map_grid}")
+    check_workers(args)
+    variables = [parse_variable(t, design, count=False) for t in args.vary]
+    check_distinct(variables)
+    population_plan(args.budget, len(variables))
+    objective = OBJECTIVES[args.objective]
+    constraints = [parse_constraint(t) for t in args.constraint]
+    region = region_from_args(args, [design])
+    wrench = parse_wrench(args.wrench)
+    for q in (objective, *(c.quantity for c in constraints)):
+        if q.needs_wrench and wrench is None:
+            raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
+
+    start = time.perf_counter()
+    with (
+        open_executor(args.workers, args.scheduler) as executor,
+        progress("optimize", args.budget, enabled=not args.quiet) as advance,
+    ):
+        result = optimize_design(
+            design,
+            variables,
+            objective,
+            region,
+            budget=args.budget,
+            seed=args.seed,
+            wrench=wrench,
+            constraints=constraints,
+            executor=executor,
+            progress=advance,
+        )
+    wall = time.perf_counter() - start
+
+    save_design(result.best_design, args.out)
+    if args.convergence:
+        from ppm_stiffness.visuals.maps import save_map_figure
+        from ppm_stiffness.visuals.optimization import plot_convergence
+
+        fig = plot_convergence(result.history, objective.name, objective.unit, objective.maximise)
+        save_map_figure(fig, args.convergence)
+    if args.maps:
+        from ppm_stiffness.visuals.comparison import plot_maps_side_by_side
+        from ppm_stiffness.visuals.maps import save_map_figure
+
+        maps = region_maps([design, result.best_design], region, args.map_grid)
+        fig = plot_maps_side_by_side(maps, ["start", "best"], region_box(region))
+        save_map_figure(fig, args.maps)
+
+    code = 130 if result.interrupted else 0
+    if args.json:
+        units = {
+            "initial_objective": objective.unit,
+            "best_objective": objective.unit,
+            "improvement": "1",
+            "wall_time": "s",
+            "region": "m, m, rad",
+            "wrench": "N·m, N",
+        }
+        units.update({f"best_parameters.{v.name}": v.unit for v in variables})
+        units.update({f"best_figures.{n}": u for n, u in FIGURE_UNITS.items()})
+        print(json_document("optimize", _payload(result, args, region, wrench, wall), units))
+        return code
+    console.print(f"region: {region_text(region)}")
+    console.print(
+        f"{result.evaluations} evaluations (population {result.population}, "
+        f"{result.generations} generations) in {wall:.3g} s, {executor_label(args)}"
+        + (" [interrupted: best so far]" if result.interrupted else "")
+    )
+    table = Table(
+        title=f"{objective.name} [{objective.unit}], "
+        f"{'maximised' if objective.maximise else 'minimised'}"
+    )
+    table.add_column("", no_wrap=True)
+    table.add_column("unit")
+    table.add_column("start", justify="right")
+    table.add_column("best", justify="right")
+    table.add_row(
+        escape(objective.name),
+        escape(objective.unit),
+        figure_cell(result.initial_objective),
+        figure_cell(result.best_objective),
+    )
+    for v in variables:
+        table.add_row(
+            escape(v.name),
+            escape(v.unit),
+            figure_cell(result.initial_parameters[v.name]),
+            figure_cell(result.best_parameters[v.name]),
+        )
+    console.print(table)
+    console.print(
+        f"improvement: x{result.improvement:.4g}; best design written to {escape(args.out)}"
+    )
+    for path, what in ((args.convergence, "convergence"), (args.maps, "maps")):
+        if path:
+            console.print(f"{what} written to {escape(path)}")
+    if result.interrupted:
+        err_console.print("interrupted: the best design so far is written")
+    return code

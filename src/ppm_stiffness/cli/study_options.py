@@ -1,0 +1,151 @@
+"""Options shared by ``compare``, ``sweep`` and ``optimize``: the required region, the
+wrench, where the designs are evaluated, and the stiffness maps they draw.
+
+Not a command (it is not in :data:`ppm_stiffness.cli.COMMANDS`). Light at import: the
+optimisation package, scipy, matplotlib and dask load inside the functions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+from ppm_stiffness.cli.common import parse_floats
+from ppm_stiffness.core.errors import InputDataError
+
+if TYPE_CHECKING:
+    from ppm_stiffness.design import Design
+    from ppm_stiffness.design.schema import RequiredRegionModel
+
+#: Grid points per axis of the pictures' stiffness maps (default).
+MAP_GRID = 60
+
+
+def add_region_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--region",
+        metavar="X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI",
+        help="required region [mm, mm, deg] and its grid, instead of the design's "
+        "[workspace.required] (which is in SI: m, rad)",
+    )
+
+
+def add_execution_arguments(parser: argparse.ArgumentParser) -> None:
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="evaluate the designs in N local processes (default: serially, here)",
+    )
+    where.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:PORT",
+        help="evaluate the designs on this Dask distributed scheduler (extra 'dask')",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def region_from_text(text: str) -> RequiredRegionModel:
+    """``X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI`` [mm, mm, deg, counts] as a region (SI)."""
+    from ppm_stiffness.optimize.region import make_region
+
+    v = parse_floats(text, 9, "--region", "X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI [mm, deg]")
+    counts = v[6:]
+    if any(c != int(c) for c in counts):
+        raise InputDataError(f"--region: NX, NY, NPHI must be integers, got {counts}")
+    try:
+        return make_region(
+            (v[0] * 1e-3, v[1] * 1e-3),
+            (v[2] * 1e-3, v[3] * 1e-3),
+            (math.radians(v[4]), math.radians(v[5])),
+            (int(counts[0]), int(counts[1]), int(counts[2])),
+        )
+    except InputDataError:
+        raise
+    except Exception as exc:  # DesignError from the region model: name the option
+        message = str(exc).removeprefix("region: ")
+        raise InputDataError(f"--region: {message} (the option takes mm and deg)") from None
+
+
+def region_from_args(args: argparse.Namespace, designs: Sequence[Design]) -> RequiredRegionModel:
+    """--region, else the designs' one ``[workspace.required]`` (all equal)."""
+    from ppm_stiffness.optimize.region import region_of
+
+    if args.region is not None:
+        return region_from_text(args.region)
+    regions = [region_of(d) for d in designs]
+    for d, r in zip(designs[1:], regions[1:], strict=True):
+        if r != regions[0]:
+            raise InputDataError(
+                f"designs {designs[0].name!r} and {d.name!r} have different "
+                "[workspace.required] regions; pass --region to compare them on one"
+            )
+    return regions[0]
+
+
+def region_text(region: RequiredRegionModel) -> str:
+    """One line describing the region in mm and deg."""
+    nx, ny, nphi = region.grid
+    return (
+        f"x [{region.x[0] * 1e3:g}, {region.x[1] * 1e3:g}] mm, "
+        f"y [{region.y[0] * 1e3:g}, {region.y[1] * 1e3:g}] mm, "
+        f"φ [{math.degrees(region.phi[0]):.4g}, {math.degrees(region.phi[1]):.4g}]°; "
+        f"grid {nx} x {ny} x {nphi} = {nx * ny * nphi} poses"
+    )
+
+
+def region_json(region: RequiredRegionModel) -> dict[str, Any]:
+    return {
+        "x": list(region.x),
+        "y": list(region.y),
+        "phi": list(region.phi),
+        "grid": list(region.grid),
+    }
+
+
+def executor_label(args: argparse.Namespace) -> str:
+    if args.scheduler is not None:
+        return f"dask {args.scheduler}"
+    if args.workers is not None and args.workers > 1:
+        return f"{args.workers} local processes"
+    return "serial"
+
+
+def check_workers(args: argparse.Namespace) -> None:
+    if args.workers is not None and args.workers < 1:
+        raise InputDataError(f"--workers must be at least 1, got {args.workers}")
+
+
+def region_maps(
+    designs: Sequence[Design], region: RequiredRegionModel, grid: int = MAP_GRID
+) -> list[Any]:
+    """Locked-actuator stiffness maps of each design at the region's middle orientation,
+    over the region's box widened by a quarter of its size on each side."""
+    from ppm_stiffness.maps.workspace import stiffness_map
+
+    phi = 0.5 * (region.phi[0] + region.phi[1])
+    wx = max(region.x[1] - region.x[0], 1e-3)
+    wy = max(region.y[1] - region.y[0], 1e-3)
+    bounds = (
+        region.x[0] - wx / 4,
+        region.x[1] + wx / 4,
+        region.y[0] - wy / 4,
+        region.y[1] + wy / 4,
+    )
+    return [stiffness_map(d, phi=phi, grid=grid, bounds=bounds) for d in designs]
+
+
+def region_box(region: RequiredRegionModel) -> tuple[float, float, float, float]:
+    return (region.x[0], region.x[1], region.y[0], region.y[1])
+
+
+def figure_cell(value: float | None) -> str:
+    """A figure for a table: engineering notation, 'n/a' for none, 'inf' for unbounded."""
+    from ppm_stiffness.cli.common import eng
+
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    return eng(value)

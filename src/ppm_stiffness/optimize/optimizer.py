@@ -1,0 +1,376 @@
+"""Design optimisation over a required region: scipy's differential evolution.
+
+:func:`optimize_design` searches the box of the variables
+(:mod:`ppm_stiffness.optimize.variables`) for the design whose objective
+(:mod:`ppm_stiffness.optimize.objectives`) is best among the *feasible* candidates,
+those that cover the region and meet every constraint. Infeasible candidates are never
+reported optimal.
+
+The search is :func:`scipy.optimize.differential_evolution` with
+``updating="deferred"``: each generation is one batch of candidates, evaluated on the
+executor (one task per design, :func:`~ppm_stiffness.optimize.summary.summarize_candidate`)
+and collected in order, so the decisions, and the best parameters and objective, are the
+same bit for bit whatever the executor. The random numbers come from
+``numpy.random.SeedSequence(seed)``: one stream draws the Latin-hypercube initial
+population (its first member is the start design when its values lie in the box), the
+other drives the mutation and crossover.
+
+What the evolution minimises, per candidate: for a feasible one the objective in units
+of the start design's (``-value / |initial|`` for a maximised objective,
+``value / |initial|`` for a minimised one); for an infeasible one ``1e9 + violation``
+(:func:`~ppm_stiffness.optimize.objectives.violation`), so that every feasible candidate
+ranks above every infeasible one and the less infeasible above the more.
+
+Budget: every evaluation of a design counts, the start design's included (it is
+evaluated first, and reused as the first member of the population). The population has
+``S = max(5, min(15 d, budget // 10))`` members for d variables and the evolution runs
+``budget // S - 1`` generations, so evaluations never exceed the budget. Polishing is
+off: the objectives are minima and maxima over a grid of poses (not smooth), so a
+gradient polish would spend evaluations on finite differences of kinks.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import RequiredRegionModel
+from ppm_stiffness.optimize.executors import Interrupted, SerialExecutor, run_ordered
+from ppm_stiffness.optimize.objectives import Constraint, Quantity, violation
+from ppm_stiffness.optimize.region import with_region
+from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
+from ppm_stiffness.optimize.variables import Variable, assignments, check_distinct
+
+#: Energy of an infeasible candidate before its violation is added.
+INFEASIBLE = 1e9
+#: Smallest population scipy's differential evolution accepts.
+MIN_POPULATION = 5
+#: Population members per variable when the budget allows (scipy's default popsize).
+POPULATION_PER_VARIABLE = 15
+#: Smallest budget: a population of 5 and one generation.
+MIN_BUDGET = 2 * MIN_POPULATION
+
+
+@dataclass(frozen=True)
+class OptimizationResult:
+    """The outcome of :func:`optimize_design` (SI).
+
+    Attributes
+    ----------
+    objective : Quantity
+    variables : list of Variable
+    initial_parameters : dict
+        Variable name -> the start design's value (None where a glob's matches differ).
+    initial_objective : float
+        The start design's objective [objective unit].
+    initial_summary, best_summary : RegionSummary
+    best_parameters : dict
+        Variable name -> value of the best feasible candidate.
+    best_objective : float
+    best_design : Design
+        The start design with the best parameters and the region evaluated as its
+        ``[workspace.required]``.
+    evaluations : int
+        Designs evaluated, the start design included.
+    history : list of (int, float)
+        (evaluations so far, best objective so far) after the start design and after
+        each generation.
+    population, generations : int
+        Population size and generations run.
+    interrupted : bool
+        Stopped by Ctrl-C: the best so far.
+    """
+
+    objective: Quantity
+    variables: list[Variable]
+    initial_parameters: dict[str, float | None]
+    initial_objective: float
+    initial_summary: RegionSummary
+    best_parameters: dict[str, float]
+    best_objective: float
+    best_summary: RegionSummary
+    best_design: Design
+    evaluations: int
+    history: list[tuple[int, float]]
+    population: int
+    generations: int
+    interrupted: bool = False
+    constraints: list[Constraint] = field(default_factory=list)
+
+    @property
+    def improvement(self) -> float:
+        """Best over initial objective for a maximised objective, initial over best for
+        a minimised one (> 1: better); NaN when a denominator is 0."""
+        num, den = (
+            (self.best_objective, self.initial_objective)
+            if self.objective.maximise
+            else (self.initial_objective, self.best_objective)
+        )
+        return num / den if den != 0 else math.nan
+
+
+def population_plan(budget: int, n_variables: int) -> tuple[int, int]:
+    """Population size S and generations for a budget (module doc).
+
+    Raises
+    ------
+    InputDataError
+        Budget below 1, or below :data:`MIN_BUDGET`.
+    """
+    if budget < 1:
+        raise InputDataError(f"--budget must be at least 1, got {budget}")
+    if budget < MIN_BUDGET:
+        raise InputDataError(
+            f"--budget {budget} is too small: differential evolution needs at least "
+            f"{MIN_BUDGET} evaluations (a population of {MIN_POPULATION} and one generation)"
+        )
+    size = max(MIN_POPULATION, min(POPULATION_PER_VARIABLE * n_variables, budget // 10))
+    return size, budget // size - 1
+
+
+class _Evaluator:
+    """The map-like callable scipy calls once per generation: evaluates candidates on
+    the executor, counts them, and keeps the best feasible one so far."""
+
+    def __init__(
+        self,
+        design: Design,
+        variables: Sequence[Variable],
+        region: RequiredRegionModel,
+        wrench: FloatArray | None,
+        objective: Quantity,
+        constraints: Sequence[Constraint],
+        executor: Executor,
+        scale: float,
+        advance: Callable[[float], None] | None,
+    ) -> None:
+        self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
+        self.objective, self.constraints = objective, constraints
+        self.executor, self.scale, self.advance = executor, scale, advance
+        self.cache: dict[tuple[float, ...], RegionSummary] = {}
+        self.evaluations = 0
+        self.best: tuple[float, tuple[float, ...], RegionSummary] | None = None
+        self.history: list[tuple[int, float]] = []
+        self.generations = -1  # the initial population is not a generation
+
+    def energy(self, summary: RegionSummary) -> float:
+        gap = violation(summary, self.constraints)
+        value = self.objective.value(summary)
+        if gap > 0 or not math.isfinite(value):
+            return INFEASIBLE + (gap if gap > 0 else 1.0)
+        signed = -value if self.objective.maximise else value
+        return min(signed / self.scale, INFEASIBLE / 2)
+
+    def record(self, key: tuple[float, ...], summary: RegionSummary) -> float:
+        e = self.energy(summary)
+        if e < INFEASIBLE and (self.best is None or e < self.best[0]):
+            self.best = (e, key, summary)
+        return e
+
+    def best_objective(self) -> float:
+        return math.nan if self.best is None else self.objective.value(self.best[2])
+
+    def __call__(self, func: Any, iterable: Iterable[ArrayLike]) -> list[float]:
+        keys = [tuple(float(v) for v in np.asarray(x, dtype=float)) for x in iterable]
+        todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
+        args = [
+            (self.design, assignments(self.variables, k), self.region, self.wrench) for k in todo
+        ]
+        try:
+            results = run_ordered(self.executor, summarize_candidate, args, self.advance)
+        except Interrupted as stop:
+            for i in sorted(stop.done):
+                self.evaluations += 1
+                self.record(todo[i], stop.done[i])
+            raise
+        for k, summary in zip(todo, results, strict=True):
+            self.cache[k] = summary
+            self.evaluations += 1
+        energies = [self.record(k, self.cache[k]) for k in keys]
+        self.generations += 1
+        self.history.append((self.evaluations, self.best_objective()))
+        return energies
+
+
+def optimize_design(
+    design: Design,
+    variables: Sequence[Variable],
+    objective: Quantity,
+    region: RequiredRegionModel,
+    *,
+    budget: int,
+    seed: int,
+    wrench: ArrayLike | None = None,
+    constraints: Sequence[Constraint] = (),
+    executor: Executor | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> OptimizationResult:
+    """Optimise ``design`` over ``region`` (module doc).
+
+    Parameters
+    ----------
+    design : Design
+        The start design; it must cover the region.
+    variables : sequence of Variable
+        Continuous ranges (:func:`~ppm_stiffness.optimize.variables.parse_variable`).
+    objective : Quantity
+        One of :data:`~ppm_stiffness.optimize.objectives.OBJECTIVES`.
+    region : RequiredRegionModel
+    budget : int
+        Most design evaluations, the start design's included.
+    seed : int
+        Seeds every random choice: the same seed gives the same result on every
+        executor.
+    wrench : array_like (6,), optional
+        At the tool point [N·m, N]; needed by the loaded objectives and constraints.
+    constraints : sequence of Constraint
+    executor : concurrent.futures.Executor, optional
+        Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
+    progress : callable(amount), optional
+        Called with 1 after each evaluation.
+
+    Returns
+    -------
+    OptimizationResult
+        ``interrupted`` when Ctrl-C stopped it (the best so far).
+
+    Raises
+    ------
+    InputDataError
+        Bad budget; a loaded quantity without a wrench; the start design does not cover
+        the region (by how much) or its objective has no value.
+    DesignError
+        No candidate covers the region and meets the constraints.
+    KeyboardInterrupt
+        Ctrl-C before any feasible design was found.
+    """
+    from scipy.optimize import differential_evolution
+    from scipy.stats import qmc
+
+    check_distinct(variables)
+    size, generations = population_plan(budget, len(variables))
+    w = None if wrench is None else np.asarray(wrench, dtype=float)
+    for q in (objective, *(c.quantity for c in constraints)):
+        if q.needs_wrench and w is None:
+            raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
+    executor = SerialExecutor() if executor is None else executor
+
+    try:
+        start = run_ordered(executor, summarize_candidate, [(design, None, region, w)])[0]
+    except Interrupted:
+        raise KeyboardInterrupt from None
+    if progress is not None:
+        progress(1)
+    _check_start(design, start, region, w, objective)
+    initial = objective.value(start)
+    scale = abs(initial) if initial != 0 else 1.0
+
+    lo = np.array([v.lo for v in variables])
+    hi = np.array([v.hi for v in variables])
+    starts = [v.start(design) for v in variables]
+    streams = np.random.SeedSequence(seed).spawn(2)
+    unit = qmc.LatinHypercube(d=len(variables), seed=np.random.default_rng(streams[0])).random(size)
+    init = lo + unit * (hi - lo)
+    x0 = np.array([np.nan if s is None else s for s in starts])
+    use_start = bool(np.all(np.isfinite(x0)) and np.all((x0 >= lo) & (x0 <= hi)))
+    if not use_start:  # the start design is an evaluation outside the population
+        generations = (budget - 1) // size - 1
+    evaluator = _Evaluator(
+        design, variables, region, w, objective, constraints, executor, scale, progress
+    )
+    evaluator.evaluations = 1
+    evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))
+    if use_start:
+        init[0] = x0
+        key = tuple(float(v) for v in x0)
+        evaluator.cache[key] = start
+        evaluator.record(key, start)
+
+    interrupted = False
+    try:
+        differential_evolution(
+            _unused,
+            list(zip(lo, hi, strict=True)),
+            maxiter=generations,
+            popsize=1,
+            init=init,
+            rng=np.random.default_rng(streams[1]),
+            tol=0.0,
+            atol=0.0,
+            polish=False,
+            updating="deferred",
+            workers=evaluator,
+        )
+    except Interrupted:
+        interrupted = True
+        if evaluator.best is None:
+            raise KeyboardInterrupt from None
+    if evaluator.best is None:
+        candidates = evaluator.evaluations - (0 if use_start else 1)
+        raise DesignError(
+            f"none of the {candidates} candidates evaluated covers the region and meets "
+            "the constraints; widen the --vary ranges, relax --constraint or shrink the region"
+        )
+    _, key, best_summary = evaluator.best
+    best_parameters = assignments(variables, key)
+    best_design = with_region(design.with_parameters(best_parameters), region)
+    return OptimizationResult(
+        objective=objective,
+        variables=list(variables),
+        initial_parameters={v.name: s for v, s in zip(variables, starts, strict=True)},
+        initial_objective=initial,
+        initial_summary=start,
+        best_parameters=best_parameters,
+        best_objective=objective.value(best_summary),
+        best_summary=best_summary,
+        best_design=best_design,
+        evaluations=evaluator.evaluations,
+        history=evaluator.history,
+        population=size,
+        generations=max(evaluator.generations, 0),
+        interrupted=interrupted,
+        constraints=list(constraints),
+    )
+
+
+def _unused(x: FloatArray) -> float:  # pragma: no cover - the evaluator maps instead
+    raise AssertionError("candidates are evaluated by the map-like evaluator")
+
+
+def _check_start(
+    design: Design,
+    start: RegionSummary,
+    region: RequiredRegionModel,
+    wrench: FloatArray | None,
+    objective: Quantity,
+) -> None:
+    """Refuse a start design that does not cover the region (saying by how much) or
+    whose loaded state fails in it."""
+    if start.error is not None:
+        raise InputDataError(f"the start design cannot be evaluated: {start.error}")
+    if not start.covers:
+        missing = start.poses - start.covered
+        raise InputDataError(
+            f"the start design does not cover the required region: {missing} of "
+            f"{start.poses} grid poses ({100 * missing / start.poses:.3g} %) are unreachable "
+            "or singular; shrink the region (--region) or start from a design that reaches it"
+        )
+    if start.loaded_failures and start.first_loaded_failure is not None and wrench is not None:
+        from ppm_stiffness.optimize.loaded import loaded_state_error
+
+        reason = loaded_state_error(design, start.first_loaded_failure, wrench)
+        raise InputDataError(
+            f"the start design's loaded state fails at {start.loaded_failures} of "
+            f"{start.covered} poses of the region: {reason}"
+        )
+    if not math.isfinite(objective.value(start)):
+        raise InputDataError(f"the start design has no value of {objective.name}")

@@ -1,0 +1,122 @@
+"""Pictures of sweeps and optimisations: the convergence of ``optimize`` and the
+figures of ``sweep`` (curves for one variable, a heat map for two).
+
+Designs that do not cover the required region are drawn apart (grey crosses, or left
+blank in a heat map): their figures are over the covered poses only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+
+def plot_convergence(
+    history: Sequence[tuple[int, float]], objective: str, unit: str, maximise: bool
+) -> Any:
+    """Best feasible objective so far against design evaluations (a step curve).
+
+    Parameters
+    ----------
+    history : sequence of (evaluations, best objective)
+        From :class:`~ppm_stiffness.optimize.optimizer.OptimizationResult`.
+    objective, unit : str
+        Name and SI unit of the objective.
+    maximise : bool
+        Whether larger is better (for the axis label).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    n = np.array([h[0] for h in history], dtype=float)
+    best = np.array([h[1] for h in history], dtype=float)
+    fig = Figure(figsize=(6.0, 3.8), layout="constrained")
+    ax = fig.subplots()
+    ax.step(n, best, where="post", marker="o", ms=3)
+    if np.isfinite(best[0]):
+        ax.axhline(best[0], color="0.5", ls=":", lw=1, label="start design")
+        ax.legend(loc="best", fontsize=8)
+    ax.set_xlabel("design evaluations")
+    ax.set_ylabel(f"{objective} [{unit}]")
+    ax.set_title(f"best feasible {objective} so far ({'maximised' if maximise else 'minimised'})")
+    ax.grid(True, alpha=0.3)
+    return fig
+
+
+def plot_sweep(
+    points: ArrayLike,
+    values: ArrayLike,
+    covers: ArrayLike,
+    names: Sequence[str],
+    units: Sequence[str],
+    quantity: str,
+    quantity_unit: str,
+    shape: tuple[int, ...] | None = None,
+) -> Any:
+    """One figure of a sweep: a curve for one variable, a heat map (grid) or a scatter
+    (Sobol) for two.
+
+    Parameters
+    ----------
+    points : array_like (n, n_variables)
+        Variable values [their SI units].
+    values : array_like (n,)
+        The quantity of each design [quantity_unit].
+    covers : array_like of bool (n,)
+        Whether each design covers the region.
+    names, units : sequence of str
+        The variables' names and units.
+    quantity, quantity_unit : str
+    shape : tuple, optional
+        Grid shape (n1, n2) for a heat map; None for a sample (scatter).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    p = np.asarray(points, dtype=float)
+    v = np.asarray(values, dtype=float)
+    ok = np.asarray(covers, dtype=bool)
+    fig = Figure(figsize=(6.4, 4.4), layout="constrained")
+    ax = fig.subplots()
+    label = f"{quantity} [{quantity_unit}]"
+    if p.shape[1] == 1:
+        order = np.argsort(p[:, 0], kind="stable")
+        x, y, c = p[order, 0], v[order], ok[order]
+        ax.plot(x, np.where(c, y, np.nan), "-o", ms=3, label="covers the region")
+        if np.any(~c):
+            ax.plot(x[~c], y[~c], "x", color="0.5", label="does not cover it")
+        ax.set_xlabel(f"{names[0]} [{units[0]}]")
+        ax.set_ylabel(label)
+        ax.legend(loc="best", fontsize=8)
+        ax.grid(True, alpha=0.3)
+    elif p.shape[1] == 2:
+        if shape is not None:
+            grid = np.where(ok, v, np.nan).reshape(shape)
+            x = p[:, 0].reshape(shape)[:, 0]
+            y = p[:, 1].reshape(shape)[0, :]
+            mesh: Any = ax.pcolormesh(x, y, grid.T, shading="nearest", cmap="viridis")
+        else:
+            mesh = ax.scatter(p[ok, 0], p[ok, 1], c=v[ok], cmap="viridis", s=18)
+            if np.any(~ok):
+                ax.plot(p[~ok, 0], p[~ok, 1], "x", color="0.5", ms=4, label="does not cover")
+                ax.legend(loc="best", fontsize=8)
+        cbar = fig.colorbar(mesh, ax=ax)
+        cbar.set_label(label)
+        ax.set_xlabel(f"{names[0]} [{units[0]}]")
+        ax.set_ylabel(f"{names[1]} [{units[1]}]")
+    else:
+        raise ValueError("a sweep picture shows one or two variables")
+    ax.set_title(
+        f"sweep: {quantity}" + ("" if np.all(ok) else " (blank/grey: region not covered)"),
+        fontsize=10,
+    )
+    return fig

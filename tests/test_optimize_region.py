@@ -1,0 +1,158 @@
+"""The required region and its summary figures, against the single-pose API.
+
+References: the summary's minimum, mean and 5th percentile of k_x, k_y, k_phi are
+recomputed from :func:`ppm_stiffness.analyze` pose by pose (an independent path: the
+single-pose solver and the general decoupling, not the batched closed forms); the
+covered fraction from which poses :func:`ppm_stiffness.stiffness_at_pose` refuses; the
+worst deflection from :func:`ppm_stiffness.loaded_state` pose by pose.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ppm_stiffness as pps
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.design import design_from_dict
+from ppm_stiffness.design.io import design_to_dict
+from ppm_stiffness.optimize.region import make_region, region_of, region_poses
+from ppm_stiffness.optimize.summary import summarize, summarize_candidate
+
+ROOT = Path(__file__).parents[1]
+EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
+
+
+def _reference(design: pps.Design, poses: np.ndarray, tool: np.ndarray | None = None) -> dict:
+    """Figures from the single-pose API: analyze() at each pose that it accepts."""
+    ks, covered = [], 0
+    for pose in poses:
+        try:
+            result = pps.analyze(design, pose, tool_point=tool)
+        except (pps.UnreachablePoseError, pps.SingularConfigurationError):
+            continue
+        covered += 1
+        pr = result["principal"]
+        ks.append(
+            (
+                pr["translational"]["values"][0],
+                pr["translational"]["values"][1],
+                pr["rotational"]["values"][2],
+            )
+        )
+    k = np.array(ks)
+    out = {"covered_fraction": covered / len(poses)}
+    for col, name in enumerate(("k_x", "k_y", "k_phi")):
+        out[f"{name}_min"] = float(np.min(k[:, col]))
+        out[f"{name}_mean"] = float(np.mean(k[:, col]))
+        out[f"{name}_p5"] = float(np.percentile(k[:, col], 5))
+    return out
+
+
+@pytest.mark.parametrize(
+    "path", [ROOT / "examples/3rrr.toml", ROOT / "examples/symmetric_3ppr.toml"]
+)
+def test_summary_matches_the_single_pose_api(path: Path) -> None:
+    design = pps.load_design(path)
+    region = make_region((-0.01, 0.01), (-0.008, 0.012), (-0.1, 0.1), (3, 3, 2))
+    summary = summarize(design, region)
+    reference = _reference(design, region_poses(region).reshape(-1, 3))
+    assert summary.covers and summary.poses == 18
+    for name, value in reference.items():
+        # batched closed forms vs single-pose solver: round-off (measured at most
+        # 3.8e-14 relative on these designs and the tool-point case below)
+        assert summary[name] == pytest.approx(value, rel=1e-12), name
+
+
+def test_summary_at_a_tool_point_matches_analyze() -> None:
+    design = pps.load_design(ROOT / "examples/3prr.toml")
+    tool = np.array([0.02, -0.01, 0.0])
+    design = design.model_copy(update={"tool_point": tuple(tool)})
+    region = make_region((-0.005, 0.005), (-0.005, 0.005), (-0.1, 0.1), (2, 2, 2))
+    summary = summarize(design, region)
+    reference = _reference(design, region_poses(region).reshape(-1, 3), tool)
+    for name, value in reference.items():
+        assert summary[name] == pytest.approx(value, rel=1e-12), name  # measured 2.2e-16
+
+
+def test_covered_fraction_counts_the_poses_the_model_refuses() -> None:
+    design = pps.default_design()  # the paper's 3-PPR reaches x in [-15, 8.7] mm at phi = 0
+    region = make_region((0.0, 0.012), (-0.01, 0.01), (0.0, 0.0), (7, 3, 1))
+    summary = summarize(design, region)
+    reference = _reference(design, region_poses(region).reshape(-1, 3))
+    assert 0 < summary.covered_fraction < 1 and not summary.covers
+    assert summary.covered_fraction == reference["covered_fraction"]
+    assert summary["k_x_min"] == pytest.approx(reference["k_x_min"], rel=1e-12)
+
+
+def test_worst_deflection_matches_the_loaded_state_pose_by_pose() -> None:
+    design = pps.load_design(ROOT / "examples/redundant_4ppr.toml")  # Newton path
+    region = make_region((-0.01, 0.01), (0.0, 0.0), (-0.05, 0.05), (3, 1, 2))
+    wrench = np.array([0.02, -0.01, 0.3, 6.0, -4.0, 5.0])
+    summary = summarize(design, region, wrench)
+    twists = [
+        pps.loaded_state(design, wrench, p).twist for p in region_poses(region).reshape(-1, 3)
+    ]
+    t = np.array(twists)
+    assert summary["max_displacement"] == np.max(np.hypot(t[:, 3], t[:, 4]))
+    assert summary["max_rotation"] == np.max(np.abs(t[:, 2]))
+    assert summary.loaded_failures == 0
+
+
+def test_a_load_beyond_the_model_makes_the_worst_case_unbounded() -> None:
+    design = pps.load_design(ROOT / "examples/symmetric_3ppr.toml")
+    region = make_region((0.0, 0.0), (0.0, 0.0), (0.0, 0.0), (1, 1, 1))
+    summary = summarize(design, region, [0.0, 0.0, 50.0, 0.0, 0.0, 0.0])  # > 5.7 deg
+    assert summary.loaded_failures == 1
+    assert summary["max_rotation"] == np.inf and summary.figures()["k_x_min"] is not None
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_every_example_has_a_region_it_covers(path: Path) -> None:
+    design = pps.load_design(path)
+    assert summarize(design, region_of(design)).covers
+
+
+def test_refused_parameter_values_are_a_failed_record_not_an_error() -> None:
+    design = pps.load_design(ROOT / "examples/symmetric_3ppr.toml")
+    region = make_region((0.0, 0.0), (0.0, 0.0), (0.0, 0.0), (1, 1, 1))
+    summary = summarize_candidate(design, {"leg*.platform_radius": -0.01}, region)
+    assert summary.error is not None and not summary.covers
+    assert summary.figures()["k_x_min"] is None
+
+
+@pytest.mark.parametrize(
+    ("required", "key", "hint"),
+    [
+        ({"x": [-10, 10]}, "workspace.required.x", "did you mean [-0.01, 0.01]?"),  # mm
+        ({"phi": [-5, 5]}, "workspace.required.phi", "did you mean [-0.0872665, 0.0872665]?"),
+        ({"y": [0.01, -0.01]}, "workspace.required.y", "inverted range"),
+        ({"grid": [3, 3, 2], "phi": [0, 0]}, "workspace.required.phi", "grid value 1"),
+        ({"grid": [3, 0, 1]}, "workspace.required.grid.1", "greater than or equal to 1"),
+        ({"z": [0, 1]}, "workspace.required.z", "unknown key"),
+    ],
+)
+def test_region_errors_name_the_key_and_the_unit_mistake(
+    required: dict, key: str, hint: str
+) -> None:
+    data = design_to_dict(pps.default_design())
+    data["workspace"]["required"] = {
+        "x": [-0.01, 0.01],
+        "y": [-0.01, 0.01],
+        "phi": [0.0, 0.0],
+        "grid": [3, 3, 1],
+        **required,
+    }
+    with pytest.raises(DesignError) as err:
+        design_from_dict(data)
+    assert f"key '{key}'" in str(err.value) and hint in str(err.value)
+
+
+def test_the_region_is_a_table_not_a_varied_parameter() -> None:
+    design = pps.load_design(ROOT / "examples/3rpr.toml")
+    assert design.workspace.required is not None
+    assert not any("required" in n for n in design.scalar_parameter_names())
+    copy = design.with_parameters({"leg1.platform_radius": 0.05})
+    assert copy.workspace.required == design.workspace.required
