@@ -79,6 +79,14 @@ LINES = [
         "--out",
         "{tmp}/best.toml",
     ],
+    [
+        "identify",
+        "--measurements",
+        str(ROOT / "examples/identification/measurements.csv"),
+        "--free",
+        "leg1.guide.yaw,leg2.guide.yaw,leg*.actuator.locked_stiffness",
+    ],
+    ["analyze", "--tolerances", str(ROOT / "examples/identification/tolerances.toml")],
 ]
 
 

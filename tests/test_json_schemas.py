@@ -35,6 +35,17 @@ CASES = [
         ["calibrate", "--json", "--target", str(DATA / "paper_eq22.csv"), "--free", "leg1.psi"],
     ),
     ("map", ["map", "--json", "--grid", "8"]),
+    (
+        "identify",
+        [
+            "identify",
+            "--json",
+            "--measurements",
+            str(ROOT / "examples/identification/measurements.csv"),
+            "--free",
+            "leg1.guide.yaw,leg2.guide.yaw",
+        ],
+    ),
     ("map", ["map", "--json", "--grid", "8", "--actuators", "5,5,20,0,0,0.1"]),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (

@@ -73,6 +73,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "ppm_stiffness.cli.optimize",
         "optimise design parameters over the required region (differential evolution)",
     ),
+    "identify": (
+        "ppm_stiffness.cli.identify",
+        "identify element stiffnesses from measured platform deflections under known loads",
+    ),
 }
 
 

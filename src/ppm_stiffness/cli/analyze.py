@@ -24,6 +24,12 @@ from ppm_stiffness.cli.common import (
     read_matrix_csv,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.tolerances import (
+    add_tolerance_arguments,
+    pose_uncertainty,
+    print_pose_uncertainty,
+    read_tolerance_args,
+)
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.fit.calibration import validate_stiffness_matrix
@@ -35,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     add_wrench_argument(parser)
     add_tool_point_argument(parser)
+    add_tolerance_arguments(parser)
     parser.add_argument(
         "--matrix",
         metavar="FILE.csv",
@@ -55,10 +62,13 @@ def run(args: argparse.Namespace) -> int:
         if (
             args.design is not None
             or args.wrench is not None
-            or any(getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point"))
+            or any(
+                getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point", "tolerances")
+            )
         ):
             raise InputDataError(
-                "--matrix cannot be combined with --design, a pose, --wrench or --tool-point"
+                "--matrix cannot be combined with --design, a pose, --wrench, --tool-point "
+                "or --tolerances"
             )
         k = validate_stiffness_matrix(read_matrix_csv(args.matrix), args.matrix)
         check_nonsingular(k, f" ({args.matrix})")
@@ -68,14 +78,18 @@ def run(args: argparse.Namespace) -> int:
     else:
         design = load_design_arg(args)
         pose = pose_from_args(args, design)
-        result = analyze_design(
-            design, pose, parse_wrench(args.wrench), args.method, tool_point_from_args(args, design)
-        )
+        variables = read_tolerance_args(args, design)
+        wrench, tool = parse_wrench(args.wrench), tool_point_from_args(args, design)
+        result = analyze_design(design, pose, wrench, args.method, tool)
+        if variables is not None:
+            result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name
     if args.json:
         print(json_document("analyze", result, ANALYSIS_UNITS))
     else:
         print_tables(result, title)
+        if "uncertainty" in result:
+            print_pose_uncertainty(result["uncertainty"])
     return 0
 
 

@@ -28,8 +28,15 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.tolerances import (
+    add_tolerance_arguments,
+    curve_uncertainty,
+    print_curve_uncertainty,
+    read_tolerance_args,
+)
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.design import Design
 from ppm_stiffness.statics.deflection import (
     LOAD_UNITS,
     METHODS,
@@ -103,6 +110,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.csv",
         help="measured deflections to overlay and compare (RMS differences)",
     )
+    add_tolerance_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
 
@@ -118,8 +126,8 @@ def _load_grid(top: float, step: float) -> np.ndarray:
     return np.unique(np.append(grid[grid < top * (1 - 1e-12)], top))
 
 
-def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | None]:
-    """The curve (and measurements) the command's options ask for."""
+def load_deflect_design(args: argparse.Namespace) -> Design:
+    """The design with the actuator overrides (--k-a, --q, --threshold) applied."""
     design = load_design_arg(args)
     overrides = {
         name: value
@@ -135,6 +143,12 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     }
     if overrides:
         design = design.with_parameters(overrides)
+    return design
+
+
+def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | None]:
+    """The curve (and measurements) the command's options ask for."""
+    design = load_deflect_design(args)
     pose = pose_from_args(args, design)
     meas = None
     if args.measurements is not None:
@@ -149,7 +163,8 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     top = DEFAULT_MAX[mode] if args.max is None else args.max
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
-        loads = np.union1d(loads, meas.loads[meas.loads > 0])
+        measured = meas.load_values()
+        loads = np.union1d(loads, measured[measured > 0])
     if mode == "wrench":
         w = parse_wrench(args.wrench)
         assert w is not None
@@ -286,8 +301,11 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
 def run(args: argparse.Namespace) -> int:
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
     check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
+    design = load_deflect_design(args)
+    variables = read_tolerance_args(args, design)
     curve, meas = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
+    bands, unc = curve_uncertainty(args, design, variables, curve)
     if args.csv:
         write_csv(curve, args.csv)
     if args.plot:
@@ -295,11 +313,14 @@ def run(args: argparse.Namespace) -> int:
         from ppm_stiffness.visuals.deflection import plot_deflection_curves
 
         use_headless_backend()
-        save_figure(plot_deflection_curves([curve], meas), args.plot)
+        save_figure(plot_deflection_curves([curve], meas, bands=[bands]), args.plot)
     if args.json:
-        print(json_document("deflect", _json(curve, rms), _JSON_UNITS))
+        doc = _json(curve, rms) | ({} if unc is None else {"uncertainty": unc})
+        print(json_document("deflect", doc, _JSON_UNITS))
         return 0
     _print(curve, rms)
+    if unc is not None:
+        print_curve_uncertainty(curve, unc)
     if args.csv:
         console.print(f"wrote {escape(args.csv)}")
     if args.plot:

@@ -26,6 +26,12 @@ from ppm_stiffness.cli.common import (
     progress,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.tolerances import (
+    add_tolerance_arguments,
+    map_uncertainty,
+    print_map_uncertainty,
+    read_tolerance_args,
+)
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
@@ -77,6 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--bounds=-20,10,-30,30 when the first number is negative",
     )
     add_tool_point_argument(parser)
+    add_tolerance_arguments(parser)
     parser.add_argument("--out", metavar="FIG", help="write the figure (.png, .svg or .pdf)")
     parser.add_argument("--data", metavar="FILE", help="write the map data (.csv or .npz, SI)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -152,6 +159,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputDataError(f"--actuators: {exc}") from None
         state = "wrench"
     bounds = _parse_bounds(args.bounds)
+    variables = read_tolerance_args(args, design)
 
     show = not (args.quiet or args.json)
     with progress("map", args.grid * args.grid, enabled=show) as advance:
@@ -178,6 +186,7 @@ def run(args: argparse.Namespace) -> int:
             f"no grid point of the map is in the workspace at phi = "
             f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
         )
+    bands, unc = map_uncertainty(args, design, variables, smap, wrench)
     if args.data:
         path = Path(args.data)
         if path.suffix.lower() == ".npz":
@@ -188,11 +197,19 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
 
-        save_map_figure(plot_stiffness_maps(smap), args.out)
+        if bands is None:
+            save_map_figure(plot_stiffness_maps(smap), args.out)
+        else:
+            from ppm_stiffness.visuals.bands import plot_map_bands
+
+            save_map_figure(plot_map_bands(smap, bands), args.out)
     if args.json:
-        print(json_document("map", _json(smap, design, args), _JSON_UNITS))
+        doc = _json(smap, design, args) | ({} if unc is None else {"uncertainty": unc})
+        print(json_document("map", doc, _JSON_UNITS))
         return 0
     _print(smap, design, state, args)
+    if unc is not None:
+        print_map_uncertainty(unc)
     if args.data:
         console.print(f"data written to {escape(args.data)}")
     if args.out:

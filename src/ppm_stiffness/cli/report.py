@@ -18,6 +18,11 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     pose_from_args,
 )
+from ppm_stiffness.cli.tolerances import (
+    add_tolerance_arguments,
+    read_tolerance_args,
+    report_sections,
+)
 from ppm_stiffness.core.errors import InputDataError
 
 
@@ -26,6 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_argument(parser)
     add_pose_arguments(parser)
     add_wrench_argument(parser)
+    add_tolerance_arguments(parser)
     parser.epilog = "Default wrench: the paper's f = [5, 5, 20] N, m_z = 0.1 N·m."
     parser.add_argument(
         "--grid",
@@ -49,6 +55,7 @@ def run(args: argparse.Namespace) -> int:
     design = load_design_arg(args)
     pose = pose_from_args(args, design)  # refuses an unreachable pose
     wrench = parse_wrench(args.wrench)
+    variables = read_tolerance_args(args, design)
 
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -73,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
         def progress(description: str, fraction: float) -> None:
             bar.update(task, description=description, completed=fraction)
 
-        path = write_report(design, args.out, pose, wrench, args.grid, progress, source=args.design)
+        extra = report_sections(args, design, variables, pose, progress)
+        path = write_report(design, args.out, pose, wrench, args.grid, progress, args.design, extra)
     console.print(
         f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, {time.perf_counter() - start:.1f} s)"
     )

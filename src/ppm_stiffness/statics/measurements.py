@@ -1,4 +1,4 @@
-"""Measured deflections: reading them and comparing them with a model curve.
+"""Measured deflections: one reader for every command, and comparison with a model curve.
 
 File format (CSV, UTF-8)::
 
@@ -9,12 +9,24 @@ File format (CSV, UTF-8)::
     1.0,0.0512,0.071,0.019
     ...
 
-The header row names the columns: ``load`` (N, or N·m for the moment mode; also
-accepted as ``load_N`` / ``load_Nm``), then any subset of the twist components
-``phi_x_deg, phi_y_deg, phi_z_deg`` [deg] and ``x_mm, y_mm, z_mm`` [mm] of the
-platform centre P in F_b, measured from the unloaded pose. Every row must give every
-listed column. A ``mode`` metadata line, when present, must agree with the loading
-mode it is compared with.
+Every column carries its unit in its name; a component that was not measured is
+absent. The columns:
+
+- the load, for files of one loading mode (``deflect --measurements``): ``load`` (N, or
+  N·m for the moment mode; also accepted as ``load_N`` / ``load_Nm``), with the mode
+  (and ``alpha_deg``) in ``key: value`` comments;
+- or the applied wrench at P per row, axes of F_b: any of ``fx_N, fy_N, fz_N, mx_Nm,
+  my_Nm, mz_Nm`` (an absent component is zero);
+- the pose of P per row (optional, all three or none): ``pose_x_mm, pose_y_mm,
+  pose_phi_deg``; without them every row is at the design's workspace centre;
+- the measured displacement of P in F_b, from the unloaded pose: any of the twist
+  components ``phi_x_deg, phi_y_deg, phi_z_deg`` [deg] and ``x_mm, y_mm, z_mm`` [mm];
+- optional noise of each measured component (1 sigma, same unit): ``sigma_`` followed
+  by the component's column name, e.g. ``sigma_x_mm``.
+
+Every row gives every listed column (no empty or NaN cell). A file gives a load column
+or wrench columns, not both: displacements need the load that made them. A ``mode``
+metadata line, when present, must agree with the loading mode it is compared with.
 
 RMS differences (what :func:`rms_differences` reports). For each load k, the
 orientation error is the Euclidean norm of (model - measured) over the orientation
@@ -28,6 +40,7 @@ each component is reported too.
 
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,7 +57,15 @@ from ppm_stiffness.statics.deflection import DeflectionCurve
 #: Column name of each twist component in a measurement file, and its factor to SI.
 COMPONENT_COLUMNS = ("phi_x_deg", "phi_y_deg", "phi_z_deg", "x_mm", "y_mm", "z_mm")
 COMPONENT_FACTORS = (math.pi / 180,) * 3 + (1e-3,) * 3
+#: Noise column of each twist component (same unit as the component).
+SIGMA_COLUMNS = tuple(f"sigma_{c}" for c in COMPONENT_COLUMNS)
 LOAD_COLUMNS = ("load", "load_N", "load_Nm")
+#: Wrench columns in the library's order (m_x, m_y, m_z, f_x, f_y, f_z), SI already.
+WRENCH_COLUMNS = ("mx_Nm", "my_Nm", "mz_Nm", "fx_N", "fy_N", "fz_N")
+#: Pose columns (x, y, phi) and their factors to SI.
+POSE_COLUMNS = ("pose_x_mm", "pose_y_mm", "pose_phi_deg")
+POSE_FACTORS = (1e-3, 1e-3, math.pi / 180)
+ALL_COLUMNS = LOAD_COLUMNS + POSE_COLUMNS + WRENCH_COLUMNS + COMPONENT_COLUMNS + SIGMA_COLUMNS
 ORIENTATION = (0, 1, 2)
 POSITION = (3, 4, 5)
 
@@ -55,8 +76,8 @@ class Measurements:
 
     Attributes
     ----------
-    loads : ndarray, shape (n,)
-        [N, or N·m]
+    loads : ndarray, shape (n,), or None
+        [N, or N·m] for a file with a load column; None for a file of wrenches.
     twists : ndarray, shape (n, 6)
         (phi_x, phi_y, phi_z, x, y, z) [rad, m]; NaN where not measured.
     components : tuple of int
@@ -64,17 +85,89 @@ class Measurements:
     metadata : dict
         ``key: value`` comment lines.
     source : str
+    poses : ndarray, shape (n, 3), or None
+        (x [m], y [m], phi [rad]) of P per row; None when the file gives no pose.
+    wrenches : ndarray, shape (n, 6), or None
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P, axes of F_b, per row; None for
+        a file with a load column.
+    sigmas : ndarray, shape (n, 6)
+        1-sigma noise of each component [rad, m]; NaN where not given.
     """
 
-    loads: FloatArray
+    loads: FloatArray | None
     twists: FloatArray
     components: tuple[int, ...]
     metadata: dict[str, str] = field(default_factory=dict)
     source: str = ""
+    poses: FloatArray | None = None
+    wrenches: FloatArray | None = None
+    sigmas: FloatArray | None = None
 
     @property
     def mode(self) -> str | None:
         return self.metadata.get("mode")
+
+    @property
+    def n(self) -> int:
+        """Number of rows."""
+        return int(self.twists.shape[0])
+
+    def load_values(self) -> FloatArray:
+        """The load column (n,), or InputDataError for a file of wrenches."""
+        if self.loads is None:
+            raise InputDataError(
+                f"{self.source}: needs a load column (load, load_N or load_Nm) with a "
+                "'# mode:' line for a deflection curve; this file gives a wrench per row"
+            )
+        return self.loads
+
+
+def _nearest(name: str) -> str:
+    close = difflib.get_close_matches(name, ALL_COLUMNS, n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _check_header(p: Path, header: list[str]) -> None:
+    for c in header:
+        if c not in ALL_COLUMNS:
+            raise InputDataError(
+                f"{p}: unknown column {c!r}{_nearest(c)}; columns carry their unit in the "
+                f"name: {', '.join(LOAD_COLUMNS)}; {', '.join(POSE_COLUMNS)}; "
+                f"{', '.join(WRENCH_COLUMNS)}; {', '.join(COMPONENT_COLUMNS)}; sigma_ + a "
+                "component"
+            )
+    dup = sorted({c for c in header if header.count(c) > 1})
+    if dup:
+        raise InputDataError(f"{p}: column {dup[0]!r} appears more than once")
+    present = set(header)
+    loads = present & set(LOAD_COLUMNS)
+    wrench = present & set(WRENCH_COLUMNS)
+    if len(loads) > 1:
+        raise InputDataError(f"{p}: more than one load column: {sorted(loads)}")
+    if not present & set(COMPONENT_COLUMNS):
+        raise InputDataError(
+            f"{p}: no displacement column: give any of {', '.join(COMPONENT_COLUMNS)}"
+        )
+    if not loads and not wrench:
+        raise InputDataError(
+            f"{p}: displacements with no wrench: give the load that made them, as wrench "
+            f"columns ({', '.join(WRENCH_COLUMNS)}) or a load column with a '# mode:' line"
+        )
+    if loads and wrench:
+        raise InputDataError(
+            f"{p}: give either a load column or wrench columns, not both "
+            f"({sorted(loads)[0]} and {sorted(wrench)[0]})"
+        )
+    pose = present & set(POSE_COLUMNS)
+    if pose and pose != set(POSE_COLUMNS):
+        missing = [c for c in POSE_COLUMNS if c not in pose]
+        raise InputDataError(
+            f"{p}: missing column {missing[0]!r}: the pose columns come as a set "
+            f"({', '.join(POSE_COLUMNS)})"
+        )
+    for s, c in zip(SIGMA_COLUMNS, COMPONENT_COLUMNS, strict=True):
+        if s in present and c not in present:
+            raise InputDataError(f"{p}: column {s!r} without the component {c!r} it is for")
 
 
 def read_measurements(path: str | Path) -> Measurements:
@@ -83,8 +176,11 @@ def read_measurements(path: str | Path) -> Measurements:
     Raises
     ------
     InputDataError
-        Missing file, unknown or duplicated column, missing load column, a row of
-        the wrong length, a non-numeric or non-finite value, no data.
+        Missing file; unknown or duplicated column; no displacement column; no load or
+        wrench column (displacements with no wrench); an incomplete set of pose
+        columns; a sigma column without its component; a row of the wrong length; an
+        empty, non-numeric or non-finite value (the column is named); a negative load or
+        a sigma <= 0; no data row.
     """
     p = Path(path)
     comments, rows = read_commented_csv(p)
@@ -96,38 +192,51 @@ def read_measurements(path: str | Path) -> Measurements:
     if len(rows) < 2:
         raise InputDataError(f"{p}: needs a header row and at least one data row")
     header = [c.strip() for c in rows[0]]
-    allowed = LOAD_COLUMNS + COMPONENT_COLUMNS
-    unknown = [c for c in header if c not in allowed]
-    if unknown or len(set(header)) != len(header):
-        raise InputDataError(
-            f"{p}: columns must be one of {', '.join(LOAD_COLUMNS)} and any of "
-            f"{', '.join(COMPONENT_COLUMNS)} (each once); got {header}"
-        )
-    load_cols = [i for i, c in enumerate(header) if c in LOAD_COLUMNS]
-    comp = [COMPONENT_COLUMNS.index(c) for c in header if c in COMPONENT_COLUMNS]
-    if len(load_cols) != 1 or not comp:
-        raise InputDataError(f"{p}: needs one load column and at least one component column")
+    _check_header(p, header)
     values = np.full((len(rows) - 1, len(header)), np.nan)
     for k, row in enumerate(rows[1:]):
         if len(row) != len(header):
             raise InputDataError(
                 f"{p}: data row {k + 1} has {len(row)} fields, the header has {len(header)}"
             )
-        try:
-            values[k] = [float(v) for v in row]
-        except ValueError:
-            raise InputDataError(f"{p}: data row {k + 1} is not numeric: {row}") from None
-    if not np.all(np.isfinite(values)):
-        raise InputDataError(f"{p}: every value must be finite")
-    loads = values[:, load_cols[0]]
-    if np.any(loads < 0):
+        for j, v in enumerate(row):
+            try:
+                values[k, j] = float(v)
+            except ValueError:
+                raise InputDataError(
+                    f"{p}: data row {k + 1}, column {header[j]!r}: "
+                    f"{'empty' if not v.strip() else repr(v.strip()) + ' is not numeric'}"
+                ) from None
+            if not math.isfinite(values[k, j]):
+                raise InputDataError(
+                    f"{p}: data row {k + 1}, column {header[j]!r}: {v.strip()} (every value "
+                    "must be finite)"
+                )
+    col = {c: values[:, j] for j, c in enumerate(header)}
+    n = values.shape[0]
+    loads = next((col[c] for c in LOAD_COLUMNS if c in col), None)
+    if loads is not None and np.any(loads < 0):
         raise InputDataError(f"{p}: loads must be >= 0")
-    twists = np.full((loads.size, 6), np.nan)
-    for j, c in enumerate(header):
-        if c in COMPONENT_COLUMNS:
-            i = COMPONENT_COLUMNS.index(c)
-            twists[:, i] = values[:, j] * COMPONENT_FACTORS[i]
-    return Measurements(loads, twists, tuple(sorted(comp)), metadata, str(p))
+    twists = np.full((n, 6), np.nan)
+    sigmas = np.full((n, 6), np.nan)
+    comp = []
+    for i, (c, s) in enumerate(zip(COMPONENT_COLUMNS, SIGMA_COLUMNS, strict=True)):
+        if c in col:
+            comp.append(i)
+            twists[:, i] = col[c] * COMPONENT_FACTORS[i]
+        if s in col:
+            if np.any(col[s] <= 0):
+                raise InputDataError(f"{p}: column {s!r}: every sigma must be > 0")
+            sigmas[:, i] = col[s] * COMPONENT_FACTORS[i]
+    poses = None
+    if POSE_COLUMNS[0] in col:
+        poses = np.column_stack(
+            [col[c] * f for c, f in zip(POSE_COLUMNS, POSE_FACTORS, strict=True)]
+        )
+    wrenches = None
+    if loads is None:
+        wrenches = np.column_stack([col.get(c, np.zeros(n)) for c in WRENCH_COLUMNS])
+    return Measurements(loads, twists, tuple(comp), metadata, str(p), poses, wrenches, sigmas)
 
 
 def check_compatible(curve: DeflectionCurve, measurements: Measurements) -> None:
@@ -180,12 +289,13 @@ def rms_differences(curve: DeflectionCurve, measurements: Measurements) -> dict[
         interpolated between curve loads.
     """
     check_compatible(curve, measurements)
-    model = model_at_loads(curve, measurements.loads)
+    loads = measurements.load_values()
+    model = model_at_loads(curve, loads)
     tol = 1e-9 * max(float(curve.loads[-1]), 1e-300)
-    exact = all(np.min(np.abs(curve.loads - x)) <= tol for x in measurements.loads)
+    exact = all(np.min(np.abs(curve.loads - x)) <= tol for x in loads)
     factors = np.array(COMPONENT_FACTORS)
     err = (model - measurements.twists) / factors  # deg and mm
-    out: dict[str, Any] = {"n": int(measurements.loads.size), "interpolated": not exact}
+    out: dict[str, Any] = {"n": int(loads.size), "interpolated": not exact}
     for key, group in (("orientation_deg", ORIENTATION), ("position_mm", POSITION)):
         cols = [i for i in group if i in measurements.components]
         out[key] = float(np.sqrt(np.mean(np.sum(err[:, cols] ** 2, axis=1)))) if cols else None

@@ -38,6 +38,7 @@ def _components(curves: list[DeflectionCurve], meas: list[Measurements]) -> tupl
 def plot_deflection_curves(
     curves: Sequence[DeflectionCurve] | DeflectionCurve,
     measurements: Sequence[Measurements | None] | Measurements | None = None,
+    bands: Sequence[Any | None] | None = None,
 ) -> Any:
     """Orientation [deg] and position [mm] of P against the load, one row per mode.
 
@@ -48,6 +49,9 @@ def plot_deflection_curves(
         and the linear model), drawn with different line styles.
     measurements : Measurements, or a sequence aligned with ``curves``, optional
         Drawn as markers in the row of their curve.
+    bands : sequence aligned with ``curves`` of Bands (twists (n_loads, 6)) or None
+        Uncertainty bands (:func:`ppm_stiffness.fit.uncertainty.propagate`), drawn
+        shaded around their curve.
 
     Returns
     -------
@@ -79,7 +83,18 @@ def plot_deflection_curves(
         ):
             for j, k in enumerate(idx):
                 c = cs[k]
+                band = bands[k] if bands is not None and k < len(bands) else None
                 for n, i in enumerate(comps):
+                    if band is not None:
+                        ax.fill_between(
+                            c.loads,
+                            band.lower[:, i] * factor,
+                            band.upper[:, i] * factor,
+                            color=colours[n % 10],
+                            alpha=0.2,
+                            lw=0,
+                            label=f"{_NAMES[i]} {band.label}",
+                        )
                     ax.plot(
                         c.loads,
                         c.twists[:, i] * factor,
@@ -91,7 +106,7 @@ def plot_deflection_curves(
                 for n, i in enumerate(comps):
                     if i in m.components:
                         ax.plot(
-                            m.loads,
+                            m.load_values(),
                             m.twists[:, i] * factor,
                             "o",
                             ms=4,

@@ -358,6 +358,7 @@ def build_report(
     grid: int = 60,
     progress: Progress | None = None,
     source: str | None = None,
+    extra_sections: list[tuple[str, str, str]] | None = None,
 ) -> str:
     """The HTML report of ``design`` at ``pose`` (see the module docstring).
 
@@ -375,6 +376,8 @@ def build_report(
         ``progress(description, fraction_done)``.
     source : str, optional
         Where the design came from (file name), shown in the header.
+    extra_sections : list of (id, title, html), optional
+        Sections appended after the maps (e.g. the uncertainty section).
 
     Returns
     -------
@@ -460,7 +463,17 @@ def build_report(
     if progress is not None:
         progress("done", 1.0)
     return _assemble(
-        design, p, unloaded, loaded, mech_uri, spring_uris, defl_uri, map_figs, grid, source
+        design,
+        p,
+        unloaded,
+        loaded,
+        mech_uri,
+        spring_uris,
+        defl_uri,
+        map_figs,
+        grid,
+        source,
+        extra_sections,
     )
 
 
@@ -516,6 +529,7 @@ def _assemble(
     map_figs: list[tuple[float, str, str, str]],
     grid: int,
     source: str | None,
+    extra_sections: list[tuple[str, str, str]] | None = None,
 ) -> str:
     try:
         from importlib.metadata import version
@@ -615,6 +629,7 @@ def _assemble(
             ),
         ),
     ]
+    sections += extra_sections or []
     nav = (
         "<nav><ol>"
         + "".join(f'<li><a href="#{sid}">{title}</a></li>' for sid, title, _ in sections)
@@ -648,6 +663,7 @@ def write_report(
     grid: int = 60,
     progress: Progress | None = None,
     source: str | None = None,
+    extra_sections: list[tuple[str, str, str]] | None = None,
 ) -> Path:
     """Write ``out_dir/report.html`` (see :func:`build_report`); returns its path."""
     out = Path(out_dir)
@@ -657,7 +673,7 @@ def write_report(
         raise InputDataError(f"--out {out}: exists and is not a directory")
     if not out.parent.is_dir():
         raise InputDataError(f"--out {out}: directory {out.parent} does not exist")
-    page = build_report(design, pose, wrench, grid, progress, source)
+    page = build_report(design, pose, wrench, grid, progress, source, extra_sections)
     out.mkdir(exist_ok=True)
     path = out / "report.html"
     path.write_text(page, encoding="utf-8")

@@ -1,0 +1,333 @@
+"""``--tolerances TOL.toml`` shared by ``analyze``, ``map``, ``deflect`` and ``report``:
+the options, and the glue between a command's result and its uncertainty bands.
+
+The library does the work (:mod:`ppm_stiffness.fit.tolerances`,
+:mod:`ppm_stiffness.fit.uncertainty`, :mod:`ppm_stiffness.fit.band_outputs`); this
+module reads the options, calls it and turns the bands into JSON-ready dicts and
+tables. Heavy libraries are imported inside the functions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from typing import Any
+
+import numpy as np
+
+from ppm_stiffness.cli.common import check_input_path, console, eng, progress
+from ppm_stiffness.core.errors import InputDataError
+
+#: The principal stiffnesses ranked by the sensitivity tables, and their units.
+RANKED = (("k_phi", "N·m/rad"), ("k_x", "N/m"), ("k_y", "N/m"))
+#: Variables listed per ranking.
+TOP = 5
+
+
+def add_tolerance_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--tolerances``, ``--tolerance-method`` and ``--samples``."""
+    parser.add_argument(
+        "--tolerances",
+        metavar="TOL.toml",
+        help="parameter tolerances (pm or sigma, absolute or %%; docs/identification.md): "
+        "adds uncertainty bands and a sensitivity ranking",
+    )
+    parser.add_argument(
+        "--tolerance-method",
+        choices=("first-order", "qmc"),
+        default="first-order",
+        help="first-order propagation (bands ±2σ) or quasi-Monte Carlo (Sobol; bands 5th-"
+        "95th percentile, right near singularities) (default first-order)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=64,
+        metavar="N",
+        help="QMC samples (default 64; a power of 2 keeps Sobol's balance)",
+    )
+
+
+def read_tolerance_args(args: argparse.Namespace, design: Any) -> list[Any] | None:
+    """The tolerance variables of ``--tolerances`` (None without it), checked before
+    any computation."""
+    path = getattr(args, "tolerances", None)
+    if path is None:
+        return None
+    if not 2 <= args.samples <= 100_000:
+        raise InputDataError(f"--samples must be between 2 and 100000, got {args.samples}")
+    from ppm_stiffness.fit.tolerances import read_tolerances, tolerance_variables
+
+    return tolerance_variables(design, read_tolerances(check_input_path(path, "--tolerances")))
+
+
+def compute_bands(args: argparse.Namespace, design: Any, variables: list[Any], output: Any) -> Any:
+    """Bands of ``output`` with the command's method and samples (a progress bar)."""
+    from ppm_stiffness.fit.uncertainty import propagate
+
+    n = 2 * len(variables) + (args.samples if args.tolerance_method == "qmc" else 0)
+    with progress("tolerances", n) as advance:
+        return propagate(design, variables, output, args.tolerance_method, args.samples, 0, advance)
+
+
+def _head(bands: Any) -> dict[str, Any]:
+    return {
+        "method": bands.method,
+        "band": bands.label,
+        "samples": bands.samples,
+        "failed_samples": bands.failed,
+        "redrawn": bands.redrawn,
+        "variables": bands.labels,
+    }
+
+
+def _ranking(bands: Any, index: Any) -> list[dict[str, Any]]:
+    return [{"parameter": n, "share": s} for n, s in bands.ranking(index)[:TOP]]
+
+
+def _finite(x: Any) -> Any:
+    a = np.asarray(x, dtype=float)
+    return np.where(np.isfinite(a), a, np.nan)
+
+
+def pose_uncertainty(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any],
+    pose: Any,
+    tool_point: Any,
+    wrench: Any | None,
+) -> dict[str, Any]:
+    """Bands of k_phi, k_x, k_y, K (and the twist under a wrench) at one pose, as the
+    ``uncertainty`` entry of ``analyze --json``."""
+    from ppm_stiffness.fit.band_outputs import pose_output
+
+    bands = compute_bands(args, design, variables, pose_output(pose, tool_point, wrench))
+    out = _head(bands)
+    quantities = {}
+    for i, (name, unit) in enumerate(RANKED):
+        quantities[name] = {
+            "unit": unit,
+            "nominal": bands.nominal[i],
+            "lower": bands.lower[i],
+            "upper": bands.upper[i],
+            "std": bands.std[i],
+        }
+    out["quantities"] = quantities
+    out["stiffness_matrix_lower"] = bands.lower[3:39].reshape(6, 6)
+    out["stiffness_matrix_upper"] = bands.upper[3:39].reshape(6, 6)
+    if wrench is not None:
+        out["twist_lower"] = bands.lower[39:45]
+        out["twist_upper"] = bands.upper[39:45]
+    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(RANKED)}
+    return _json_safe(out)
+
+
+def _json_safe(obj: Any) -> Any:
+    """NaN (no value: every sample failed there) as None for JSON."""
+    if isinstance(obj, dict):
+        return {k: _json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_json_safe(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _json_safe(obj.tolist())
+    if isinstance(obj, (float, np.floating)):
+        return None if not math.isfinite(float(obj)) else float(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def print_head(unc: dict[str, Any]) -> None:
+    """One line: the method, the band's meaning, samples failed and redrawn."""
+    text = f"[bold]uncertainty[/bold]: {unc['band']}; {len(unc['variables'])} tolerance variables"
+    if unc["method"] == "qmc":
+        text += (
+            f"; {unc['failed_samples']} of {unc['samples']} samples unreachable or singular"
+            f"; {unc['redrawn']} values redrawn (a stiffness <= 0)"
+        )
+    console.print(text)
+
+
+def print_sensitivity(sensitivity: dict[str, list[dict[str, Any]]], what: str = "") -> None:
+    """Which tolerance matters most for each ranked output (share of the first-order
+    variance), one line per output."""
+    from rich.markup import escape
+
+    console.print(f"sensitivity, share of the first-order variance{what}:")
+    for name, ranking in sensitivity.items():
+        items = ", ".join(f"{r['parameter']} {100 * r['share']:.0f}%" for r in ranking)
+        console.print(f"  {name}: {escape(items)}")
+
+
+def print_pose_uncertainty(unc: dict[str, Any]) -> None:
+    """Tables of ``analyze``'s bands."""
+    from rich import box
+    from rich.table import Table
+
+    print_head(unc)
+    t = Table(box=box.SIMPLE)
+    for col in ("", "nominal", "lower", "upper", "unit"):
+        t.add_column(col, justify="left" if col in ("", "unit") else "right")
+    for name, q in unc["quantities"].items():
+        t.add_row(
+            name,
+            eng(q["nominal"]),
+            "-" if q["lower"] is None else eng(q["lower"]),
+            "-" if q["upper"] is None else eng(q["upper"]),
+            q["unit"],
+        )
+    console.print(t)
+    print_sensitivity(unc["sensitivity"])
+
+
+def curve_uncertainty(
+    args: argparse.Namespace, design: Any, variables: list[Any] | None, curve: Any
+) -> tuple[Any, dict[str, Any] | None]:
+    """Bands of a deflection curve's twists (n_loads, 6) and the JSON entry ((None,
+    None) without tolerances)."""
+    if variables is None:
+        return None, None
+    from ppm_stiffness.fit.band_outputs import deflection_output
+
+    output = deflection_output(curve.unit_wrench, curve.loads, curve.pose, curve.tool_point)
+    bands = compute_bands(args, design, variables, output)
+    out = _head(bands)
+    out["twists_lower"] = bands.lower
+    out["twists_upper"] = bands.upper
+    big = np.max(np.abs(curve.twists[-1]))
+    comps = [i for i in range(6) if abs(curve.twists[-1, i]) > 1e-6 * big]
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+
+    out["sensitivity"] = {
+        TWIST_COMPONENTS[i]: _ranking(bands, (len(curve.loads) - 1, i)) for i in comps
+    }
+    return bands, _json_safe(out)
+
+
+def print_curve_uncertainty(curve: Any, unc: dict[str, Any]) -> None:
+    """A table of the bands at each load for the curve's main components."""
+    from rich import box
+    from rich.table import Table
+
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+
+    print_head(unc)
+    names = list(unc["sensitivity"])[:3]
+    t = Table(box=box.SIMPLE)
+    t.add_column(f"load \\[{curve.load_unit}]", justify="right")
+    for name in names:
+        unit = "deg" if name.startswith("phi") else "mm"
+        t.add_column(f"{name} lo..hi \\[{unit}]", justify="right")
+    lo, hi = np.asarray(unc["twists_lower"], float), np.asarray(unc["twists_upper"], float)
+    for k, load in enumerate(curve.loads):
+        cells = []
+        for name in names:
+            i = TWIST_COMPONENTS.index(name)
+            f = 180 / math.pi if i < 3 else 1e3
+            cells.append(f"{eng(lo[k, i] * f, 3)}..{eng(hi[k, i] * f, 3)}")
+        t.add_row(eng(load, 3), *cells)
+    console.print(t)
+    print_sensitivity(unc["sensitivity"], " (at the largest load)")
+
+
+def map_uncertainty(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any] | None,
+    smap: Any,
+    wrench: Any | None,
+) -> tuple[Any, dict[str, Any] | None]:
+    """Bands of k_phi, k_x, k_y over the map's grid (3, ny, nx) and a JSON summary
+    ((None, None) without tolerances)."""
+    if variables is None:
+        return None, None
+    from ppm_stiffness.cli.common import tool_point_from_args
+    from ppm_stiffness.fit.band_outputs import map_output
+
+    output = map_output(
+        phi=smap.phi,
+        actuators=smap.actuators,
+        grid=(len(smap.x), len(smap.y)),
+        wrench=wrench,
+        bounds=(smap.x[0], smap.x[-1], smap.y[0], smap.y[-1]),
+        reference_force=args.reference_force,
+        tool_point=tool_point_from_args(args, design),
+    )
+    bands = compute_bands(args, design, variables, output)
+    out = _head(bands)
+    summary = {}
+    for i, (name, unit) in enumerate(RANKED):
+        nominal = bands.nominal[i]
+        ok = np.isfinite(nominal) & np.isfinite(bands.lower[i])
+        spread = (bands.upper[i] - bands.lower[i])[ok] / nominal[ok]
+        summary[name] = {
+            "unit": unit,
+            "min_nominal": float(np.nanmin(nominal)) if np.any(ok) else None,
+            "min_lower": float(np.min(bands.lower[i][ok])) if np.any(ok) else None,
+            "median_relative_spread": float(np.median(spread)) if spread.size else None,
+            "max_relative_spread": float(np.max(spread)) if spread.size else None,
+        }
+    out["summary"] = summary
+    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(RANKED)}
+    return bands, _json_safe(out)
+
+
+def _percent(value: float | None) -> str:
+    return "-" if value is None else f"{100 * value:.3g}%"
+
+
+def print_map_uncertainty(unc: dict[str, Any]) -> None:
+    from rich import box
+    from rich.table import Table
+
+    print_head(unc)
+    t = Table(box=box.SIMPLE)
+    for col in ("", "min nominal", "min lower", "median spread", "max spread", "unit"):
+        t.add_column(col, justify="left" if col in ("", "unit") else "right")
+    for name, s in unc["summary"].items():
+        t.add_row(
+            name,
+            "-" if s["min_nominal"] is None else eng(s["min_nominal"]),
+            "-" if s["min_lower"] is None else eng(s["min_lower"]),
+            "-"
+            if s["median_relative_spread"] is None
+            else f"{100 * s['median_relative_spread']:.3g}%",
+            "-" if s["max_relative_spread"] is None else f"{100 * s['max_relative_spread']:.3g}%",
+            s["unit"],
+        )
+    console.print(t)
+    console.print("(spread: (upper - lower) / nominal over the grid)")
+    print_sensitivity(unc["sensitivity"], " (mean over the grid)")
+
+
+def report_sections(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any] | None,
+    pose: Any,
+    report_progress: Any,
+) -> list[tuple[str, str, str]] | None:
+    """The report's uncertainty section (None without tolerances)."""
+    if variables is None:
+        return None
+    from ppm_stiffness.visuals.uncertainty_report import uncertainty_section
+
+    report_progress("uncertainty bands", 0.0)
+    return [
+        uncertainty_section(design, variables, pose, args.grid, args.tolerance_method, args.samples)
+    ]
+
+
+__all__ = [
+    "add_tolerance_arguments",
+    "compute_bands",
+    "curve_uncertainty",
+    "map_uncertainty",
+    "pose_uncertainty",
+    "print_curve_uncertainty",
+    "print_map_uncertainty",
+    "print_pose_uncertainty",
+    "read_tolerance_args",
+    "report_sections",
+]

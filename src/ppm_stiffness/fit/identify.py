@@ -1,0 +1,613 @@
+"""Identify element stiffnesses (any design parameters) from measured platform deflections.
+
+Data: rows of (pose of P, wrench at P, measured twist of P), each measured component
+with its noise sigma (:func:`measurement_rows`, from the file read by
+:func:`ppm_stiffness.statics.measurements.read_measurements`).
+
+Model. The predicted twist of a row is the one ``deflect`` computes: the equilibrium
+of the loaded manipulator with the nonlinear actuator law
+(:func:`ppm_stiffness.statics.equilibrium.equilibrium`, where the deflection path of
+:func:`ppm_stiffness.statics.deflection.deflection_path` ends; the springs are elastic,
+so the twist does not depend on the loading history), passive joints eliminated exactly.
+
+Parameters. ``free`` are names or globs of ``Design.scalar_parameter_names()``; a glob
+(``leg*.guide.lateral``) is one parameter tying every match (their catalogue values
+must be equal). The fit works in relative parameters ``theta_j = p_j / s_j`` with
+``s_j = |p_j^0|`` (the catalogue value; 1 in SI for a zero catalogue value).
+
+Residuals ``r = (predicted - measured) / sigma`` over every measured component.
+
+Estimation, in two stages:
+
+1. **Linear start in the compliances.** A stiffness-like parameter (unit N/m, N·m/rad or
+   Pa, and an actuator law's k_a, a stiffness when q = 1) enters as its relative
+   compliance ``u = p^0 / p``, any other as ``u = p / p^0``;
+   the predictions are linearised in u at the catalogue (forward differences, step
+   :data:`LINEAR_STEP`) and the weighted linear least-squares problem solved. Along a
+   statically determinate load path with the actuators locked (in-plane loads on a
+   3-leg planar design below the actuators' thresholds) the twist is exactly linear in
+   the element compliances, and this start is the solution. Out of plane (three legs
+   carry six out-of-plane constraints: a redundant path), in redundant designs and
+   with powered actuators it is a linearisation, only a start.
+2. **Nonlinear least squares** (``scipy.optimize.least_squares``, trust-region
+   reflective, relative parameters bounded to ``[1e-3, 1e3]`` for positive catalogue
+   values) through the full model. Skipped when the model is linear in u along the
+   start's step (the model's residuals at the start equal the linear model's to
+   :data:`LINEARITY_TOLERANCE` of the largest residual at the catalogue): the start
+   is then the least-squares solution and the linear Jacobian exact there.
+
+Uncertainty. With ``J`` the Jacobian of the weighted residuals in the relative
+parameters at the solution (rows divided by sigma, columns relative), the covariance
+of theta is ``(J^T J)^-1`` (the sigmas are taken as the true noise: no rescaling by
+the residual; the weighted RMS says whether they were right), standard errors
+``s_j sqrt(cov_jj)`` and the correlation matrix follow.
+
+Identifiability. The singular values ``s_k`` of the scaled Jacobian measure how well
+each combination ``v_k`` (right singular vector) of relative parameters is determined:
+its 1-sigma is ``1 / s_k`` (relative). A combination is **unidentifiable** when
+``1 / s_k > MAX_RELATIVE_SIGMA`` (1: the data cannot tell it to better than 100 %)
+or ``s_k < RANK_RATIO * s_max`` (numerically flat). It is checked at the catalogue
+values before the fit: unidentifiable combinations are named and refused
+(:class:`~ppm_stiffness.core.errors.InputDataError`), unless
+``fix_unidentifiable=True``: then the parameter with the largest weight in the
+weakest combination is fixed at its catalogue value, repeatedly, until every remaining
+combination is identifiable, with an :class:`IdentifiabilityWarning`.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.design import Design
+from ppm_stiffness.model import validate_pose, workspace_centre
+from ppm_stiffness.statics.measurements import COMPONENT_COLUMNS, Measurements
+
+#: A combination whose relative 1-sigma (1 / singular value) exceeds this is
+#: unidentifiable (module doc).
+MAX_RELATIVE_SIGMA = 1.0
+#: A singular value below this fraction of the largest is numerically flat.
+RANK_RATIO = 1e-8
+#: Units of the parameters that enter the linear start as compliances.
+STIFFNESS_UNITS = frozenset({"N/m", "N·m/rad", "Pa"})
+#: Relative forward-difference step of the linear start.
+LINEAR_STEP = 1e-4
+#: Relative finite-difference step of the nonlinear fit's Jacobian.
+FIT_STEP = 1e-7
+#: The model counts as linear in u along the start's step when its residuals there
+#: match the linear model's to this fraction of the largest residual at the catalogue
+#: (forward differences of a linear model are exact to rounding: ~1e-10).
+LINEARITY_TOLERANCE = 1e-7
+#: Bounds of a positive parameter relative to its catalogue value during the fit.
+RELATIVE_BOUNDS = (1e-3, 1e3)
+
+
+def _stiffness_like(unit: str) -> bool:
+    """A stiffness (N/m, N·m/rad, Pa) or an actuator law's coefficient k_a (N/m^q:
+    a stiffness when q = 1)."""
+    return unit in STIFFNESS_UNITS or unit.endswith("^q")
+
+
+class IdentifiabilityWarning(UserWarning):
+    """Parameters were fixed at their catalogue values because the data cannot
+    determine them (``fix_unidentifiable=True``)."""
+
+
+@dataclass(frozen=True)
+class MeasurementRows:
+    """Measurements ready for fitting (SI; twists and wrenches at P, axes of F_b).
+
+    Attributes
+    ----------
+    poses : ndarray (n, 3) [m, m, rad]
+    wrenches : ndarray (n, 6) (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N]
+    twists : ndarray (n, 6) [rad, m], NaN where not measured
+    sigmas : ndarray (n, 6) [rad, m], 1-sigma noise; NaN where not measured
+    """
+
+    poses: FloatArray
+    wrenches: FloatArray
+    twists: FloatArray
+    sigmas: FloatArray
+
+    @property
+    def measured(self) -> np.ndarray:
+        """Boolean mask (n, 6) of the measured components."""
+        return np.asarray(np.isfinite(self.twists))
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.twists.shape[0])
+
+    @property
+    def n_values(self) -> int:
+        """Number of measured scalar values (residuals)."""
+        return int(self.measured.sum())
+
+    def repeated(self, times: int) -> MeasurementRows:
+        """The same rows ``times`` times over (as if each were measured again)."""
+        return MeasurementRows(
+            *(np.tile(a, (times, 1)) for a in (self.poses, self.wrenches, self.twists, self.sigmas))
+        )
+
+    def with_twists(self, twists: ArrayLike) -> MeasurementRows:
+        """The same rows with other measured values (NaN kept where not measured)."""
+        t = np.where(self.measured, np.asarray(twists, dtype=float), np.nan)
+        return MeasurementRows(self.poses, self.wrenches, t, self.sigmas)
+
+
+def measurement_rows(
+    design: Design, measurements: Measurements, sigma: Mapping[int, float] | None = None
+) -> MeasurementRows:
+    """Poses, wrenches, twists and sigmas of every row of a measurement file.
+
+    Parameters
+    ----------
+    design : Design
+        Gives the pose (its workspace centre) when the file has no pose columns.
+    measurements : Measurements
+        A file with wrench columns, or with a load column and a ``mode`` (and
+        ``alpha_deg``) metadata line (the loading modes of ``deflect``).
+    sigma : mapping component index (0-5) -> 1-sigma [rad or m], optional
+        Noise of the components that have no ``sigma_*`` column.
+
+    Raises
+    ------
+    InputDataError
+        A load column without a mode; a row with a zero wrench; a measured component
+        with no sigma (or a sigma given both ways); a sigma that is not > 0.
+    """
+    from ppm_stiffness.statics.deflection import mode_wrench
+
+    src = measurements.source
+    n = measurements.n
+    if measurements.wrenches is not None:
+        wrenches = np.asarray(measurements.wrenches, dtype=float)
+    else:
+        mode = measurements.mode
+        if mode is None:
+            raise InputDataError(
+                f"{src}: a load column needs a '# mode:' line (planar-force, moment or "
+                "vertical-force) to say which wrench made the displacements"
+            )
+        alpha = math.radians(float(measurements.metadata.get("alpha_deg", "45")))
+        wrenches = measurements.load_values()[:, None] * mode_wrench(mode, alpha)[None, :]
+    zero = np.flatnonzero(~np.any(wrenches != 0, axis=1))
+    if zero.size:
+        raise InputDataError(
+            f"{src}: data row {zero[0] + 1} has a zero wrench: a displacement without a "
+            "wrench says nothing about stiffness"
+        )
+    if measurements.poses is not None:
+        poses = np.array([validate_pose(p) for p in measurements.poses])
+    else:
+        poses = np.tile(workspace_centre(design), (n, 1))
+    sig = (
+        np.full((n, 6), np.nan)
+        if measurements.sigmas is None
+        else np.array(measurements.sigmas, dtype=float)
+    )
+    for i, value in (sigma or {}).items():
+        if not (math.isfinite(value) and value > 0):
+            raise InputDataError(f"sigma of {COMPONENT_COLUMNS[i]} must be > 0, got {value}")
+        if np.any(np.isfinite(sig[:, i])):
+            raise InputDataError(
+                f"{src}: the sigma of {COMPONENT_COLUMNS[i]} is given twice (a "
+                f"sigma_{COMPONENT_COLUMNS[i]} column and an option)"
+            )
+        sig[:, i] = value
+    twists = np.array(measurements.twists, dtype=float)
+    for i in measurements.components:
+        if not np.all(np.isfinite(sig[:, i])):
+            raise InputDataError(
+                f"{src}: no noise given for {COMPONENT_COLUMNS[i]}: add a column "
+                f"sigma_{COMPONENT_COLUMNS[i]} or give it as an option (--sigma "
+                f"{COMPONENT_COLUMNS[i]}=VALUE)"
+            )
+    sig[~np.isfinite(twists)] = np.nan
+    return MeasurementRows(poses, wrenches, twists, sig)
+
+
+def predict_twists(design: Design, poses: ArrayLike, wrenches: ArrayLike) -> FloatArray:
+    """Twist of P (n, 6) [rad, m] under each wrench at each pose: the loaded
+    equilibrium with the nonlinear actuator law (what ``deflect`` computes).
+
+    Rows at the same pose share one set of springs.
+    """
+    from ppm_stiffness.statics.equilibrium import LegStructures, equilibrium
+
+    p = np.asarray(poses, dtype=float)
+    w = np.asarray(wrenches, dtype=float)
+    out = np.zeros((p.shape[0], 6))
+    keys, inverse = np.unique(p, axis=0, return_inverse=True)
+    for k, pose in enumerate(keys):
+        st = LegStructures(design, pose)
+        for r in np.flatnonzero(inverse.ravel() == k):
+            out[r] = equilibrium(design, w[r], pose, st).twist
+    return out
+
+
+@dataclass(frozen=True)
+class Combination:
+    """A combination of relative parameters and how well the data determine it.
+
+    Attributes
+    ----------
+    singular_value : float
+        Of the scaled Jacobian.
+    relative_sigma : float
+        Its 1-sigma, relative (``1 / singular_value``; inf when 0).
+    weights : dict name -> component of the unit right singular vector
+    """
+
+    singular_value: float
+    relative_sigma: float
+    weights: dict[str, float]
+
+    def describe(self, threshold: float = 0.1) -> str:
+        """``leg1.guide.lateral +0.71, leg2.guide.lateral -0.71``: the names that
+        weigh more than ``threshold``."""
+        items = sorted(self.weights.items(), key=lambda kv: -abs(kv[1]))
+        return ", ".join(f"{n} {v:+.2f}" for n, v in items if abs(v) > threshold)
+
+
+def combinations(jacobian: ArrayLike, names: Sequence[str]) -> list[Combination]:
+    """Every combination (strongest first) from the SVD of the scaled Jacobian
+    (rows / sigma, relative-parameter columns), shape (m, n)."""
+    j = np.asarray(jacobian, dtype=float)
+    _, s, vt = np.linalg.svd(j, full_matrices=True)
+    s = np.concatenate([s, np.zeros(len(names) - s.size)])  # fewer rows than parameters
+    out = []
+    for k in range(len(names)):
+        sign = 1.0 if vt[k, np.argmax(np.abs(vt[k]))] >= 0 else -1.0
+        out.append(
+            Combination(
+                float(s[k]),
+                math.inf if s[k] == 0 else float(1.0 / s[k]),
+                {n: float(sign * v) for n, v in zip(names, vt[k], strict=True)},
+            )
+        )
+    return out
+
+
+def unidentifiable(found: Sequence[Combination]) -> list[Combination]:
+    """The combinations that fail the threshold of the module doc."""
+    s_max = max((c.singular_value for c in found), default=0.0)
+    return [
+        c
+        for c in found
+        if c.relative_sigma > MAX_RELATIVE_SIGMA or c.singular_value <= RANK_RATIO * s_max
+    ]
+
+
+@dataclass(frozen=True)
+class IdentificationResult:
+    """Outcome of :func:`identify` (SI throughout).
+
+    Attributes
+    ----------
+    design : Design
+        The design with the identified values (fixed parameters at the catalogue).
+    names : list of str
+        The fitted parameters (names or globs as given, fixed ones removed).
+    units : list of str
+    catalogue, start, values, standard_errors : ndarray (n,)
+        Catalogue (the design's) values, the linear start, the estimates and their
+        1-sigma standard errors.
+    correlation : ndarray (n, n)
+    residual_rms : ndarray (6,)
+        RMS of predicted - measured per twist component [rad, m]; NaN if not measured.
+    weighted_rms : float
+        RMS of the residuals divided by their sigma (about 1 when the sigmas are right).
+    combinations : list of Combination
+        At the solution, strongest first.
+    fixed : list of str
+        Parameters fixed at their catalogue values as unidentifiable.
+    n_rows, n_values : int
+    predicted : ndarray (n_rows, 6)
+        Predicted twists at the estimates.
+    nfev : int
+        Model evaluations of the nonlinear fit (without its Jacobians).
+    """
+
+    design: Design
+    names: list[str]
+    units: list[str]
+    catalogue: FloatArray
+    start: FloatArray
+    values: FloatArray
+    standard_errors: FloatArray
+    correlation: FloatArray
+    residual_rms: FloatArray
+    weighted_rms: float
+    combinations: list[Combination]
+    fixed: list[str] = field(default_factory=list)
+    n_rows: int = 0
+    n_values: int = 0
+    predicted: FloatArray = field(default_factory=lambda: np.zeros((0, 6)))
+    nfev: int = 0
+
+
+def _free_parameters(design: Design, free: Sequence[str]) -> tuple[list[str], FloatArray]:
+    names = [n.strip() for n in free if n.strip()]
+    if not names:
+        raise InputDataError("no free parameter given")
+    seen: dict[str, str] = {}
+    for name in names:
+        for match in design.expand(name):  # DesignError for an unknown name
+            if match in seen:
+                raise InputDataError(
+                    f"free parameters {seen[match]!r} and {name!r} both address {match!r}"
+                )
+            seen[match] = name
+    return names, np.array([design.parameter(n) for n in names])
+
+
+class _Problem:
+    """Weighted residuals as a function of relative parameters."""
+
+    def __init__(
+        self, design: Design, rows: MeasurementRows, names: list[str], p0: FloatArray
+    ) -> None:
+        self.design, self.rows, self.names, self.p0 = design, rows, names, p0
+        self.scale = np.where(p0 != 0, np.abs(p0), 1.0)
+        self.stiff = np.array(
+            [
+                _stiffness_like(design.parameter_unit(n)) and v > 0
+                for n, v in zip(names, p0, strict=True)
+            ]
+        )
+        self.mask = rows.measured
+        self._cache: dict[bytes, FloatArray] = {}
+
+    def design_at(self, p: FloatArray) -> Design:
+        return self.design.with_parameters(dict(zip(self.names, map(float, p), strict=True)))
+
+    def predict(self, p: FloatArray) -> FloatArray:
+        key = np.asarray(p, dtype=float).tobytes()
+        if key not in self._cache:
+            design = self.design_at(p)
+            self._cache[key] = predict_twists(design, self.rows.poses, self.rows.wrenches)
+        return self._cache[key]
+
+    def weighted(self, predicted: FloatArray) -> FloatArray:
+        r = (predicted - self.rows.twists) / self.rows.sigmas
+        return np.asarray(r[self.mask])
+
+    def residuals(self, theta: FloatArray) -> FloatArray:
+        return self.weighted(self.predict(theta * self.scale))
+
+    def jacobian(self, theta: FloatArray) -> FloatArray:
+        """Forward-difference Jacobian of :meth:`residuals` (relative step FIT_STEP)."""
+        r = self.residuals(theta)
+        jac = np.zeros((r.size, theta.size))
+        for j in range(theta.size):
+            step = FIT_STEP * max(abs(theta[j]), 1.0)
+            t = theta.copy()
+            t[j] += step
+            jac[:, j] = (self.residuals(t) - r) / step
+        return jac
+
+    def du_dtheta(self, theta: FloatArray) -> FloatArray:
+        """Derivative of the linear start's variables u by theta (n,)."""
+        return np.where(self.stiff, -1.0 / np.where(self.stiff, theta, 1.0) ** 2, 1.0)
+
+    def p_from_u_inverse(self, p: FloatArray) -> FloatArray:
+        """The linear start's variables u of parameters p (inverse of p_from_u)."""
+        return np.asarray(
+            np.where(
+                self.stiff, self.p0 / np.where(self.stiff, p, 1.0), 1 + (p - self.p0) / self.scale
+            )
+        )
+
+    def p_from_u(self, u: FloatArray) -> FloatArray:
+        """Parameters from the linear start's variables (compliances for stiffnesses)."""
+        compliance = self.p0 / np.where(self.stiff, u, 1.0)
+        return np.asarray(np.where(self.stiff, compliance, self.p0 + self.scale * (u - 1)))
+
+    def linear_jacobian(self) -> tuple[FloatArray, FloatArray]:
+        """Residuals at the catalogue (m,) and their forward-difference Jacobian in u."""
+        r0 = self.weighted(self.predict(self.p0))
+        jac = np.zeros((r0.size, len(self.names)))
+        for j in range(len(self.names)):
+            u = np.ones(len(self.names))
+            u[j] += LINEAR_STEP
+            jac[:, j] = (self.weighted(self.predict(self.p_from_u(u))) - r0) / LINEAR_STEP
+        return r0, jac
+
+
+def _check_identifiable(
+    problem: _Problem, jac_theta: FloatArray, fix: bool
+) -> tuple[list[int], list[str]]:
+    """Indices of the parameters kept and names of those fixed (or raise)."""
+    keep = list(range(len(problem.names)))
+    fixed: list[str] = []
+    while keep:
+        names = [problem.names[k] for k in keep]
+        weak = unidentifiable(combinations(jac_theta[:, keep], names))
+        if not weak:
+            break
+        if not fix:
+            text = "; ".join(
+                f"{c.describe()} (relative 1-sigma "
+                + ("inf" if math.isinf(c.relative_sigma) else f"{c.relative_sigma:.3g}")
+                + ")"
+                for c in weak
+            )
+            raise InputDataError(
+                f"the measurements cannot separate these parameter combinations: {text}; "
+                "measure more poses or load directions, free fewer parameters, or fix "
+                "them at their catalogue values (--fix-unidentifiable)"
+            )
+        worst = min(weak, key=lambda c: c.singular_value)
+        name = max(worst.weights, key=lambda n: abs(worst.weights[n]))
+        fixed.append(name)
+        keep.remove(problem.names.index(name))
+    if not keep:
+        raise InputDataError(
+            "the measurements determine none of the free parameters (all fixed as "
+            f"unidentifiable: {', '.join(fixed)})"
+        )
+    return keep, fixed
+
+
+def identify(
+    design: Design,
+    rows: MeasurementRows,
+    free: Sequence[str],
+    *,
+    fix_unidentifiable: bool = False,
+) -> IdentificationResult:
+    """Fit the ``free`` parameters to measured platform deflections (module doc).
+
+    Parameters
+    ----------
+    design : Design
+        Its values are the catalogue values (start, and where fixed parameters stay).
+    rows : MeasurementRows
+        From :func:`measurement_rows`.
+    free : sequence of str
+        Parameter names or globs (``calibrate --list-parameters``).
+    fix_unidentifiable : bool
+        Fix unidentifiable parameters at their catalogue values (with an
+        :class:`IdentifiabilityWarning`) instead of refusing.
+
+    Returns
+    -------
+    IdentificationResult
+
+    Raises
+    ------
+    InputDataError
+        Too few measured values (at least one more than free parameters), overlapping
+        or unidentifiable parameters.
+    DesignError
+        An unknown parameter name, or a glob whose matches differ.
+    UnreachablePoseError, SingularConfigurationError, EquilibriumError
+        From the model at a measured pose.
+    """
+    from scipy.optimize import least_squares
+
+    names, p0 = _free_parameters(design, free)
+    if rows.n_values <= len(names):
+        raise InputDataError(
+            f"too few measurements: {rows.n_values} measured values for {len(names)} free "
+            f"parameters (at least {len(names) + 1} needed)"
+        )
+    problem = _Problem(design, rows, names, p0)
+    r0, jac_u = problem.linear_jacobian()
+    # d theta / d u at the catalogue: -1 for a compliance, +1 otherwise
+    jac_theta = jac_u * np.where(problem.stiff, -1.0, 1.0)[None, :]
+    keep, fixed = _check_identifiable(problem, jac_theta, fix_unidentifiable)
+    if fixed:
+        warnings.warn(
+            "fixed at their catalogue values, the measurements cannot determine them: "
+            + ", ".join(fixed),
+            IdentifiabilityWarning,
+            stacklevel=2,
+        )
+        names = [names[k] for k in keep]
+        p0 = p0[keep]
+        problem = _Problem(design, rows, names, p0)
+        jac_u = jac_u[:, keep]
+    # 1. linear start in the compliances
+    du = np.linalg.lstsq(jac_u, -r0, rcond=None)[0]
+    lo_rel, hi_rel = RELATIVE_BOUNDS
+    u = np.asarray(1.0 + du, dtype=float)
+    u = np.asarray(np.where(problem.stiff, np.clip(u, 1 / hi_rel, 1 / lo_rel), u), dtype=float)
+    start = problem.p_from_u(u)
+    # 2. nonlinear least squares in relative parameters
+    positive = p0 > 0
+    lower = np.where(positive, lo_rel, -np.inf)
+    upper = np.where(positive, hi_rel, np.inf)
+    theta0 = np.clip(start / problem.scale, lower, upper)
+    # Where the model is linear in u (a determinate path, actuators locked), the
+    # residuals at the start equal the linear model's and its Jacobian is exact there:
+    # the fit then starts with it (and ends at once: the start is the minimum).
+    r_start = problem.residuals(theta0)
+    u0 = problem.p_from_u_inverse(theta0 * problem.scale)
+    r_linear = r0 + jac_u @ (u0 - 1.0)
+    linear = float(np.max(np.abs(r_start - r_linear))) <= LINEARITY_TOLERANCE * max(
+        float(np.max(np.abs(r0))), 1.0
+    )
+    linear_jac = jac_u * problem.du_dtheta(theta0)[None, :]
+    if linear:
+        # the linear solution is the least-squares minimum: no second stage
+        theta, jac_final, nfev = theta0, linear_jac, 0
+    else:
+        fit = least_squares(
+            problem.residuals,
+            theta0,
+            jac=problem.jacobian,
+            bounds=(lower, upper),
+            x_scale=1.0,
+            ftol=1e-10,
+            xtol=1e-10,
+            gtol=1e-10,
+            max_nfev=200,
+        )
+        theta, jac_final, nfev = fit.x, np.asarray(fit.jac), int(fit.nfev)
+    values = theta * problem.scale
+    final = combinations(jac_final, names)
+    weak = unidentifiable(final)
+    if weak:
+        warnings.warn(
+            "at the estimates the measurements hardly determine "
+            + "; ".join(c.describe() for c in weak),
+            IdentifiabilityWarning,
+            stacklevel=2,
+        )
+    _, s, vt = np.linalg.svd(jac_final, full_matrices=False)
+    with np.errstate(divide="ignore"):
+        inv_s2 = np.where(s > 0, 1.0 / s**2, np.inf)
+    cov = (vt.T * inv_s2) @ vt
+    se_theta = np.sqrt(np.abs(np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se_theta, se_theta)
+    predicted = problem.predict(values)
+    err = np.where(rows.measured, predicted - rows.twists, np.nan)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns: not measured
+        rms = np.sqrt(np.nanmean(err**2, axis=0))
+    weighted = problem.weighted(predicted)
+    return IdentificationResult(
+        design=problem.design_at(values),
+        names=names,
+        units=[design.parameter_unit(n) for n in names],
+        catalogue=p0,
+        start=start,
+        values=values,
+        standard_errors=se_theta * problem.scale,
+        correlation=corr,
+        residual_rms=rms,
+        weighted_rms=float(np.sqrt(np.mean(weighted**2))),
+        combinations=final,
+        fixed=fixed,
+        n_rows=rows.n_rows,
+        n_values=rows.n_values,
+        predicted=predicted,
+        nfev=nfev,
+    )
+
+
+__all__ = [
+    "MAX_RELATIVE_SIGMA",
+    "RANK_RATIO",
+    "TWIST_COMPONENTS",
+    "Combination",
+    "IdentifiabilityWarning",
+    "IdentificationResult",
+    "MeasurementRows",
+    "combinations",
+    "identify",
+    "measurement_rows",
+    "predict_twists",
+    "unidentifiable",
+]
