@@ -21,6 +21,7 @@ from ppm_stiffness.core.errors import DesignError, InputDataError, SingularConfi
 from ppm_stiffness.core.solver import LegSprings, cartesian_stiffness, leg_stiffness
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
+from ppm_stiffness.legs import planar
 from ppm_stiffness.legs.base import LegPose
 from ppm_stiffness.legs.chain import leg_springs
 
@@ -127,6 +128,30 @@ def pose_label(pose: ArrayLike) -> str:
     return f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, {np.degrees(p[2]):.2f} deg)"
 
 
+def planar_stiffness(
+    design: Design, leg_poses: list[LegPose], actuator_stiffness: FloatArray
+) -> FloatArray | None:
+    """K (6, 6) at one pose by the planar engine (:mod:`ppm_stiffness.legs.planar`),
+    from every leg's solved pose; None if a chain is not planar. The same model as
+    :func:`ppm_stiffness.core.solver.cartesian_stiffness` of the legs' springs, in
+    closed form per block (no 22 x 22 matrices, no cross products of arrays)."""
+    k_in: planar.Sym3 = [0.0] * 6
+    k_out: planar.Sym3 = [0.0] * 6
+    with np.errstate(all="ignore"):
+        for leg, lp, k_act in zip(design.legs, leg_poses, actuator_stiffness, strict=True):
+            blocks = planar.leg_blocks(leg.chain(lp))
+            if blocks is None:
+                return None
+            leg_in, leg_out = planar.leg_stiffness_blocks(blocks, float(k_act))
+            k_in = [planar.add(a, b) for a, b in zip(k_in, leg_in, strict=True)]
+            k_out = [planar.add(a, b) for a, b in zip(k_out, leg_out, strict=True)]
+    k = np.zeros((6, 6))
+    for block, idx in ((k_in, planar.IN_PLANE), (k_out, planar.OUT_OF_PLANE)):
+        for value, (i, j) in zip(block, planar.PAIRS, strict=True):
+            k[idx[i], idx[j]] = k[idx[j], idx[i]] = float(value)
+    return k
+
+
 def stiffness_at_pose(
     design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
 ) -> FloatArray:
@@ -150,8 +175,16 @@ def stiffness_at_pose(
     UnreachablePoseError, SingularConfigurationError
     """
     p = workspace_centre(design) if pose is None else validate_pose(pose)
-    legs = leg_springs_at_pose(design, p, actuator_stiffness)
-    k = cartesian_stiffness(legs)
+    k_act = actuator_stiffness_vector(design, actuator_stiffness)
+    leg_poses = solve_legs(design, p)
+    k = planar_stiffness(design, leg_poses, k_act)
+    if k is None:  # a chain out of the plane: the general springs and bordered inverse
+        k = cartesian_stiffness(
+            [
+                leg_springs(leg.chain(lp), k_act[i])
+                for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True))
+            ]
+        )
     check_nonsingular(k, pose_label(p))
     return k
 

@@ -99,26 +99,26 @@ def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """
     b = np.asarray(block, dtype=float)
     vals, vecs = np.linalg.eigh(0.5 * (b + b.T))
-    # assign eigenvectors to axes greedily by the largest |component|
+    # assign eigenvectors to axes greedily by the largest |component| (the first
+    # largest in row-major order, as numpy's argmax), in plain Python: 3 x 3 entries
+    weights = np.abs(vecs).tolist()
     order = [-1, -1, -1]
-    taken: set[int] = set()
-    weights = np.abs(vecs)
+    taken = [False, False, False]
     for _ in range(3):
-        masked = weights.copy()
-        for j in taken:
-            masked[:, j] = -1
+        best, best_ax, best_j = -1.0, 0, 0
         for ax in range(3):
             if order[ax] >= 0:
-                masked[ax, :] = -1
-        flat = int(np.argmax(masked))
-        ax, j = divmod(flat, 3)
-        order[ax] = j
-        taken.add(j)
+                continue
+            row = weights[ax]
+            for j in range(3):
+                if not taken[j] and row[j] > best:
+                    best, best_ax, best_j = row[j], ax, j
+        order[best_ax] = best_j
+        taken[best_j] = True
     vecs = vecs[:, order]
     vals = vals[order]
-    for j in range(3):
-        if vecs[j, j] < 0:
-            vecs[:, j] = -vecs[:, j]
+    flip = np.diagonal(vecs) < 0
+    vecs[:, flip] = -vecs[:, flip]
     return vals, vecs
 
 
@@ -139,7 +139,10 @@ def decouple(stiffness: ArrayLike, method: Method = "paper") -> Decoupling:
     krt, ktt = k[:3, 3:], k[3:, 3:]
     m = 0.5 * (np.trace(ktt) * np.eye(3) - ktt)
     if method == "paper":
-        d = np.linalg.lstsq(m, vect(krt), rcond=None)[0]
+        try:  # M is positive definite when K_tt is: a plain solve
+            d = np.linalg.solve(m, vect(krt))
+        except np.linalg.LinAlgError:
+            d = np.linalg.lstsq(m, vect(krt), rcond=None)[0]
     elif method == "least-squares":
         # K_rt + hat(d) K_tt is linear in d: stack the three columns of hat(e_k) K_tt
         basis = np.stack([(hat(e) @ ktt).ravel() for e in np.eye(3)], axis=1)

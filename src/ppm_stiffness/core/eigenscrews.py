@@ -112,7 +112,16 @@ def eigenscrews(stiffness: ArrayLike) -> ScrewSprings:
     eta = vec[:3]
     xi = vec[3:]
     axes = (eta / eta_norm).T
-    positions = np.cross(eta.T, xi.T) / eta_norm[:, None] ** 2
+    # eta x xi, column by column (np.cross costs more than the rest of this function)
+    cross = np.stack(
+        [
+            eta[1] * xi[2] - eta[2] * xi[1],
+            eta[2] * xi[0] - eta[0] * xi[2],
+            eta[0] * xi[1] - eta[1] * xi[0],
+        ],
+        axis=1,
+    )
+    positions = cross / eta_norm[:, None] ** 2
     pitches = np.einsum("ij,ij->j", eta, xi) / eta_norm**2
     with np.errstate(divide="ignore"):
         spring = np.where(pitches != 0, lam / (2.0 * pitches), np.inf)

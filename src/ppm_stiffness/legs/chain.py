@@ -251,7 +251,7 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     return LegSprings(
         screws=screws,
         compliance=compliance,
-        passive=np.concatenate(passive, axis=-1),
+        passive=np.concatenate(passive, axis=-1) if passive else np.zeros(batch + (6, 0)),
         actuator_index=actuator_index,
     )
 

@@ -1,19 +1,26 @@
 """Batched stiffness, decoupling and principal stiffnesses of planar designs.
 
-Two paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.model`,
+Three paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.model`,
 :func:`ppm_stiffness.core.decoupling.decouple` with ``method="paper"``):
 
-**The general path** (:func:`general_stiffness`, any architecture). Per chunk of poses
-and per leg: the batched inverse kinematics ``leg.solve(poses)``, the reachability mask
-``leg.reachable`` (IK solvable and every joint coordinate within its limits), and only
-at the reachable poses the joint chain ``leg.chain``, its virtual springs
+**The planar engine** (:func:`planar_engine_entries`, any planar joint chain: every
+shipped leg type, redundant designs): the general model in closed form per in-plane and
+out-of-plane block over arrays of poses (:mod:`ppm_stiffness.legs.planar`), about 10x
+the general path; ``"auto"`` takes it when a design has no reduced form. The batched
+loaded state under a wrench, :func:`loaded_poses`, builds on it
+(:mod:`ppm_stiffness.maps.loaded`).
+
+**The general path** (the reference; :func:`general_stiffness`, any architecture). Per
+chunk of poses and per leg: the batched inverse kinematics ``leg.solve(poses)``, the
+reachability mask ``leg.reachable`` (IK solvable and every joint coordinate within its
+limits), and only at the reachable poses the joint chain ``leg.chain``, its virtual springs
 (:func:`ppm_stiffness.legs.chain.leg_springs`) and the bordered inverse of eq. (1)
 (:func:`ppm_stiffness.core.solver.bordered_stiffness`); K is the sum over legs
 (N, 6, 6). Poses where a leg's IK has no solution never reach the solver, so no NaN
 leaks into the results: they are masked. A chunk whose batched bordered inverse fails
 is redone pose by pose and the failing poses are masked. Memory: about 6 kB per pose
 and leg (the (m, m) spring compliances, m ~ 22-28), bounded by
-:data:`GENERAL_CHUNK` poses per chunk. Cost: ~50 us per pose (benchmarks/bench_map.py).
+:data:`GENERAL_CHUNK` poses per chunk.
 
 **The reduced path** (P-P-R legs). When every leg offers an exact reduced form
 (:meth:`ppm_stiffness.legs.base.LegModel.reduced_form`, today the P-P-R leg:
@@ -75,6 +82,7 @@ from ppm_stiffness.core.errors import (
 )
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.base import LegPose
 from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.maps.reduced_leg import (
@@ -89,11 +97,13 @@ from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 
 __all__ = [
     "IN_PLANE",
+    "LoadedBatch",
     "OUT_OF_PLANE",
     "ReducedLeg",
     "reduce_design",
     "reduce_leg",
     "reduced_design",
+    "loaded_poses",
 ]
 
 #: Poses per chunk of the general path (about 6 kB per pose and leg of temporaries).
@@ -104,7 +114,10 @@ REDUCED_CHUNK = 65536
 #: entry, for which K counts as planar (closed-form decoupling).
 PLANAR_TOLERANCE = 1e-12
 
-Path = Literal["auto", "reduced", "general"]
+#: Poses per chunk of the planar engine (about 2 kB per pose of temporaries).
+PLANAR_CHUNK = 16384
+
+Path = Literal["auto", "reduced", "planar", "general"]
 
 
 class PlanarEntries(NamedTuple):
@@ -445,6 +458,56 @@ def general_stiffness(
     return total, reach
 
 
+def planar_engine_entries(
+    design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
+) -> tuple[PlanarEntries, BoolArray] | None:
+    """Stiffness entries at poses by the planar engine (:mod:`ppm_stiffness.legs.planar`),
+    one chunk.
+
+    Same inputs as :func:`general_stiffness`. Returns the planar entries of K (n,)
+    (meaningless where not reachable) and the reachability mask, or None when a leg's
+    chain is not planar at these poses (use :func:`general_stiffness`). Poses where a
+    leg's reduced compliance is singular give non-finite entries (masked by
+    :func:`nonsingular_from_entries`).
+    """
+    p = np.asarray(poses, dtype=float)
+    n = p.shape[0]
+    n_legs = len(design.legs)
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n, n_legs))
+    leg_poses = [leg.solve(p) for leg in design.legs]
+    reach = np.ones(n, dtype=bool)
+    for leg, lp in zip(design.legs, leg_poses, strict=True):
+        reach &= np.asarray(leg.reachable(lp), dtype=bool)
+    index: np.ndarray | None = None
+    if not reach.all():
+        index = np.flatnonzero(reach)
+        leg_poses = [_take(lp, index) for lp in leg_poses]
+        k_act = k_act[index]
+    total_in: engine.Sym3 = [0.0] * 6
+    total_out: engine.Sym3 = [0.0] * 6
+    with np.errstate(all="ignore"):
+        for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
+            blocks = engine.leg_blocks(leg.chain(lp))
+            if blocks is None:
+                return None
+            k_leg: engine.Scalar = k_act[:, i]
+            if k_act.shape[0] and np.all(k_act[:, i] == k_act[0, i]):
+                k_leg = float(k_act[0, i])  # one value for every pose: a constant
+            k_in, k_out = engine.leg_stiffness_blocks(blocks, k_leg)
+            total_in = [engine.add(a, b) for a, b in zip(total_in, k_in, strict=True)]
+            total_out = [engine.add(a, b) for a, b in zip(total_out, k_out, strict=True)]
+    m = n if index is None else index.size
+    values = [np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in total_in + total_out]
+    if index is not None:
+        full = []
+        for v in values:
+            f = np.zeros(n)
+            f[index] = v
+            full.append(f)
+        values = full
+    return PlanarEntries(*values), reach
+
+
 def is_planar(stiffness: ArrayLike) -> BoolArray:
     """Mask (...): K has no in-plane/out-of-plane coupling, to :data:`PLANAR_TOLERANCE`
     relative to its largest entry, on the length-balanced matrix."""
@@ -477,18 +540,20 @@ def principal_from_matrices(stiffness: ArrayLike) -> Principal:
 
 
 def select_path(design: Design, path: Path = "auto") -> tuple[ReducedLeg, ...] | None:
-    """The reduced legs to use, or None for the general path.
+    """The reduced legs to use, or None for the planar engine or the general path.
 
-    ``"auto"``: the reduced path when every leg offers it; ``"general"``: always the
-    general path; ``"reduced"``: the reduced path or :class:`DesignError`.
+    ``"auto"``: the reduced path when every leg offers it, else the planar engine;
+    ``"planar"``: the planar engine (:func:`planar_engine_entries`, falling back to the
+    general path for chains that are not planar); ``"general"``: always the general
+    path (the reference); ``"reduced"``: the reduced path or :class:`DesignError`.
     """
-    if path == "general":
+    if path in ("general", "planar"):
         return None
     if path == "reduced":
         return reduce_design(design)
     if path == "auto":
         return reduced_design(design)
-    raise InputDataError(f"path must be 'auto', 'reduced' or 'general', got {path!r}")
+    raise InputDataError(f"path must be 'auto', 'reduced', 'planar' or 'general', got {path!r}")
 
 
 @dataclass(frozen=True)
@@ -507,8 +572,8 @@ class BatchResult:
         The paper's decoupling shift (zero where not valid).
     stiffness : ndarray (..., 6, 6) or None
         The matrices (zero where not valid), when asked for.
-    path : {"reduced", "general"}
-        Which path computed them.
+    path : {"reduced", "planar", "general"}
+        Which path computed them ("general" if any chunk needed it).
     """
 
     valid: BoolArray
@@ -550,8 +615,13 @@ def evaluate_chunk(
     legs: tuple[ReducedLeg, ...] | None,
     poses: FloatArray,
     actuator_stiffness: FloatArray,
+    *,
+    planar: bool = True,
 ) -> tuple[FloatArray, BoolArray, BoolArray, Principal]:
     """One chunk of poses (n, 3) with actuator stiffness (n, n_legs) or (n_legs,).
+
+    ``legs``: the reduced path; otherwise the planar engine when ``planar`` (and the
+    chains are planar), else the general path.
 
     Returns
     -------
@@ -559,18 +629,42 @@ def evaluate_chunk(
     reachable, valid : ndarray of bool (n,)
     principal : Principal, arrays (n,) (meaningless where not valid)
     """
+    k, reach, valid, pr, _ = chunk_result(design, legs, poses, actuator_stiffness, planar)
+    assert k is not None
+    return k, reach, valid, pr
+
+
+def chunk_result(
+    design: Design,
+    legs: tuple[ReducedLeg, ...] | None,
+    poses: FloatArray,
+    actuator_stiffness: FloatArray,
+    planar: bool,
+    matrices: bool = True,
+) -> tuple[FloatArray | None, BoolArray, BoolArray, Principal, str]:
+    """:func:`evaluate_chunk` with the matrices only when asked (``None`` otherwise, on
+    the reduced and planar paths), and the path used ("reduced", "planar", "general")."""
+    found: tuple[PlanarEntries, BoolArray] | None = None
+    used = "general"
     if legs is not None:
         x, y, ph = poses[:, 0], poses[:, 1], poses[:, 2]
         with np.errstate(all="ignore"):
-            e, reach = planar_entries(legs, x, y, ph, actuator_stiffness)
+            found = planar_entries(legs, x, y, ph, actuator_stiffness)
+        used = "reduced"
+    elif planar:
+        found = planar_engine_entries(design, poses, actuator_stiffness)
+        used = "planar" if found is not None else "general"
+    if found is not None:
+        e, reach = found
+        with np.errstate(all="ignore"):
             pr = principal_from_entries(e)
-        valid = reach & nonsingular_from_entries(e)
-        return assemble(e), reach, valid, pr
+            valid = reach & nonsingular_from_entries(e)
+        return (assemble(e) if matrices else None), reach, valid, pr, used
     k, reach = general_stiffness(design, poses, actuator_stiffness)
     valid = reach & nonsingular_from_matrices(k)
     safe = np.where(valid[:, None, None], k, np.eye(6))  # no NaN into the closed forms
     pr = principal_from_matrices(safe)
-    return k, reach, valid, pr
+    return k, reach, valid, pr, used
 
 
 def evaluate_poses(
@@ -596,9 +690,10 @@ def evaluate_poses(
         Also return the 6x6 matrices (memory: 288 bytes per pose).
     chunk_size : int, optional
         Poses evaluated at once (bounds the temporary memory); default
-        :data:`REDUCED_CHUNK` or :data:`GENERAL_CHUNK` by the path.
-    path : {"auto", "reduced", "general"}
-        :func:`select_path`.
+        :func:`default_chunk` by the path.
+    path : {"auto", "reduced", "planar", "general"}
+        :func:`select_path`: ``"auto"`` takes the fastest exact path (the reduced form,
+        else the planar engine, else the general path).
 
     Returns
     -------
@@ -625,20 +720,23 @@ def evaluate_poses(
     n = flat.shape[0]
     k_act = _per_pose_actuator_stiffness(design, actuator_stiffness, batch, n)
     legs = select_path(design, path)
+    planar = path != "general"
     if chunk_size is None:
-        chunk_size = REDUCED_CHUNK if legs is not None else GENERAL_CHUNK
+        chunk_size = default_chunk(legs, planar)
     step = max(int(chunk_size), 1)
+    used: set[str] = set()
     valid = np.zeros(n, dtype=bool)
     reach = np.zeros(n, dtype=bool)
     out = np.zeros((5, n))
     mats = np.zeros((n, 6, 6)) if matrices else None
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
-        k, r, ok, pr = evaluate_chunk(design, legs, flat[sl], k_act[sl])
+        k, r, ok, pr, how = chunk_result(design, legs, flat[sl], k_act[sl], planar, matrices)
+        used.add(how)
         valid[sl], reach[sl] = ok, r
         for row, values in enumerate((pr.k_phi, pr.k_x, pr.k_y, pr.d_x, pr.d_y)):
             out[row, sl] = values
-        if mats is not None:
+        if mats is not None and k is not None:
             mats[sl] = np.where(ok[:, None, None], k, 0.0)
     d = np.zeros((n, 3))
     d[:, 0] = np.where(valid, out[3], 0.0)
@@ -651,8 +749,16 @@ def evaluate_poses(
         k_y=_masked(out[2], valid).reshape(batch),
         d=d.reshape(batch + (3,)),
         stiffness=None if mats is None else mats.reshape(batch + (6, 6)),
-        path="general" if legs is None else "reduced",
+        path="general" if "general" in used or not used else used.pop(),
     )
+
+
+def default_chunk(legs: tuple[ReducedLeg, ...] | None, planar: bool = True) -> int:
+    """Poses per chunk by path: :data:`REDUCED_CHUNK`, :data:`PLANAR_CHUNK` or
+    :data:`GENERAL_CHUNK`."""
+    if legs is not None:
+        return REDUCED_CHUNK
+    return PLANAR_CHUNK if planar else GENERAL_CHUNK
 
 
 def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -674,3 +780,8 @@ def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatA
     krt_t = np.swapaxes(krt, -1, -2)
     new_rr = krr - krt @ dd + dd @ (krt_t - ktt @ dd)
     return d, new_rr, ktt.copy()
+
+
+# The batched loaded state lives in its own module (it builds on this one); it is
+# re-exported here so that ``maps.batch.loaded_poses`` is the batch API's one place.
+from ppm_stiffness.maps.loaded import LoadedBatch, loaded_poses  # noqa: E402

@@ -28,7 +28,8 @@ sampled (any leg type)
     0.3 rad it contains the sweep's box and exceeds it by at most 1.0 sweep step
     (0.12 mm on a ~170 mm box) (tests/test_workspace_bounds.py). A part of the
     workspace narrower than one coarse cell (1 % of the box) and disconnected from the
-    rest may be missed. It costs 0.05-0.15 s per orientation.
+    rest may be missed. It costs 0.05-0.15 s per orientation, once per design object
+    and orientation (the boxes are cached: a design is frozen).
 
 Actuator states of a map (``actuators``), each leg with its own actuator law
 (``design.legs[i].actuator``: linear [N/m] or rotary [N·m/rad]):
@@ -46,9 +47,9 @@ Actuator states of a map (``actuators``), each leg with its own actuator law
     pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
     statics, then eq. (20)-(21). For a 3-leg design whose legs offer the reduced form
     (3-PPR) the locked statics are batched (the split is determinate); for any other
-    design (more than 3 legs, or the general path) each reachable pose calls
-    ``loaded_state(design, wrench, pose).actuator_stiffness`` in a Python loop (about
-    2-5 ms per pose), so wrench maps of those designs are slow on large grids.
+    design (more than 3 legs, or not on the reduced path) the loaded state of every
+    reachable pose is batched by :func:`ppm_stiffness.maps.loaded.loaded_poses` (the
+    same equilibrium, Newton's method run on all poses at once).
 """
 
 from __future__ import annotations
@@ -64,8 +65,8 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
 from ppm_stiffness.core.errors import (
     DesignError,
+    EquilibriumError,
     InputDataError,
-    SingularConfigurationError,
     UnreachablePoseError,
 )
 from ppm_stiffness.design import Design
@@ -76,7 +77,7 @@ from ppm_stiffness.statics import actuator as act
 #: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
 DEFAULT_REFERENCE_FORCE = 10.0
 #: Poses evaluated at once by :func:`stiffness_map` on the reduced path (memory bound);
-#: the general path uses :data:`ppm_stiffness.maps.batch.GENERAL_CHUNK`.
+#: the others use :func:`ppm_stiffness.maps.batch.default_chunk`.
 DEFAULT_CHUNK = batch.REDUCED_CHUNK
 #: Relative inward margin of the grid so that no grid point lies on a joint limit.
 _EDGE_MARGIN = 1e-9
@@ -245,7 +246,32 @@ def workspace_bounds(design: Design, phi: float = 0.0, legs: object = None) -> F
     if not np.isfinite(phi):
         raise InputDataError("phi must be finite")
     box = _half_plane_bounds(design, phi)
-    return _sampled_bounds(design, phi) if box is None else box
+    return _cached_sampled_bounds(design, phi) if box is None else box
+
+
+#: Sampled bounds already computed: id(design) -> (design, {phi: box}). A design is
+#: frozen, so its bounds are design-level work, done once per design object and
+#: orientation (the entry keeps the design alive, so its id cannot be reused).
+_BOUNDS_CACHE: dict[int, tuple[Design, dict[float, FloatArray]]] = {}
+_BOUNDS_CACHE_DESIGNS = 8
+_BOUNDS_CACHE_ORIENTATIONS = 64
+
+
+def _cached_sampled_bounds(design: Design, phi: float) -> FloatArray:
+    entry = _BOUNDS_CACHE.get(id(design))
+    if entry is None or entry[0] is not design:
+        if len(_BOUNDS_CACHE) >= _BOUNDS_CACHE_DESIGNS:
+            _BOUNDS_CACHE.pop(next(iter(_BOUNDS_CACHE)))
+        entry = (design, {})
+        _BOUNDS_CACHE[id(design)] = entry
+    boxes = entry[1]
+    box = boxes.get(phi)
+    if box is None:
+        box = _sampled_bounds(design, phi)
+        if len(boxes) >= _BOUNDS_CACHE_ORIENTATIONS:
+            boxes.pop(next(iter(boxes)))
+        boxes[phi] = box
+    return box.copy()
 
 
 def workspace_grid(
@@ -443,19 +469,41 @@ def load_npz(path: str | Path) -> StiffnessMap:
 def _wrench_actuator_stiffness(
     design: Design, wrench: FloatArray, poses: FloatArray, reachable: BoolArray
 ) -> tuple[FloatArray, BoolArray]:
-    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), one
-    :func:`~ppm_stiffness.statics.loading.loaded_state` per reachable pose (a Python
-    loop); the second array is False where the loaded state is singular. Unreachable
-    poses get the locked values (they are masked anyway)."""
-    from ppm_stiffness.statics.loading import loaded_state
+    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), the loaded state
+    of :func:`~ppm_stiffness.statics.loading.loaded_state` at every reachable pose
+    (batched: :func:`ppm_stiffness.maps.loaded.loaded_poses`); the second array is False
+    where the loaded state is singular. Unreachable poses get the locked values (they
+    are masked anyway).
+
+    Raises
+    ------
+    InputDataError
+        Where ``loaded_state`` would (an actuator beyond its stroke, a rotation beyond
+        the small-displacement model).
+    EquilibriumError
+        Where Newton's method does not converge.
+    """
+    from ppm_stiffness.maps.loaded import loaded_poses
+    from ppm_stiffness.model import pose_label
+    from ppm_stiffness.statics.loading import check_actuator_travel, check_small_rotation
 
     k_act = np.tile(locked_actuator_stiffness(design), (poses.shape[0], 1))
-    ok = np.array(reachable, dtype=bool, copy=True)
-    for n in np.flatnonzero(reachable):
-        try:
-            k_act[n] = loaded_state(design, wrench, poses[n]).actuator_stiffness
-        except SingularConfigurationError:
-            ok[n] = False
+    ok = np.zeros(poses.shape[0], dtype=bool)
+    index = np.flatnonzero(reachable)
+    if index.size == 0:
+        return k_act, ok
+    res = loaded_poses(design, poses[index], wrench)
+    failed = res.reachable & ~res.singular & ~res.solved
+    if np.any(failed):
+        raise EquilibriumError(
+            "no equilibrium found after Newton iterations"
+            + pose_label(poses[index[int(np.argmax(failed))]])
+        )
+    solved = res.solved
+    check_actuator_travel(design, res.actuator_displacements.data[solved])
+    check_small_rotation(res.twist.data[solved])
+    k_act[index[solved]] = res.actuator_stiffness.data[solved]
+    ok[index] = res.valid
     return k_act, ok
 
 
@@ -487,8 +535,8 @@ def stiffness_map(
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N], axes of F_b, acting at the tool point
         (P by default); for "wrench" only.
-        Except for 3-leg designs on the reduced path, every reachable grid pose is a
-        call of :func:`~ppm_stiffness.statics.loading.loaded_state` (a Python loop).
+        Except for 3-leg designs on the reduced path, the loaded state of every
+        reachable grid pose comes from :func:`ppm_stiffness.maps.loaded.loaded_poses`.
     progress : callable(done, total), optional
         Called after each chunk with the number of poses done and the total.
     bounds : array_like (4,), optional
@@ -496,13 +544,13 @@ def stiffness_map(
     reference_force : float
         [N, or N·m for a rotary actuator], defines the "min" state.
     chunk_size : int, optional
-        Poses per chunk (memory bound: about 1 kB per pose on the reduced path, 6 kB
-        per pose and leg on the general path); default
-        :data:`~ppm_stiffness.maps.batch.REDUCED_CHUNK` or
-        :data:`~ppm_stiffness.maps.batch.GENERAL_CHUNK`.
-    path : {"auto", "reduced", "general"}
+        Poses per chunk (memory bound: about 1 kB per pose on the reduced path, 2 kB
+        on the planar engine, 6 kB per pose and leg on the general path); default
+        :func:`~ppm_stiffness.maps.batch.default_chunk`.
+    path : {"auto", "reduced", "planar", "general"}
         :func:`ppm_stiffness.maps.batch.select_path`: the reduced P-P-R form when every
-        leg offers it ("auto"), or the general path for any leg type.
+        leg offers it, else the planar engine ("auto"); or the general path (the
+        reference) for any leg type.
     tool_point : array_like (3,), optional
         Platform frame [m]; ``design.tool_point`` if None. The principal stiffnesses are
         those of K at that point (a wrench of the "wrench" state acts there too); the
@@ -557,8 +605,9 @@ def stiffness_map(
         k_const = None
     # the batched locked statics split the load right only for a non-redundant design
     batched_wrench = legs is not None and n_legs == 3
+    planar = path != "general"
     if chunk_size is None:
-        chunk_size = batch.REDUCED_CHUNK if legs is not None else batch.GENERAL_CHUNK
+        chunk_size = batch.default_chunk(legs, planar)
     ny, nx = y.size, x.size
     rows = max(1, int(chunk_size) // nx)
     k_phi, k_x, k_y = (np.empty((ny, nx)) for _ in range(3))
@@ -602,8 +651,11 @@ def stiffness_map(
                 pr = batch.principal_from_entries(entries)
             ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
         else:
-            k_p, _, ok, pr = batch.evaluate_chunk(design, legs, poses, k_act)
+            k_p, _, ok, pr, _ = batch.chunk_result(
+                design, legs, poses, k_act, planar, matrices=at_tool
+            )
             if at_tool:
+                assert k_p is not None
                 k_t = shift @ np.where(ok[:, None, None], k_p, np.eye(6)) @ shift.T
                 pr = batch.principal_from_matrices(k_t)
         if loaded_ok is not None:

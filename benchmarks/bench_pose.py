@@ -1,0 +1,72 @@
+"""Benchmark of the single-pose analysis through the public API.
+
+``pose_us`` is the median over many calls of ``ppm_stiffness.analyze(design, pose)`` at
+the workspace centre: K (inverse kinematics, joint chains, springs), the nonsingularity
+check, the eigenscrews, the paper's decoupling and the least-squares one, as
+``ppm-stiffness analyze`` prints them by default. For context, the medians of its parts:
+``model.stiffness_at_pose`` (K alone), ``eigenscrews`` and ``decouple(K, "paper")``.
+
+Calls are timed in batches of 20 (the median of the per-call batch means), so that the
+figure is robust to other processes on a shared machine.
+
+The last line is ``pose_us=N k_us=N eigenscrews_us=N decouple_us=N``.
+Run: ``.venv/bin/python benchmarks/bench_pose.py [--design FILE] [--repeats N]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+import ppm_stiffness as pps
+from ppm_stiffness.model import workspace_centre
+
+BATCH = 20
+
+
+def median_us(call: Callable[[], object], repeats: int) -> float:
+    """Median over ``repeats`` batches of the mean time of one call [us]."""
+    call()  # warm caches and lazy imports
+    means = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        for _ in range(BATCH):
+            call()
+        means.append((time.perf_counter() - t) / BATCH)
+    return statistics.median(means) * 1e6
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--design", help="design file (default: the built-in 3-PPR)")
+    parser.add_argument("--repeats", type=int, default=50, help="batches of 20 calls")
+    args = parser.parse_args(argv)
+    design = pps.load_design(args.design) if args.design else pps.default_design()
+    pose = workspace_centre(design)
+    print(
+        f"design {design.name} ({design.architecture}) at pose {np.round(pose, 6).tolist()}; "
+        f"numpy {np.__version__}, python {sys.version.split()[0]}"
+    )
+    pose_us = median_us(lambda: pps.analyze(design, pose), args.repeats)
+    k = pps.stiffness_at_pose(design, pose)
+    k_us = median_us(lambda: pps.stiffness_at_pose(design, pose), args.repeats)
+    screws_us = median_us(lambda: pps.eigenscrews(k), args.repeats)
+    dec_us = median_us(lambda: pps.decouple(k, "paper"), args.repeats)
+    print(
+        f"analyze (K, eigenscrews, both decouplings): {pose_us:.0f} us; of which K "
+        f"{k_us:.0f} us, eigenscrews {screws_us:.0f} us, paper decoupling {dec_us:.0f} us"
+    )
+    print(
+        f"pose_us={pose_us:.0f} k_us={k_us:.0f} eigenscrews_us={screws_us:.0f} "
+        f"decouple_us={dec_us:.0f}"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
