@@ -1,9 +1,9 @@
-"""The loaded state over many poses: one function, the seam a batched version replaces.
+"""The loaded state over many poses, for the region summary.
 
-:func:`loaded_twists` is the only place the region summary asks for loaded states;
-today it loops over :func:`ppm_stiffness.statics.loading.loaded_state` (about 3-7 ms
-per pose), so a batched implementation in :mod:`ppm_stiffness.maps` can take its place
-without touching anything else.
+:func:`loaded_twists` is the only place the region summary asks for loaded states: the
+batched equilibrium :func:`ppm_stiffness.maps.batch.loaded_poses`, which equals
+:func:`ppm_stiffness.statics.loading.loaded_state` pose by pose (tests/test_loaded_batch.py)
+and is valid exactly where that returns.
 """
 
 from __future__ import annotations
@@ -50,18 +50,12 @@ def loaded_twists(
     solved : ndarray of bool (n,)
         False where the loaded state cannot be computed (:data:`LOADED_STATE_ERRORS`).
     """
-    from ppm_stiffness.statics.loading import loaded_state
+    from ppm_stiffness.maps.batch import loaded_poses
 
     p = np.asarray(poses, dtype=float).reshape(-1, 3)
-    w = np.asarray(wrench, dtype=float)
-    twists = np.full((p.shape[0], 6), np.nan)
-    solved = np.zeros(p.shape[0], dtype=bool)
-    for n, pose in enumerate(p):
-        try:
-            twists[n] = loaded_state(design, w, pose).twist
-        except LOADED_STATE_ERRORS:
-            continue
-        solved[n] = True
+    result = loaded_poses(design, p, np.asarray(wrench, dtype=float))
+    solved = np.asarray(result.valid, dtype=bool)
+    twists = np.where(solved[:, None], np.ma.getdata(result.twist), np.nan)
     return twists, solved
 
 
