@@ -416,6 +416,21 @@ def _leg_stiffness_or_nan(compliance6: FloatArray, passive: FloatArray) -> Float
         return out
 
 
+def _solve_chunk(
+    design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
+) -> tuple[FloatArray, list[LegPose], BoolArray]:
+    """Per-pose actuator stiffness (n, n_legs), every leg's inverse kinematics and the
+    reachability mask (n,) of a chunk of poses (n, 3)."""
+    p = np.asarray(poses, dtype=float)
+    n = p.shape[0]
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n, len(design.legs)))
+    leg_poses = [leg.solve(p) for leg in design.legs]
+    reach = np.ones(n, dtype=bool)
+    for leg, lp in zip(design.legs, leg_poses, strict=True):
+        reach &= np.asarray(leg.reachable(lp), dtype=bool)
+    return k_act, leg_poses, reach
+
+
 def general_stiffness(
     design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
 ) -> tuple[FloatArray, BoolArray]:
@@ -437,14 +452,8 @@ def general_stiffness(
     reachable : ndarray of bool (n,)
         Every leg's IK solvable and its joint coordinates within limits.
     """
-    p = np.asarray(poses, dtype=float)
-    n = p.shape[0]
-    n_legs = len(design.legs)
-    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n, n_legs))
-    leg_poses = [leg.solve(p) for leg in design.legs]
-    reach = np.ones(n, dtype=bool)
-    for leg, lp in zip(design.legs, leg_poses, strict=True):
-        reach &= np.asarray(leg.reachable(lp), dtype=bool)
+    k_act, leg_poses, reach = _solve_chunk(design, poses, actuator_stiffness)
+    n = reach.size
     total = np.zeros((n, 6, 6))
     index = np.flatnonzero(reach)
     if index.size == 0:
@@ -470,14 +479,8 @@ def planar_engine_entries(
     leg's reduced compliance is singular give non-finite entries (masked by
     :func:`nonsingular_from_entries`).
     """
-    p = np.asarray(poses, dtype=float)
-    n = p.shape[0]
-    n_legs = len(design.legs)
-    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n, n_legs))
-    leg_poses = [leg.solve(p) for leg in design.legs]
-    reach = np.ones(n, dtype=bool)
-    for leg, lp in zip(design.legs, leg_poses, strict=True):
-        reach &= np.asarray(leg.reachable(lp), dtype=bool)
+    k_act, leg_poses, reach = _solve_chunk(design, poses, actuator_stiffness)
+    n = reach.size
     index: np.ndarray | None = None
     if not reach.all():
         index = np.flatnonzero(reach)
