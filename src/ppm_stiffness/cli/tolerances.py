@@ -85,11 +85,6 @@ def _ranking(bands: Any, index: Any) -> list[dict[str, Any]]:
     return [{"parameter": n, "share": s} for n, s in bands.ranking(index)[:TOP]]
 
 
-def _finite(x: Any) -> Any:
-    a = np.asarray(x, dtype=float)
-    return np.where(np.isfinite(a), a, np.nan)
-
-
 def pose_uncertainty(
     args: argparse.Namespace,
     design: Any,
@@ -271,10 +266,6 @@ def map_uncertainty(
     out["summary"] = summary
     out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(RANKED)}
     return bands, _json_safe(out)
-
-
-def _percent(value: float | None) -> str:
-    return "-" if value is None else f"{100 * value:.3g}%"
 
 
 def print_map_uncertainty(unc: dict[str, Any]) -> None:

@@ -154,14 +154,6 @@ def _horner(coeffs: FloatArray, x: FloatArray) -> FloatArray:
     return np.asarray(out)
 
 
-def leg_kinematics(
-    leg: ReducedLeg, x: ArrayLike, y: ArrayLike, phi: ArrayLike
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Platform point ``d = D - P`` (x, y parts), actuator coordinate and rod length
-    [m] of a reduced leg (:meth:`ReducedLeg.kinematics`); arrays broadcast."""
-    return leg.kinematics(x, y, phi)
-
-
 def planar_entries(
     legs: tuple[ReducedLeg, ...],
     x: ArrayLike,
@@ -613,30 +605,6 @@ def _per_pose_actuator_stiffness(
     return k_act
 
 
-def evaluate_chunk(
-    design: Design,
-    legs: tuple[ReducedLeg, ...] | None,
-    poses: FloatArray,
-    actuator_stiffness: FloatArray,
-    *,
-    planar: bool = True,
-) -> tuple[FloatArray, BoolArray, BoolArray, Principal]:
-    """One chunk of poses (n, 3) with actuator stiffness (n, n_legs) or (n_legs,).
-
-    ``legs``: the reduced path; otherwise the planar engine when ``planar`` (and the
-    chains are planar), else the general path.
-
-    Returns
-    -------
-    stiffness : ndarray (n, 6, 6) [SI]
-    reachable, valid : ndarray of bool (n,)
-    principal : Principal, arrays (n,) (meaningless where not valid)
-    """
-    k, reach, valid, pr, _ = chunk_result(design, legs, poses, actuator_stiffness, planar)
-    assert k is not None
-    return k, reach, valid, pr
-
-
 def chunk_result(
     design: Design,
     legs: tuple[ReducedLeg, ...] | None,
@@ -645,8 +613,20 @@ def chunk_result(
     planar: bool,
     matrices: bool = True,
 ) -> tuple[FloatArray | None, BoolArray, BoolArray, Principal, str]:
-    """:func:`evaluate_chunk` with the matrices only when asked (``None`` otherwise, on
-    the reduced and planar paths), and the path used ("reduced", "planar", "general")."""
+    """One chunk of poses (n, 3) with actuator stiffness (n, n_legs) or (n_legs,).
+
+    ``legs``: the reduced path; otherwise the planar engine when ``planar`` (and the
+    chains are planar), else the general path.
+
+    Returns
+    -------
+    stiffness : ndarray (n, 6, 6) or None
+        [SI]; None on the reduced and planar paths unless ``matrices``.
+    reachable, valid : ndarray of bool (n,)
+    principal : Principal, arrays (n,) (meaningless where not valid)
+    path : {"reduced", "planar", "general"}
+        The path used.
+    """
     found: tuple[PlanarEntries, BoolArray] | None = None
     used = "general"
     if legs is not None:

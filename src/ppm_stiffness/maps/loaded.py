@@ -133,13 +133,6 @@ def _vec6(inp: engine.Vec3 | None, out: engine.Vec3 | None, m: int) -> FloatArra
     return v
 
 
-def _blocks6(k_in: engine.Sym3, k_out: engine.Sym3, m: int) -> FloatArray:
-    """Matrices (m, 6, 6) from block upper triangles."""
-    return assemble(
-        PlanarEntries(*(np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in k_in + k_out))
-    )
-
-
 def _stroke_spans(design: Design) -> FloatArray:
     spans = []
     for leg in design.legs:

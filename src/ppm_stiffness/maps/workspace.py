@@ -76,9 +76,6 @@ from ppm_stiffness.statics import actuator as act
 
 #: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
 DEFAULT_REFERENCE_FORCE = 10.0
-#: Poses evaluated at once by :func:`stiffness_map` on the reduced path (memory bound);
-#: the others use :func:`ppm_stiffness.maps.batch.default_chunk`.
-DEFAULT_CHUNK = batch.REDUCED_CHUNK
 #: Relative inward margin of the grid so that no grid point lies on a joint limit.
 _EDGE_MARGIN = 1e-9
 #: Sampled bounds: coarse grid points per axis, zoom levels, points across per zoom.

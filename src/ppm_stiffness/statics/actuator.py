@@ -23,11 +23,6 @@ def displacement_from_force(law: ActuatorModel, force: ArrayLike) -> FloatArray:
     return np.asarray((g / law.k_a) ** (1.0 / law.q))
 
 
-def force_from_displacement(law: ActuatorModel, displacement: ArrayLike) -> FloatArray:
-    """Force magnitude ``k_a |delta|**q`` [N] (eq. 20)."""
-    return np.asarray(law.k_a * np.abs(np.asarray(displacement, dtype=float)) ** law.q)
-
-
 def stiffness_from_displacement(law: ActuatorModel, displacement: ArrayLike) -> FloatArray:
     """Actuator stiffness [N/m] at a displacement (eq. 21)."""
     delta = np.abs(np.asarray(displacement, dtype=float))
