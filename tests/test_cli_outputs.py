@@ -151,3 +151,20 @@ def test_unreachable_pose_names_what_is_reachable(capsys: pytest.CaptureFixture[
     box = 1e3 * workspace_bounds(design, 0.0)
     assert f"x in [{box[0]:.2f}, {box[1]:.2f}] mm, y in [{box[2]:.2f}, {box[3]:.2f}] mm" in err
     assert "no orientation is reachable at (100.00, 0.00) mm" in err
+
+
+def test_a_numerical_warning_is_one_sentence(capsys: pytest.CaptureFixture[str]) -> None:
+    """A RuntimeWarning raised inside a command reaches the user as one line naming the
+    library it came from, not as numpy's two-line source dump."""
+    import warnings
+
+    from ppm_stiffness.cli import _one_line_warning
+
+    with warnings.catch_warnings():
+        warnings.showwarning = _one_line_warning
+        warnings.simplefilter("always")
+        np.divide(np.ones(1), np.zeros(1))
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert err.startswith("ppm-stiffness: warning: a numerical routine of ")
+    assert "'divide by zero encountered in divide'" in err

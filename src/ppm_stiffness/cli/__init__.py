@@ -141,7 +141,18 @@ def _one_line_warning(
     file: TextIO | None = None,
     line: str | None = None,
 ) -> None:
-    """Warnings as one line on stderr, like errors (no source line, no file name)."""
+    """Warnings as one line on stderr, like errors (no source line, no file name). A
+    numerical library's RuntimeWarning (``divide by zero encountered in ...``) is named
+    as such, with the module it came from: expected ones are silenced where they arise
+    (``np.errstate``), so one reaching the user is worth reporting."""
+    if issubclass(category, RuntimeWarning):
+        where = filename.replace("\\", "/").split("/site-packages/")[-1].split("/")[0]
+        print(
+            f"ppm-stiffness: warning: a numerical routine of {where} reported "
+            f"'{message}'; treat the numbers printed with care",
+            file=sys.stderr,
+        )
+        return
     print(f"ppm-stiffness: warning: {message}", file=sys.stderr)
 
 
