@@ -155,7 +155,7 @@ def test_unreachable_pose_names_what_is_reachable(capsys: pytest.CaptureFixture[
 
 def test_a_numerical_warning_is_one_sentence(capsys: pytest.CaptureFixture[str]) -> None:
     """A RuntimeWarning raised inside a command reaches the user as one line naming the
-    library it came from, not as numpy's two-line source dump."""
+    file and line it came from, not as numpy's two-line source dump."""
     import warnings
 
     from ppm_stiffness.cli import _one_line_warning
@@ -166,5 +166,5 @@ def test_a_numerical_warning_is_one_sentence(capsys: pytest.CaptureFixture[str])
         np.divide(np.ones(1), np.zeros(1))
     err = capsys.readouterr().err
     assert err.count("\n") == 1
-    assert err.startswith("ppm-stiffness: warning: a numerical routine of ")
-    assert "'divide by zero encountered in divide'" in err
+    assert err.startswith("ppm-stiffness: warning: a numerical routine reported ")
+    assert "'divide by zero encountered in divide' (at test_cli_outputs.py:" in err

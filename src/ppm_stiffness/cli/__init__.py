@@ -143,13 +143,13 @@ def _one_line_warning(
 ) -> None:
     """Warnings as one line on stderr, like errors (no source line, no file name). A
     numerical library's RuntimeWarning (``divide by zero encountered in ...``) is named
-    as such, with the module it came from: expected ones are silenced where they arise
-    (``np.errstate``), so one reaching the user is worth reporting."""
+    as such, with the file and line it came from: expected ones are silenced where they
+    arise (``np.errstate``), so one reaching the user is worth reporting."""
     if issubclass(category, RuntimeWarning):
-        where = filename.replace("\\", "/").split("/site-packages/")[-1].split("/")[0]
+        where = f"{filename.replace(chr(92), '/').rsplit('/', 1)[-1]}:{lineno}"
         print(
-            f"ppm-stiffness: warning: a numerical routine of {where} reported "
-            f"'{message}'; treat the numbers printed with care",
+            f"ppm-stiffness: warning: a numerical routine reported '{message}' (at "
+            f"{where}); treat the numbers printed with care",
             file=sys.stderr,
         )
         return
