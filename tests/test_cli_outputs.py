@@ -168,3 +168,27 @@ def test_a_numerical_warning_is_one_sentence(capsys: pytest.CaptureFixture[str])
     assert err.count("\n") == 1
     assert err.startswith("ppm-stiffness: warning: a numerical routine reported ")
     assert "'divide by zero encountered in divide' (at test_cli_outputs.py:" in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        # before: "parameters: key 'leg1.actuator.q': ..." blamed the design file
+        (["deflect", "--q", "2"], "--q: actuator.q = 2: Input should be less than or equal to 1"),
+        # before: a range in degrees was accepted silently
+        (
+            ["calibrate", "--target", str(PACKAGE / "data/paper_eq22.csv"), "--free", "leg1.alpha"]
+            + ["--bound", "leg1.alpha=0:90"],
+            "alpha = 90: angles in design files are in radians (|angle| <= 2 pi); "
+            "did you mean 1.5708?",
+        ),
+        # before: accepted, peaking at 11 GB
+        (["map", "--grid", "10000"], "--grid 10000: about 11 GB of memory estimated"),
+    ],
+)
+def test_input_mistakes_name_the_option_and_the_valid_range(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err

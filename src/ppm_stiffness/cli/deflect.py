@@ -35,7 +35,7 @@ from ppm_stiffness.cli.tolerances import (
     read_tolerance_args,
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.statics.deflection import (
     LOAD_UNITS,
@@ -141,6 +141,16 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
         )
         if value is not None
     }
+    options = {
+        "actuator.k_a": "--k-a",
+        "actuator.q": "--q",
+        "actuator.threshold_displacement": "--threshold",
+    }
+    for name, value in overrides.items():
+        try:
+            design.check_value(name, value)
+        except DesignError as exc:  # blame the option, not a design key
+            raise InputDataError(f"{options[name]}: {exc}") from None
     if overrides:
         design = design.with_parameters(overrides)
     return design

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import fnmatch
 import math
+import re
 from collections import Counter
 from typing import Annotated, Any, Literal, Union
 
@@ -231,14 +232,29 @@ class Design(PartModel):
 
         return design_from_dict(data, source="parameters")
 
+    def check_value(self, name: str, value: float) -> None:
+        """Refuse a value that parameter ``name`` (or glob) cannot take.
+
+        Raises
+        ------
+        DesignError
+            ``"<name> = <value>: <why>"``: the design file's own validation message
+            (bounds, the likely unit mistake), without the file context.
+        """
+        try:
+            self.with_parameters({name: value})
+        except DesignError as exc:
+            why = re.sub(r"^parameters: key '[^']*': ", "", str(exc))
+            raise DesignError(f"{name} = {value:g}: {why}") from None
+
     def check_range(self, name: str, low: float, high: float) -> None:
         """Refuse a range ``[low, high]`` for parameter ``name`` (or glob) that is empty or
         reaches values the design cannot take.
 
-        Both ends are validated as design values, so a range in the wrong unit gets
-        the same message as a wrong value in a design file (``alpha = 90: angles ...
-        are in radians; did you mean 1.5708?``), and a stiffness range reaching 0 is
-        refused.
+        Both ends are validated as design values (:meth:`check_value`), so a range in
+        the wrong unit gets the same message as a wrong value in a design file
+        (``alpha = 90: angles ... are in radians; did you mean 1.5708?``), and a
+        stiffness range reaching 0 is refused.
 
         Raises
         ------
@@ -251,9 +267,9 @@ class Design(PartModel):
             )
         for end in (low, high):
             try:
-                self.with_parameters({name: end})
+                self.check_value(name, end)
             except DesignError as exc:
-                raise DesignError(f"range of {name!r} [{low:g}, {high:g}]: {exc}") from None
+                raise DesignError(f"range [{low:g}, {high:g}] of {exc}") from None
 
     def scalar_parameter_names(self) -> list[str]:
         """Every scalar parameter name of this design, in file order."""
