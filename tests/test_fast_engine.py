@@ -30,8 +30,9 @@ from ppm_stiffness.model import eigenvalue_ratio
 
 ROOT = Path(__file__).parents[1]
 DESIGNS = ["paper", "symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
-#: The issue's bound on max|dK| / max|K| (length-balanced); measured <= 4e-14.
-RTOL = 1e-9
+#: max|dK| / max|K| (length-balanced): measured <= 4e-14 on every shipped design, so
+#: 1e-12 (the issue asks <= 1e-9).
+RTOL = 1e-12
 
 
 def design_named(name: str) -> Design:
@@ -205,3 +206,23 @@ def test_a_chain_out_of_the_plane_falls_back_to_the_general_path() -> None:
     assert engine.leg_blocks([*chain[:-1], tilted]) is None
     lifted = Joint("R", Z_AXIS, chain[-1].point + [0.0, 0.0, 0.01], chain[-1].springs)
     assert engine.leg_blocks([*chain[:-1], lifted]) is None
+
+
+def test_a_chunk_with_no_reachable_pose_is_masked_not_a_crash(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Review finding: a 3-RPR chunk whose poses are all out of reach raised IndexError
+    (its joint axes depend on the pose, and there was none to read)."""
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.maps.batch import loaded_poses
+
+    design = load_design(ROOT / "examples" / "3rpr.toml")
+    far = np.array([[1.0, 1.0, 0.0]] * 5)
+    for path in ("planar", "general"):
+        result = batch.evaluate_poses(design, far, path=path)
+        assert not result.reachable.any() and not result.valid.any()
+    loaded = loaded_poses(design, far, np.array([0.0, 0.0, 0.0, 5.0, 0.0, 0.0]))
+    assert not loaded.valid.any()
+    argv = ["map", "--design", str(ROOT / "examples" / "3rpr.toml"), "--bounds=500,600,500,600"]
+    assert main(argv) == 2
+    assert "no grid point of the map is in the workspace" in capsys.readouterr().err

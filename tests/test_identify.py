@@ -81,7 +81,7 @@ def test_prediction_is_what_deflect_computes(load: float) -> None:
 def test_noise_free_recovery_on_the_3ppr() -> None:
     """Five element stiffnesses of the paper's 3-PPR (a tied glob among them) changed
     by 10-20 %; in- and out-of-plane loads large enough to power the actuators:
-    recovered to 1e-6 relative (measured: below 1e-13)."""
+    recovered to 1e-11 relative (measured: below 1e-13; the issue asks 1e-6)."""
     factors = {
         "leg1.guide.yaw": 1.2,
         "leg2.guide.yaw": 0.85,
@@ -96,16 +96,17 @@ def test_noise_free_recovery_on_the_3ppr() -> None:
     )
     result = identify(PPR, rows, list(factors))
     expected = np.array([truth[n] for n in result.names])
-    np.testing.assert_allclose(result.values, expected, rtol=1e-6)
+    np.testing.assert_allclose(result.values, expected, rtol=1e-11)
     assert result.weighted_rms < 1e-6
     assert result.design.parameter("leg3.actuator.locked_stiffness") == pytest.approx(
-        truth["leg*.actuator.locked_stiffness"], rel=1e-6
+        truth["leg*.actuator.locked_stiffness"], rel=1e-11
     )
 
 
 def test_noise_free_recovery_on_the_3rpr() -> None:
     """3-RPR example: the three ball-screw stiffnesses (k_a, linear law) and the tied
-    base-bearing tilt and rod modulus, recovered to 1e-6 relative (measured: below 1e-13)."""
+    base-bearing tilt and rod modulus, recovered to 1e-11 relative (measured: below
+    1e-13; the issue asks 1e-6)."""
     factors = {
         "leg1.actuator.k_a": 1.2,
         "leg2.actuator.k_a": 0.8,
@@ -120,7 +121,7 @@ def test_noise_free_recovery_on_the_3rpr() -> None:
     )
     result = identify(RPR, rows, list(factors))
     expected = np.array([truth[n] for n in result.names])
-    np.testing.assert_allclose(result.values, expected, rtol=1e-6)
+    np.testing.assert_allclose(result.values, expected, rtol=1e-11)
 
 
 # ------------------------------------------------------------------ uncertainty
@@ -161,7 +162,7 @@ def test_one_sigma_intervals_cover_the_truth_about_68_percent(case: str) -> None
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_standard_errors_shrink_as_one_over_root_n(case: str) -> None:
     """The same rows measured n = 4 times over: every standard error halves (1/sqrt(4))
-    to 1e-6 (noise-free data, the Jacobian at the same point; measured 4e-16)."""
+    to 1e-13 (noise-free data, the Jacobian at the same point; measured 4e-16)."""
     design, pattern, scale, sig = CASES[case]
     free = [pattern.format(i) for i in (1, 2, 3)]
     truth_design, _ = _perturbed(design, dict(zip(free, (1.2, 0.8, 1.1), strict=True)))
@@ -170,7 +171,7 @@ def test_standard_errors_shrink_as_one_over_root_n(case: str) -> None:
     )
     one = identify(design, rows, free)
     four = identify(design, rows.repeated(4), free)
-    np.testing.assert_allclose(four.standard_errors / one.standard_errors, 0.5, rtol=1e-6)
+    np.testing.assert_allclose(four.standard_errors / one.standard_errors, 0.5, rtol=1e-13)
 
 
 # ------------------------------------------------------------------ ill-posed input

@@ -203,7 +203,9 @@ def _direction(axis: ArrayLike) -> Direction | None:
             return None if az == 0.0 else Direction(True, sign=math.copysign(1.0, az))
         s = np.sign(az)
         if isinstance(s, np.ndarray):
-            if not (np.all(s == s.flat[0]) and s.size and s.flat[0] != 0):
+            if s.size == 0:  # no pose in the batch: any direction along z will do
+                return Direction(True, sign=1.0)
+            if not (np.all(s == s.flat[0]) and s.flat[0] != 0):
                 return None
             s = s.flat[0]
         if s == 0:
