@@ -61,13 +61,29 @@ def read_tolerance_args(args: argparse.Namespace, design: Any) -> list[Any] | No
     return tolerance_variables(design, read_tolerances(check_input_path(path, "--tolerances")))
 
 
-def compute_bands(args: argparse.Namespace, design: Any, variables: list[Any], output: Any) -> Any:
-    """Bands of ``output`` with the command's method and samples (a progress bar)."""
+def compute_bands(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any],
+    output: Any,
+    failed_value: Any = None,
+) -> Any:
+    """Bands of ``output`` with the command's method and samples (a progress bar);
+    ``failed_value`` as :func:`~ppm_stiffness.fit.uncertainty.propagate`'s."""
     from ppm_stiffness.fit.uncertainty import propagate
 
     n = 2 * len(variables) + (args.samples if args.tolerance_method == "qmc" else 0)
     with progress("tolerances", n) as advance:
-        return propagate(design, variables, output, args.tolerance_method, args.samples, 0, advance)
+        return propagate(
+            design,
+            variables,
+            output,
+            args.tolerance_method,
+            args.samples,
+            0,
+            advance,
+            failed_value=failed_value,
+        )
 
 
 def _head(bands: Any) -> dict[str, Any]:
@@ -95,9 +111,11 @@ def pose_uncertainty(
 ) -> dict[str, Any]:
     """Bands of k_phi, k_x, k_y, K (and the twist under a wrench) at one pose, as the
     ``uncertainty`` entry of ``analyze --json``."""
-    from ppm_stiffness.fit.band_outputs import pose_output
+    from ppm_stiffness.fit.band_outputs import POSE_FAILED_VALUE, pose_output
 
-    bands = compute_bands(args, design, variables, pose_output(pose, tool_point, wrench))
+    output = pose_output(pose, tool_point, wrench)
+    failed = POSE_FAILED_VALUE[: 39 if wrench is None else 45]
+    bands = compute_bands(args, design, variables, output, failed)
     out = _head(bands)
     quantities = {}
     for i, (name, unit) in enumerate(RANKED):
@@ -238,7 +256,7 @@ def map_uncertainty(
     if variables is None:
         return None, None
     from ppm_stiffness.cli.common import tool_point_from_args
-    from ppm_stiffness.fit.band_outputs import map_output
+    from ppm_stiffness.fit.band_outputs import MAP_FAILED_VALUE, map_output
 
     output = map_output(
         phi=smap.phi,
@@ -249,7 +267,7 @@ def map_uncertainty(
         reference_force=args.reference_force,
         tool_point=tool_point_from_args(args, design),
     )
-    bands = compute_bands(args, design, variables, output)
+    bands = compute_bands(args, design, variables, output, MAP_FAILED_VALUE)
     out = _head(bands)
     summary = {}
     for i, (name, unit) in enumerate(RANKED):

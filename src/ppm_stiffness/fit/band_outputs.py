@@ -92,6 +92,14 @@ def pose_output(
     return output
 
 
+#: :func:`~ppm_stiffness.fit.uncertainty.propagate`'s ``failed_value`` of
+#: :func:`pose_output`: k_phi, k_x, k_y are 0 in a sample that is singular (or cannot
+#: reach the pose); K's entries and the twist have no such limit and are left out.
+POSE_FAILED_VALUE = np.concatenate([np.zeros(3), np.full(42, np.nan)])
+#: ... of :func:`map_output`: every field is a principal stiffness.
+MAP_FAILED_VALUE = 0.0
+
+
 def map_output(**map_arguments: object) -> Callable[[Design], FloatArray]:
     """k_phi, k_x, k_y over a map's grid, shape (3, ny, nx), NaN outside the workspace.
 

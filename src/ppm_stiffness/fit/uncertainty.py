@@ -31,6 +31,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
@@ -145,6 +146,7 @@ def propagate(
     samples: int = DEFAULT_SAMPLES,
     seed: int = 0,
     progress: Callable[[float], None] | None = None,
+    failed_value: ArrayLike | None = None,
 ) -> Bands:
     """Bands of ``output`` under the tolerances (module doc).
 
@@ -161,6 +163,12 @@ def propagate(
         Of the scrambled Sobol sequence.
     progress : callable(amount), optional
         Called with 1 after each model evaluation.
+    failed_value : array_like, optional
+        Broadcastable to the output's shape: the value an output takes in a QMC sample
+        where the model gives none (unreachable or singular), e.g. 0 for a stiffness
+        (a singular design has no stiffness in some direction). NaN entries, or None,
+        leave such samples out of that output's percentiles; the band's label then
+        says that they cover the successful samples only.
 
     Raises
     ------
@@ -211,6 +219,13 @@ def propagate(
             failed += 1
     ok = np.isfinite(values)
     failed_out = np.sum(~ok, axis=0)
+    left_out = failed_out
+    if failed_value is not None:
+        fill = np.broadcast_to(np.asarray(failed_value, dtype=float), nominal.shape)
+        # failures ranked at their physical limit, where the nominal design has a value
+        values = np.where(ok | ~np.isfinite(nominal), values, fill)
+        left_out = np.sum(~np.isfinite(values), axis=0)
+    left_out = np.where(np.isfinite(nominal), left_out, 0)
     import warnings
 
     with warnings.catch_warnings():
@@ -219,7 +234,8 @@ def propagate(
         std = np.nanstd(values, axis=0)
     return Bands(
         "qmc",
-        f"{PERCENTILES[0]:g}th-{PERCENTILES[1]:g}th percentile, QMC ({samples} samples)",
+        f"{PERCENTILES[0]:g}th-{PERCENTILES[1]:g}th percentile, QMC ({samples} samples)"
+        + (", of the successful samples only" if np.any(left_out) else ""),
         nominal,
         np.asarray(lower),
         np.asarray(upper),
