@@ -520,14 +520,18 @@ def identify(
     # 1. linear start in the compliances
     du = np.linalg.lstsq(jac_u, -r0, rcond=None)[0]
     lo_rel, hi_rel = RELATIVE_BOUNDS
-    u = np.asarray(1.0 + du, dtype=float)
-    u = np.asarray(np.where(problem.stiff, np.clip(u, 1 / hi_rel, 1 / lo_rel), u), dtype=float)
+    u_free = np.asarray(1.0 + du, dtype=float)
+    u = np.asarray(
+        np.where(problem.stiff, np.clip(u_free, 1 / hi_rel, 1 / lo_rel), u_free), dtype=float
+    )
     start = problem.p_from_u(u)
     # 2. nonlinear least squares in relative parameters
     positive = p0 > 0
     lower = np.where(positive, lo_rel, -np.inf)
     upper = np.where(positive, hi_rel, np.inf)
     theta0 = np.clip(start / problem.scale, lower, upper)
+    # a start moved by the bounds is not the linear least-squares minimum
+    clipped = bool(np.any(u != u_free) or np.any(theta0 != start / problem.scale))
     # Where the model is linear in u (a determinate path, actuators locked), the
     # residuals at the start equal the linear model's and its Jacobian is exact there:
     # the fit then starts with it (and ends at once: the start is the minimum).
@@ -538,7 +542,7 @@ def identify(
         float(np.max(np.abs(r0))), 1.0
     )
     linear_jac = jac_u * problem.du_dtheta(theta0)[None, :]
-    if linear:
+    if linear and not clipped:
         # the linear solution is the least-squares minimum: no second stage
         theta, jac_final, nfev = theta0, linear_jac, 0
     else:
