@@ -17,6 +17,7 @@ jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is in the 'tes
 ROOT = Path(__file__).parents[1]
 SCHEMAS = ROOT / "docs" / "schemas"
 DATA = ROOT / "src" / "ppm_stiffness" / "data"
+TOLERANCES = ROOT / "examples" / "identification" / "tolerances.toml"
 
 #: A small required region for compare, sweep and optimize [mm, mm, deg, counts].
 _REGION = ["--region=-5,5,-5,5,0,0,3,3,1"]
@@ -35,6 +36,9 @@ CASES = [
         ["calibrate", "--json", "--target", str(DATA / "paper_eq22.csv"), "--free", "leg1.psi"],
     ),
     ("map", ["map", "--json", "--grid", "8"]),
+    ("analyze", ["analyze", "--json", "--tolerances", str(TOLERANCES)]),
+    ("map", ["map", "--json", "--grid", "6", "--tolerances", str(TOLERANCES)]),
+    ("deflect", ["deflect", "--json", "--mode", "moment", "--tolerances", str(TOLERANCES)]),
     (
         "identify",
         [
@@ -118,6 +122,17 @@ def test_optimize_json_validates(capsys: pytest.CaptureFixture[str], tmp_path: P
     document = _document(capsys, [*argv, "--out", str(tmp_path / "best.toml")])
     spec = json.loads((SCHEMAS / "optimize.schema.json").read_text(encoding="utf-8"))
     jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+
+
+def test_uncertainty_is_described_by_the_schemas(capsys: pytest.CaptureFixture[str]) -> None:
+    """Review finding: the bands were unchecked (no schema named ``uncertainty``); now a
+    band with a wrong shape is refused."""
+    document = _document(capsys, ["analyze", "--json", "--tolerances", str(TOLERANCES)])
+    spec = json.loads((SCHEMAS / "analyze.schema.json").read_text(encoding="utf-8"))
+    jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+    document["uncertainty"]["stiffness_matrix_lower"] = [[0.0]]  # type: ignore[index]
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
 
 
 def test_every_schema_has_a_case() -> None:
