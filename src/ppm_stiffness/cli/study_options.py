@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ppm_stiffness.cli.common import parse_floats
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import DesignError, InputDataError
 
 if TYPE_CHECKING:
     from ppm_stiffness.design import Design
@@ -63,9 +63,7 @@ def region_from_text(text: str) -> RequiredRegionModel:
             (math.radians(v[4]), math.radians(v[5])),
             (int(counts[0]), int(counts[1]), int(counts[2])),
         )
-    except InputDataError:
-        raise
-    except Exception as exc:  # DesignError from the region model: name the option
+    except DesignError as exc:  # from the region model: name the option
         message = str(exc).removeprefix("region: ")
         raise InputDataError(f"--region: {message} (the option takes mm and deg)") from None
 
