@@ -135,16 +135,14 @@ def planar_stiffness(
     from every leg's solved pose; None if a chain is not planar. The same model as
     :func:`ppm_stiffness.core.solver.cartesian_stiffness` of the legs' springs, in
     closed form per block (no 22 x 22 matrices, no cross products of arrays)."""
-    k_in: planar.Sym3 = [0.0] * 6
-    k_out: planar.Sym3 = [0.0] * 6
+    legs = []
     with np.errstate(all="ignore"):
         for leg, lp, k_act in zip(design.legs, leg_poses, actuator_stiffness, strict=True):
             blocks = planar.leg_blocks(leg.chain(lp))
             if blocks is None:
                 return None
-            leg_in, leg_out = planar.leg_stiffness_blocks(blocks, float(k_act))
-            k_in = [planar.add(a, b) for a, b in zip(k_in, leg_in, strict=True)]
-            k_out = [planar.add(a, b) for a, b in zip(k_out, leg_out, strict=True)]
+            legs.append(planar.leg_stiffness_blocks(blocks, float(k_act)))
+        k_in, k_out = planar.sum_blocks(legs)
     k = np.zeros((6, 6))
     for block, idx in ((k_in, planar.IN_PLANE), (k_out, planar.OUT_OF_PLANE)):
         for value, (i, j) in zip(block, planar.PAIRS, strict=True):

@@ -30,7 +30,7 @@ skipped), so constant geometry costs nothing per pose.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -116,6 +116,16 @@ def cross3(a: Vec3, b: Vec3) -> Vec3:
         sub(mul(a2, b0), mul(a0, b2)),
         sub(mul(a0, b1), mul(a1, b0)),
     )
+
+
+def sum_blocks(legs: Iterable[tuple[Sym3, Sym3]]) -> tuple[Sym3, Sym3]:
+    """The platform's (in-plane, out-of-plane) blocks: the sum of the legs' (eq. 4)."""
+    total_in: Sym3 = [0.0] * 6
+    total_out: Sym3 = [0.0] * 6
+    for k_in, k_out in legs:
+        total_in = [add(a, b) for a, b in zip(total_in, k_in, strict=True)]
+        total_out = [add(a, b) for a, b in zip(total_out, k_out, strict=True)]
+    return total_in, total_out
 
 
 def add_outer(acc: Sym3, c: Scalar, u: Vec3, v: Vec3 | None = None) -> None:

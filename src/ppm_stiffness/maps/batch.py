@@ -478,8 +478,7 @@ def planar_engine_entries(
         index = np.flatnonzero(reach)
         leg_poses = [_take(lp, index) for lp in leg_poses]
         k_act = k_act[index]
-    total_in: engine.Sym3 = [0.0] * 6
-    total_out: engine.Sym3 = [0.0] * 6
+    legs = []
     with np.errstate(all="ignore"):
         for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
             blocks = engine.leg_blocks(leg.chain(lp))
@@ -488,9 +487,8 @@ def planar_engine_entries(
             k_leg: engine.Scalar = k_act[:, i]
             if k_act.shape[0] and np.all(k_act[:, i] == k_act[0, i]):
                 k_leg = float(k_act[0, i])  # one value for every pose: a constant
-            k_in, k_out = engine.leg_stiffness_blocks(blocks, k_leg)
-            total_in = [engine.add(a, b) for a, b in zip(total_in, k_in, strict=True)]
-            total_out = [engine.add(a, b) for a, b in zip(total_out, k_out, strict=True)]
+            legs.append(engine.leg_stiffness_blocks(blocks, k_leg))
+        total_in, total_out = engine.sum_blocks(legs)
     m = n if index is None else index.size
     values = [np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in total_in + total_out]
     if index is not None:

@@ -241,11 +241,7 @@ def _loaded_chunk(design: Design, poses: FloatArray, wrench: FloatArray) -> _Chu
         blocks.append(found)
     with np.errstate(all="ignore"):
         rigid = [engine.leg_stiffness_blocks(lb, None) for lb in blocks]
-        ks_in: engine.Sym3 = [0.0] * 6
-        ks_out: engine.Sym3 = [0.0] * 6
-        for k_in, k_out in rigid:
-            ks_in = [engine.add(x, y) for x, y in zip(ks_in, k_in, strict=True)]
-            ks_out = [engine.add(x, y) for x, y in zip(ks_out, k_out, strict=True)]
+        ks_in, ks_out = engine.sum_blocks(rigid)
         entries_s = PlanarEntries(
             *(np.broadcast_to(np.asarray(v, dtype=float), (k,)) for v in ks_in + ks_out)
         )
@@ -291,11 +287,7 @@ def _loaded_chunk(design: Design, poses: FloatArray, wrench: FloatArray) -> _Chu
         k_tan = tangent_stiffnesses(design, safe_forces)
         twist = u + np.einsum("kli,kl->ki", cb, delta)
         loaded = [engine.leg_stiffness_blocks(blk, k_tan[:, i]) for i, blk in enumerate(blocks)]
-        kl_in: engine.Sym3 = [0.0] * 6
-        kl_out: engine.Sym3 = [0.0] * 6
-        for k_in, k_out in loaded:
-            kl_in = [engine.add(x, y) for x, y in zip(kl_in, k_in, strict=True)]
-            kl_out = [engine.add(x, y) for x, y in zip(kl_out, k_out, strict=True)]
+        kl_in, kl_out = engine.sum_blocks(loaded)
         entries = PlanarEntries(
             *(np.broadcast_to(np.asarray(v, dtype=float), (k,)) for v in kl_in + kl_out)
         )
