@@ -17,15 +17,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import wide_design
+from helpers import design_named, poses_around_workspace, wide_design
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import Z_AXIS, length_balanced
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
-from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.design import Design, load_design
 from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.chain import Joint, Link, leg_springs
 from ppm_stiffness.maps import batch
-from ppm_stiffness.maps.workspace import stiffness_map, workspace_bounds
+from ppm_stiffness.maps.workspace import stiffness_map
 from ppm_stiffness.model import eigenvalue_ratio
 
 ROOT = Path(__file__).parents[1]
@@ -35,22 +35,9 @@ DESIGNS = ["paper", "symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
 RTOL = 1e-12
 
 
-def design_named(name: str) -> Design:
-    return default_design() if name == "paper" else load_design(ROOT / "examples" / f"{name}.toml")
-
-
 def random_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Poses over a box 30 % wider than the workspace at phi = 0, phi within 0.4 rad."""
-    box = workspace_bounds(design, 0.0)
-    pad = 0.15 * np.array([box[1] - box[0], box[3] - box[2]])
-    rng = np.random.default_rng(seed)
-    return np.column_stack(
-        [
-            rng.uniform(box[0] - pad[0], box[1] + pad[0], n),
-            rng.uniform(box[2] - pad[1], box[3] + pad[1], n),
-            rng.uniform(-0.4, 0.4, n),
-        ]
-    )
+    return poses_around_workspace(design, n, seed, pad=0.15, phi_max=0.4)
 
 
 def worst_difference(a: np.ndarray, b: np.ndarray) -> float:

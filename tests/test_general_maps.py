@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import wide_design
+from helpers import design_named, poses_around_workspace, wide_design
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import length_balanced
 from ppm_stiffness.core.decoupling import decouple
@@ -18,9 +18,9 @@ from ppm_stiffness.core.errors import (
     SingularConfigurationError,
     UnreachablePoseError,
 )
-from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.design import Design, default_design
 from ppm_stiffness.maps import batch
-from ppm_stiffness.maps.workspace import load_npz, stiffness_map, workspace_bounds
+from ppm_stiffness.maps.workspace import load_npz, stiffness_map
 from ppm_stiffness.model import stiffness_at_pose
 from ppm_stiffness.statics.actuator import stiffness_from_force
 from ppm_stiffness.statics.loading import loaded_state
@@ -33,22 +33,9 @@ RTOL = 1e-10
 PAPER_WRENCH = np.array([0.0, 0.0, 0.1, 5.0, 5.0, 20.0])
 
 
-def design_named(name: str) -> Design:
-    return default_design() if name == "paper" else load_design(ROOT / "examples" / f"{name}.toml")
-
-
 def workspace_poses(design: Design, n: int, seed: int, phi_max: float = 0.3) -> np.ndarray:
     """Random poses over a box 20 % wider than the workspace at phi = 0."""
-    box = workspace_bounds(design, 0.0)
-    pad = 0.1 * np.array([box[1] - box[0], box[3] - box[2]])
-    rng = np.random.default_rng(seed)
-    return np.column_stack(
-        [
-            rng.uniform(box[0] - pad[0], box[1] + pad[0], n),
-            rng.uniform(box[2] - pad[1], box[3] + pad[1], n),
-            rng.uniform(-phi_max, phi_max, n),
-        ]
-    )
+    return poses_around_workspace(design, n, seed, pad=0.1, phi_max=phi_max)
 
 
 def single(design: Design, pose: np.ndarray, k_act: np.ndarray | None = None) -> np.ndarray | None:

@@ -9,38 +9,23 @@ solver's tolerance with a margin of 10.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from helpers import design_named, poses_around_workspace
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError, PPMStiffnessError
-from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.workspace import workspace_bounds
 from ppm_stiffness.statics.loading import loaded_state
 
-ROOT = Path(__file__).parents[1]
 #: The asymmetric wrench of test_statics_redundant.py (m [N·m], f [N]), scaled per case.
 WRENCH = np.array([0.05, -0.03, 0.4, 15.0, -8.0, 10.0])
 RTOL = 1e-11
 
 
-def design_named(name: str) -> Design:
-    return default_design() if name == "paper" else load_design(ROOT / "examples" / f"{name}.toml")
-
-
 def poses_over(design: Design, n: int, seed: int) -> np.ndarray:
-    box = workspace_bounds(design, 0.0)
-    pad = 0.1 * np.array([box[1] - box[0], box[3] - box[2]])
-    rng = np.random.default_rng(seed)
-    return np.column_stack(
-        [
-            rng.uniform(box[0] - pad[0], box[1] + pad[0], n),
-            rng.uniform(box[2] - pad[1], box[3] + pad[1], n),
-            rng.uniform(-0.2, 0.2, n),
-        ]
-    )
+    return poses_around_workspace(design, n, seed, pad=0.1, phi_max=0.2)
 
 
 def rel(a: np.ndarray, b: np.ndarray) -> float:

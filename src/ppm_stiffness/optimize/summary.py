@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
+from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat, rotation_z
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import RequiredRegionModel
@@ -137,9 +137,9 @@ def _shift(offsets: FloatArray) -> FloatArray:
 
 
 def _tool_offsets(poses: FloatArray, tool_point: FloatArray) -> FloatArray:
-    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
-    tx, ty, tz = tool_point
-    return np.stack([c * tx - s * ty, s * tx + c * ty, np.full_like(c, tz)], axis=-1)
+    """``T - P`` at each pose (n, 3) [m, F_b]: :func:`ppm_stiffness.model.tool_offset`
+    for many poses."""
+    return np.asarray(rotation_z(poses[:, 2]) @ np.asarray(tool_point, dtype=float))
 
 
 def _principal(design: Design, poses: FloatArray) -> tuple[BoolArray, FloatArray]:
