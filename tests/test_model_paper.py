@@ -66,7 +66,7 @@ def test_actuator_forces_satisfy_equilibrium(design) -> None:  # type: ignore[no
     total = np.zeros(3)
     for leg, g in zip(design.legs, forces, strict=True):
         u = leg.directions()[0]
-        d = leg.platform_point(0.0)
+        d = leg.platform_offset(np.zeros(6))
         total += g * np.array([d[0] * u[1] - d[1] * u[0], u[0], u[1]])
     applied = PAPER_WRENCH[[2, 3, 4]]
     np.testing.assert_allclose(total, applied, rtol=1e-9, atol=1e-9 * np.abs(applied).max())

@@ -1,20 +1,27 @@
-"""What every leg type provides: inverse kinematics, limits and its joint chain.
+"""What every leg type provides: inverse kinematics, limits, constraints and its chain.
 
 A leg type is one module of :mod:`ppm_stiffness.legs.types` defining a subclass of
-:class:`LegModel` with a ``type`` literal (``"PPR"``, ``"RRR"``, ...), its geometry and
-parts as validated fields, and three methods:
+:class:`LegModel` with a ``type`` literal (``"PPR"``, ``"UPS"``, ...), its geometry and
+parts as validated fields, and these methods:
 
-- :meth:`LegModel.solve`: inverse kinematics at poses (..., 3), returning a
-  :class:`LegPose` (named points, joint coordinates, a mask of solvable poses);
+- :meth:`LegModel.solve`: inverse kinematics at 6-D poses (..., 6) (x, y, z, rx, ry,
+  rz; :mod:`ppm_stiffness.core.pose`), returning a :class:`LegPose` (named points,
+  joint coordinates, a mask of solvable poses);
 - :meth:`LegModel.chain`: the joint chain at those poses (:mod:`.chain`);
-- :meth:`LegModel.limits`: the admissible range of each joint coordinate.
+- :meth:`LegModel.limits`: the admissible range of each joint coordinate;
+- :meth:`LegModel.constraint`: the leg's closure residuals and their wrenches, zero
+  where the pose is one the leg can reach (a leg of fewer than six freedoms constrains
+  the platform: a P-R-S leg keeps its platform point in the plane of its revolute).
 
 Nothing outside a leg type's module knows its name: the design schema, the model,
 the statics, the FE model and the pictures go through these methods only.
 
-Platform points. Leg i is attached to the platform at
-``D_i = P - platform_radius * (cos(psi + phi), sin(psi + phi), 0)`` (paper, NOTES.md).
-Points are relative to P with the axes of F_b [m]; joint coordinates are SI (m, rad).
+Platform points. Leg i is attached to the platform at a point b_i of the platform
+frame (:meth:`LegModel.attachment`), at ``p + R b_i`` in F_b. A planar leg
+(:class:`PlanarLegModel`) gives it as ``b_i = -platform_radius (cos psi, sin psi, 0)``
+(the paper's ``D_i = P - r (cos(psi + phi), sin(psi + phi), 0)``). Points of a
+:class:`LegPose` are relative to P with the axes of F_b [m]; joint coordinates are SI
+(m, rad).
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from pydantic import model_validator
 
+from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
@@ -76,8 +84,8 @@ class LegPose:
 
     Attributes
     ----------
-    poses : ndarray (..., 3)
-        (x [m], y [m], phi [rad]) of P in F_b.
+    poses : ndarray (..., 6)
+        (x, y, z [m], rx, ry, rz [rad]) of P in F_b (:mod:`ppm_stiffness.core.pose`).
     points : dict of str to ndarray (..., 3)
         Named points of the leg relative to P, axes of F_b [m], from the base to the
         platform point ``"D"`` (the order in which a picture joins them).
@@ -112,24 +120,19 @@ def cross_z(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 class LegModel(PartModel):
-    """Base of every leg type (module doc). Fields shared by all legs:
+    """Base of every leg type (module doc). Field shared by all legs:
 
-    psi : float [rad]
-        Angle of the platform attachment (``D = P - r (cos(psi+phi), sin(psi+phi))``).
-    platform_radius : float [m]
     actuator : ActuatorModel
         The law of the leg's actuated joint (linear or rotary, by the joint).
     """
 
     type: str
-    psi: Finite
-    platform_radius: Positive
     actuator: ActuatorModel
 
     #: Joint coordinates that have limits: name -> Coordinate.
     COORDINATES: ClassVar[dict[str, Coordinate]] = {}
-    #: SI unit of each geometry field ("m", "rad"); parts carry their own.
-    UNITS: ClassVar[dict[str, str]] = {"psi": "rad", "platform_radius": "m"}
+    #: SI unit of each geometry field ("m", "rad", "1"); parts carry their own.
+    UNITS: ClassVar[dict[str, str]] = {}
     #: The key of :data:`COORDINATES` that the actuator drives (its stroke).
     ACTUATED_COORDINATE: ClassVar[str] = "rho"
     #: Fields that choose among discrete options (working modes), not continuous
@@ -139,6 +142,9 @@ class LegModel(PartModel):
     ACTUATED_KIND: ClassVar[str] = "P"
     #: One line for listings: what the letters mean, which joint is actuated.
     DESCRIPTION: ClassVar[str] = ""
+    #: The task coordinates of a design whose legs are all of this type (the pose
+    #: coordinates the user gives; the others follow from the legs' constraints).
+    TASK_COORDINATES: ClassVar[tuple[str, ...]] = ("x", "y", "z", "rx", "ry", "rz")
 
     @model_validator(mode="after")
     def _plausible_units(self) -> LegModel:
@@ -161,9 +167,29 @@ class LegModel(PartModel):
         return self
 
     # -- to be provided by each leg type ------------------------------------------
-    def solve(self, poses: ArrayLike) -> LegPose:  # pragma: no cover - abstract
-        """Inverse kinematics at poses (..., 3)."""
+    def attachment(self) -> FloatArray:  # pragma: no cover - abstract
+        """The platform point b (3,) of the leg in the platform frame F_p [m]."""
         raise NotImplementedError
+
+    def solve(self, poses: ArrayLike) -> LegPose:  # pragma: no cover - abstract
+        """Inverse kinematics at poses (..., 6) [m, rad]."""
+        raise NotImplementedError
+
+    def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """The leg's closure residuals at poses (..., 6) and their wrenches.
+
+        Returns
+        -------
+        residual : ndarray (..., c) [m or rad]
+            Zero where the leg's joints can reach the pose; c = 0 for a leg with six
+            freedoms.
+        wrenches : ndarray (..., 6, c)
+            ``d residual = wrenches^T t`` for a platform twist t (at P, axes of F_b):
+            the unit wrenches the rigid leg exerts on the platform whatever its
+            actuator does (its constraint wrenches).
+        """
+        shape = np.shape(poses)[:-1]
+        return np.zeros(shape + (0,)), np.zeros(shape + (6, 0))
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:  # pragma: no cover
         """The joint chain at the poses of ``leg_pose``, base to platform."""
@@ -174,9 +200,9 @@ class LegModel(PartModel):
         raise NotImplementedError
 
     # -- shared ---------------------------------------------------------------------
-    def platform_point(self, phi: ArrayLike) -> FloatArray:
-        """Platform point D relative to P, axes of F_b, at orientation ``phi``; (..., 3)."""
-        return -self.platform_radius * unit_planar(self.psi + np.asarray(phi, dtype=float))
+    def platform_offset(self, poses: ArrayLike) -> FloatArray:
+        """Platform point ``R b`` relative to P, axes of F_b, at poses (..., 6); (..., 3)."""
+        return pose6.platform_offset(poses, self.attachment())
 
     def reachable(self, leg_pose: LegPose) -> FloatArray:
         """Mask of poses where the IK is solvable and every coordinate is in range."""
@@ -216,8 +242,8 @@ class LegModel(PartModel):
         give the rail's origin and the actuator's stroke.
         """
         first = next(e for e in self.chain(leg_pose) if isinstance(e, Joint))
-        pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 3)[0]
-        point = np.asarray(first.point, dtype=float).reshape(-1, 3)[0] + planar(pose[:2])
+        pose = as_poses(leg_pose.poses).reshape(-1, 6)[0]
+        point = np.asarray(first.point, dtype=float).reshape(-1, 3)[0] + pose6.position(pose)
         if first.kind == "P":
             axis = np.asarray(first.axis, dtype=float).reshape(-1, 3)[0]
             return BaseFeature("rail", point, axis / np.linalg.norm(axis))
@@ -249,3 +275,63 @@ class LegModel(PartModel):
         if self.ACTUATED_KIND == "R":
             return "N·m", "rad", "N·m/rad"
         return "N", "m", "N/m"
+
+
+class PlanarLegModel(LegModel):
+    """A leg of a planar manipulator: every joint axis along z or in the plane z = 0.
+
+    Fields (besides the actuator):
+
+    psi : float [rad]
+        Angle of the platform attachment, ``b = -platform_radius (cos psi, sin psi, 0)``
+        (``D = P - r (cos(psi+phi), sin(psi+phi), 0)`` at orientation phi).
+    platform_radius : float [m]
+
+    The leg's kinematics are those of the plane: its residuals are the pose's
+    out-of-plane coordinates, ``(z, n_x, n_y)`` with ``n = R e_z`` the platform's
+    normal, zero exactly for the planar poses ``(x, y, 0, 0, 0, phi)``.
+    """
+
+    psi: Finite
+    platform_radius: Positive
+
+    UNITS: ClassVar[dict[str, str]] = {"psi": "rad", "platform_radius": "m"}
+    TASK_COORDINATES: ClassVar[tuple[str, ...]] = ("x", "y", "rz")
+
+    def attachment(self) -> FloatArray:
+        return -self.platform_radius * unit_planar(self.psi)
+
+    def platform_offset(self, poses: ArrayLike) -> FloatArray:
+        """``D - P`` at poses (..., 6) of the plane (z = rx = ry = 0); (..., 3)."""
+        phi = np.asarray(poses, dtype=float)[..., 5]
+        return -self.platform_radius * unit_planar(self.psi + phi)
+
+    def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """Residuals ``(z, n_x, n_y)`` (``n = R e_z``) and their wrenches:
+        ``dz = v_z``, ``dn = omega x n``."""
+        q = np.asarray(poses, dtype=float)
+        n = pose6.rotation(q)[..., :, 2]
+        residual = np.stack([q[..., 2], n[..., 0], n[..., 1]], axis=-1)
+        wrenches = np.zeros(q.shape[:-1] + (6, 3))
+        wrenches[..., 5, 0] = 1.0
+        # (omega x n)_x = omega_y n_z - omega_z n_y; (omega x n)_y = omega_z n_x - omega_x n_z
+        wrenches[..., 1, 1] = n[..., 2]
+        wrenches[..., 2, 1] = -n[..., 1]
+        wrenches[..., 2, 2] = n[..., 0]
+        wrenches[..., 0, 2] = -n[..., 2]
+        return residual, wrenches
+
+
+def as_poses(poses: ArrayLike) -> FloatArray:
+    """Poses as (..., 6) arrays; planar poses (..., 3) ``(x, y, phi)`` are read as
+    ``(x, y, 0, 0, 0, phi)`` (transitional: callers that still hold planar poses)."""
+    q = np.asarray(poses, dtype=float)
+    if q.shape[-1:] == (3,):
+        return pose6.planar_pose(q)
+    return q
+
+
+def planar_position(poses: ArrayLike) -> FloatArray:
+    """``(x, y, 0)`` (..., 3) of poses (..., 6): P's position in the plane."""
+    q = np.asarray(poses, dtype=float)
+    return planar(q[..., :2])

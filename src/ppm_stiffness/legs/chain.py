@@ -2,18 +2,34 @@
 
 A leg runs from the base to the platform through joints and links (the joint chain):
 
-- a **joint** is revolute (``"R"``), prismatic (``"P"``) or cylindrical (``"C"``, a
-  coaxial P + R) with an axis ``e1`` and a point (where its hardware springs act);
-  it is actuated or passive, and may carry hardware springs in its constrained
-  directions (:mod:`ppm_stiffness.legs.parts`);
+- a **joint** is revolute (``"R"``), prismatic (``"P"``), cylindrical (``"C"``, a
+  coaxial P + R), universal (``"U"``: rotations about ``e1`` and a second axis
+  ``e2``, ``e1 . e2 = 0``) or spherical (``"S"``: three rotations) with an axis ``e1``
+  and a point (where its hardware springs act); it is actuated or passive, and may
+  carry hardware springs in its constrained directions
+  (:mod:`ppm_stiffness.legs.parts`);
 - a **link** is a straight beam (material + section) clamped at its start and loaded
   at its end: the cantilever of eq. (3c) with its tip frame at the end point.
 
 Axes are 3-D: the planar mechanism is modelled as a spatial one.
 
 Frames. A joint frame is ``e1`` = the axis, ``e2 = unit(z x e1)`` (``unit(e1 x x)``
-when the axis is along z), ``e3 = e1 x e2``. A link's tip frame has its local x along
+when the axis is along z), ``e3 = e1 x e2``; a U joint's frame is its two axes and
+``e3 = e1 x e2``; an S joint has no axis of its own: its ``axis`` orients the frame of
+its springs (the adjacent link, typically). A link's tip frame has its local x along
 the link (start -> end) and local y, z built the same way.
+
+Freedoms and constrained directions (hardware springs, in this order):
+
+==== =============================== =============================================
+kind freedoms                        constrained directions
+==== =============================== =============================================
+P    translation e1                  rotation e1, e2, e3; translation e2, e3
+R    rotation e1                     rotation e2, e3; translation e1, e2, e3
+C    rotation e1, translation e1     rotation e2, e3; translation e2, e3
+U    rotation e1, rotation e2        translation e1, e2, e3; rotation e3
+S    rotation e1, e2, e3             translation e1, e2, e3
+==== =============================== =============================================
 
 The builder (:func:`leg_springs`) turns a chain at one or many poses (every point and
 axis has the batch shape plus a trailing 3) into the arrays of
@@ -49,10 +65,12 @@ from ppm_stiffness.core.conventions import (
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.solver import LegSprings
 
-JointKind = Literal["R", "P", "C"]
+JointKind = Literal["R", "P", "C", "U", "S"]
 
 #: Number of constrained directions (hardware springs) of each joint kind.
-CONSTRAINED = {"R": 5, "P": 5, "C": 4}
+CONSTRAINED = {"R": 5, "P": 5, "C": 4, "U": 4, "S": 3}
+#: Number of freedoms of each joint kind.
+FREEDOMS = {"R": 1, "P": 1, "C": 2, "U": 2, "S": 3}
 
 
 @dataclass(frozen=True)
@@ -61,8 +79,9 @@ class Joint:
 
     Attributes
     ----------
-    kind : {"R", "P", "C"}
+    kind : {"R", "P", "C", "U", "S"}
     axis : ndarray (..., 3), unit
+        The joint axis e1 (an S joint: the direction that orients its springs' frame).
     point : ndarray (..., 3) [m]
     springs : ndarray (CONSTRAINED[kind],) or None
         Stiffness of each constrained direction, in the joint frame's order (see
@@ -72,6 +91,8 @@ class Joint:
     name : str
         The part's name in the design (``guide``, ``bearing``, ...), for pictures
         and the FE model.
+    axis2 : ndarray (..., 3) or None
+        A U joint's second axis e2 (unit, normal to e1); None for other kinds.
     """
 
     kind: JointKind
@@ -80,6 +101,17 @@ class Joint:
     springs: FloatArray | None = None
     actuated: bool = False
     name: str = ""
+    axis2: FloatArray | None = None
+
+    def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
+        if self.kind == "U":
+            if self.axis2 is None:
+                raise DesignError(f"universal joint {self.name or ''}: its second axis is missing")
+            e1, e2 = unit(self.axis), unit(self.axis2)
+            e1, e2 = np.broadcast_arrays(e1, e2)
+            return e1, e2, np.cross(e1, e2)
+        return frame_from_axis(self.axis)
 
 
 @dataclass(frozen=True)
@@ -117,9 +149,20 @@ def frame_from_axis(axis: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray
 def constrained_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's constrained directions, shape (..., 6, n)."""
     c = np.asarray(joint.point, dtype=float)
-    shape = np.broadcast_shapes(np.shape(joint.axis), c.shape)
-    e1, e2, e3 = (np.broadcast_to(e, shape) for e in frame_from_axis(joint.axis))
-    if joint.kind == "P":
+    frame = joint.frame()
+    shape = np.broadcast_shapes(frame[0].shape, c.shape)
+    e1, e2, e3 = (np.broadcast_to(e, shape) for e in frame)
+    c = np.broadcast_to(c, shape)
+    if joint.kind == "U":
+        cols = [
+            translation_screw(e1),
+            translation_screw(e2),
+            translation_screw(e3),
+            rotation_screw(e3, c),
+        ]
+    elif joint.kind == "S":
+        cols = [translation_screw(e1), translation_screw(e2), translation_screw(e3)]
+    elif joint.kind == "P":
         cols = [
             rotation_screw(e1, c),
             rotation_screw(e2, c),
@@ -147,6 +190,12 @@ def constrained_screws(joint: Joint) -> FloatArray:
 
 def freedom_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's freedoms, shape (..., 6, f)."""
+    if joint.kind in ("U", "S"):
+        frame = joint.frame()
+        shape = np.broadcast_shapes(frame[0].shape, np.shape(joint.point))
+        c = np.broadcast_to(np.asarray(joint.point, dtype=float), shape)
+        axes = frame[: FREEDOMS[joint.kind]]
+        return np.stack([rotation_screw(np.broadcast_to(e, shape), c) for e in axes], axis=-1)
     shape = np.broadcast_shapes(np.shape(joint.axis), np.shape(joint.point))
     e1 = np.broadcast_to(unit(joint.axis), shape)
     if joint.kind == "P":
@@ -176,12 +225,16 @@ def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:
 
 
 def check_chain(chain: Sequence[Element]) -> None:
-    """Refuse a chain without exactly one actuated joint, or with an actuated C."""
+    """Refuse a chain without exactly one actuated joint, or with an actuated joint of
+    more than one freedom (C, U, S)."""
     actuated = [e for e in chain if isinstance(e, Joint) and e.actuated]
     if len(actuated) != 1:
         raise DesignError(f"a leg needs exactly one actuated joint, got {len(actuated)}")
-    if actuated[0].kind == "C":
-        raise DesignError("a cylindrical joint cannot be the actuated joint")
+    if FREEDOMS[actuated[0].kind] != 1:
+        raise DesignError(
+            f"a joint of kind {actuated[0].kind} ({FREEDOMS[actuated[0].kind]} freedoms) "
+            "cannot be the actuated joint"
+        )
 
 
 def actuator_screw(chain: Sequence[Element]) -> FloatArray:
@@ -257,5 +310,5 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
 
 
 def freedom_count(joint: Joint) -> int:
-    """Number of freedoms of a joint: 2 for C, 1 otherwise."""
-    return 2 if joint.kind == "C" else 1
+    """Number of freedoms of a joint (:data:`FREEDOMS`)."""
+    return FREEDOMS[joint.kind]

@@ -13,6 +13,12 @@ in-plane axis: the in-plane lateral direction), ``e3 = e1 x e2`` (then: z).
 - :class:`RevoluteModel`, a revolute joint (a rotary bearing, axisymmetric): tilt
   about any axis normal to its own [N·m/rad], radial along any direction normal to
   it and axial along it [N/m].
+- :class:`UniversalModel`, a universal joint (axes e1, e2; e3 = e1 x e2): radial
+  along e1 and e2, axial along e3 [N/m], torsion about e3 [N·m/rad]; optionally the
+  largest angle [rad] between the leg and the joint's mounting axis.
+- :class:`SphericalModel`, a spherical joint (its frame oriented by the adjacent link,
+  e1 along it): axial along e1, radial along e2 and e3 [N/m]; optionally the largest
+  angle [rad] between the link and the joint's mounting axis.
 """
 
 from __future__ import annotations
@@ -141,6 +147,44 @@ class RevoluteModel(PartModel):
         return np.array([self.tilt, self.tilt, self.axial, self.radial, self.radial])
 
 
+#: Largest angle a U or S joint's range may have [rad]: a half turn (beyond it the
+#: value is likely in degrees).
+MAX_JOINT_ANGLE = float(np.pi)
+
+
+class _AngleLimited(PartModel):
+    """A joint part with an optional largest tilt angle ``max_angle`` [rad]."""
+
+    max_angle: Annotated[float, Field(gt=0.0, le=MAX_JOINT_ANGLE, allow_inf_nan=False)] | None = (
+        None
+    )
+
+
+class UniversalModel(_AngleLimited):
+    """Universal joint: radial (e1, e2) and axial (e3) [N/m], torsion about e3 [N·m/rad]."""
+
+    radial: Positive
+    axial: Positive
+    torsion: Positive
+
+    def stiffnesses(self) -> FloatArray:
+        """Stiffness of each constrained direction, in the order of :mod:`.chain`:
+        translation e1, e2, e3; rotation e3."""
+        return np.array([self.radial, self.radial, self.axial, self.torsion])
+
+
+class SphericalModel(_AngleLimited):
+    """Spherical joint: axial (e1, along its link) and radial (e2, e3) [N/m]."""
+
+    axial: Positive
+    radial: Positive
+
+    def stiffnesses(self) -> FloatArray:
+        """Stiffness of each constrained direction, in the order of :mod:`.chain`:
+        translation e1, e2, e3."""
+        return np.array([self.axial, self.radial, self.radial])
+
+
 def part_units(model: type[BaseModel]) -> dict[str, str]:
     """SI unit of each field of a part, for reports and tables."""
     units: dict[type[BaseModel], dict[str, str]] = {
@@ -166,10 +210,20 @@ def part_units(model: type[BaseModel]) -> dict[str, str]:
             "radial_vertical": "N/m",
         },
         RevoluteModel: {"tilt": "N·m/rad", "axial": "N/m", "radial": "N/m"},
+        UniversalModel: {
+            "radial": "N/m",
+            "axial": "N/m",
+            "torsion": "N·m/rad",
+            "max_angle": "rad",
+        },
+        SphericalModel: {"axial": "N/m", "radial": "N/m", "max_angle": "rad"},
     }
     return dict(units.get(model, {}))
 
 
-def joint_springs(part: GuideModel | BearingModel | RevoluteModel | None) -> FloatArray | None:
+JointPart = GuideModel | BearingModel | RevoluteModel | UniversalModel | SphericalModel
+
+
+def joint_springs(part: JointPart | None) -> FloatArray | None:
     """A joint part's spring stiffnesses, or None for a rigid joint (no part given)."""
     return None if part is None else part.stiffnesses()

@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, planar
+from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, as_poses, planar
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.model import workspace_centre
 
@@ -237,7 +237,7 @@ def plot_mechanism(
     unit = 0.05 * span  # size of frame arrows, sliders and sleeves [mm]
 
     # platform polygon (the legs' D points, counter-clockwise around P)
-    d_all = np.array([np.asarray(leg.platform_point(p[2]))[:2] for leg in design.legs]) * MM
+    d_all = np.array([leg.platform_offset(as_poses(p))[:2] for leg in design.legs]) * MM
     d_all = d_all + centre
     order = platform_order(d_all, centre)
     ax.add_patch(

@@ -29,10 +29,12 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs.base import (
     BaseFeature,
     Coordinate,
-    LegModel,
     LegPose,
+    PlanarLegModel,
+    as_poses,
     cross_z,
     planar,
+    planar_position,
     unit_planar,
 )
 from ppm_stiffness.legs.chain import Element, Joint, Link
@@ -46,7 +48,7 @@ from ppm_stiffness.legs.parts import (
 )
 
 
-class PPRLeg(LegModel):
+class PPRLeg(PlanarLegModel):
     """One P-P-R leg (module doc); lengths [m], angles [rad]."""
 
     type: Literal["PPR"] = "PPR"
@@ -69,7 +71,7 @@ class PPRLeg(LegModel):
         "rod": Coordinate("rod free length", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS,
+        **PlanarLegModel.UNITS,
         "base_point": "m",
         "alpha": "rad",
         "beta": "rad",
@@ -110,10 +112,10 @@ class PPRLeg(LegModel):
         return {"rho": self.stroke, "rod": self.rod_length_range}
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
+        pose = as_poses(poses)
         u, w = self.directions()
-        d = self.platform_point(pose[..., 2])
-        p_abs = planar(pose[..., :2])
+        d = self.platform_offset(pose)
+        p_abs = planar_position(pose)
         a = planar(np.asarray(self.base_point))
         r = p_abs + d - a
         det = cross_z(u, w)
@@ -167,7 +169,7 @@ class PPRLeg(LegModel):
         u, w = self.directions()
         det = float(cross_z(u, w))
         grads = (np.array([w[1], -w[0]]) / det, np.array([-u[1], u[0]]) / det)
-        at_origin = self.solve(np.array([0.0, 0.0, float(phi)]))
+        at_origin = self.solve(np.array([0.0, 0.0, 0.0, 0.0, 0.0, float(phi)]))
         normals, offsets = [], []
         for grad, name in zip(grads, ("rho", "rod"), strict=True):
             lo, hi = self.limits()[name]

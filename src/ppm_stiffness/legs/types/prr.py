@@ -25,7 +25,16 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import (
+    BaseFeature,
+    Coordinate,
+    LegPose,
+    PlanarLegModel,
+    as_poses,
+    planar,
+    planar_position,
+    unit_planar,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -37,7 +46,7 @@ from ppm_stiffness.legs.parts import (
 )
 
 
-class PRRLeg(LegModel):
+class PRRLeg(PlanarLegModel):
     """One P-R-R leg (module doc); lengths [m], angles [rad]."""
 
     type: Literal["PRR"] = "PRR"
@@ -56,7 +65,7 @@ class PRRLeg(LegModel):
         "rho": Coordinate("actuator coordinate", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS,
+        **PlanarLegModel.UNITS,
         "base_point": "m",
         "alpha": "rad",
         "link_length": "m",
@@ -89,11 +98,11 @@ class PRRLeg(LegModel):
         return {"rho": self.stroke}
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
+        pose = as_poses(poses)
         u = self.rail_direction()
         n = np.array([-u[1], u[0], 0.0])
-        d = self.platform_point(pose[..., 2])
-        p_abs = planar(pose[..., :2])
+        d = self.platform_offset(pose)
+        p_abs = planar_position(pose)
         a = planar(np.asarray(self.base_point)) - p_abs
         r = d - a
         along, across = r @ u, r @ n

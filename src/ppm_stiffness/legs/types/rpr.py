@@ -25,7 +25,14 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS
-from ppm_stiffness.legs.base import Coordinate, LegModel, LegPose, planar
+from ppm_stiffness.legs.base import (
+    Coordinate,
+    LegPose,
+    PlanarLegModel,
+    as_poses,
+    planar,
+    planar_position,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link, unit
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -37,7 +44,7 @@ from ppm_stiffness.legs.parts import (
 )
 
 
-class RPRLeg(LegModel):
+class RPRLeg(PlanarLegModel):
     """One R-P-R leg (module doc); lengths [m], angles [rad]."""
 
     type: Literal["RPR"] = "RPR"
@@ -54,7 +61,7 @@ class RPRLeg(LegModel):
         "rho": Coordinate("pivot distance |AD|", "m"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS,
+        **PlanarLegModel.UNITS,
         "base_point": "m",
         "housing_length": "m",
         "stroke": "m",
@@ -78,9 +85,9 @@ class RPRLeg(LegModel):
         return {"rho": self.stroke}
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
-        d = self.platform_point(pose[..., 2])
-        p_abs = planar(pose[..., :2])
+        pose = as_poses(poses)
+        d = self.platform_offset(pose)
+        p_abs = planar_position(pose)
         a = planar(np.asarray(self.base_point)) - p_abs
         r = d - a
         rho = np.linalg.norm(r, axis=-1)

@@ -28,7 +28,16 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import (
+    BaseFeature,
+    Coordinate,
+    LegPose,
+    PlanarLegModel,
+    as_poses,
+    planar,
+    planar_position,
+    unit_planar,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -39,7 +48,7 @@ from ppm_stiffness.legs.parts import (
 )
 
 
-class RRRLeg(LegModel):
+class RRRLeg(PlanarLegModel):
     """One R-R-R leg (module doc); lengths [m], angles [rad]."""
 
     type: Literal["RRR"] = "RRR"
@@ -59,7 +68,7 @@ class RRRLeg(LegModel):
         "theta": Coordinate("actuator angle", "rad"),
     }
     UNITS: ClassVar[dict[str, str]] = {
-        **LegModel.UNITS,
+        **PlanarLegModel.UNITS,
         "base_point": "m",
         "proximal_length": "m",
         "distal_length": "m",
@@ -93,9 +102,9 @@ class RRRLeg(LegModel):
         return {"theta": self.stroke}
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
-        d = self.platform_point(pose[..., 2])
-        p_abs = planar(pose[..., :2])
+        pose = as_poses(poses)
+        d = self.platform_offset(pose)
+        p_abs = planar_position(pose)
         a = planar(np.asarray(self.base_point)) - p_abs
         r = d - a
         dist = np.linalg.norm(r, axis=-1)

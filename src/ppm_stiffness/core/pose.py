@@ -1,0 +1,175 @@
+"""Platform poses in 6-D: position, orientation angles, and the twist update.
+
+A pose is six coordinates ``(x, y, z, rx, ry, rz)`` [m, m, m, rad, rad, rad]: the
+position p of the platform reference point P in F_b and the orientation of the
+platform frame F_p,
+
+    R = Rz(rz) @ Ry(ry) @ Rx(rx)
+
+(extrinsic X-Y-Z angles: a roll rx about the fixed x axis, then a pitch ry about the
+fixed y axis, then a yaw rz about the fixed z axis; ``scipy.spatial.transform.Rotation
+.from_euler("xyz", [rx, ry, rz])`` with lowercase "xyz"). A point b given in F_p is at
+``p + R b`` in F_b. A planar pose ``(x, y, phi)`` is ``(x, y, 0, 0, 0, phi)``.
+
+A twist ``t = (phi, v)`` (rotation first, :mod:`ppm_stiffness.core.conventions`) is a
+small rotation vector about the axes of F_b and a small displacement of P; it moves a
+pose to ``R' = exp(hat(phi)) R``, ``p' = p + v`` (:func:`displaced_pose`). Rates of the
+angles map to the angular velocity by ``omega = rz' e_z + ry' Rz e_y + rx' Rz Ry e_x``
+(:func:`twist_from_coordinate_rates`).
+
+Every function takes arrays with leading batch axes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import FloatArray, hat
+
+#: The six pose coordinates, in order.
+POSE_COORDINATES = ("x", "y", "z", "rx", "ry", "rz")
+#: SI unit of each pose coordinate.
+POSE_UNITS = ("m", "m", "m", "rad", "rad", "rad")
+#: Index of each pose coordinate.
+POSE_INDEX = {name: i for i, name in enumerate(POSE_COORDINATES)}
+#: The planar coordinates (x, y, phi = rz) of a pose, as indices.
+PLANAR_INDEX = (0, 1, 5)
+#: Pose coordinates that are angles.
+ANGLE_COORDINATES = frozenset({"rx", "ry", "rz"})
+
+
+def _axis_rotation(angle: ArrayLike, axis: int) -> FloatArray:
+    a = np.asarray(angle, dtype=float)
+    c, s = np.cos(a), np.sin(a)
+    i, j = (axis + 1) % 3, (axis + 2) % 3  # cyclic: R[i, j] = -sin
+    out = np.zeros(a.shape + (3, 3))
+    out[..., axis, axis] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., i, j] = -s
+    out[..., j, i] = s
+    return out
+
+
+def rotation_from_angles(angles: ArrayLike) -> FloatArray:
+    """``R = Rz(rz) Ry(ry) Rx(rx)`` from angles (..., 3) = (rx, ry, rz) [rad]; (..., 3, 3)."""
+    a = np.asarray(angles, dtype=float)
+    return np.asarray(
+        _axis_rotation(a[..., 2], 2) @ _axis_rotation(a[..., 1], 1) @ _axis_rotation(a[..., 0], 0)
+    )
+
+
+def angles_from_rotation(rotation: ArrayLike) -> FloatArray:
+    """The angles (rx, ry, rz) (..., 3) of ``R = Rz Ry Rx``, ry in [-pi/2, pi/2].
+
+    At ry = +-pi/2 (gimbal lock) only rx -+ rz is defined; rx is then returned as 0.
+    """
+    r = np.asarray(rotation, dtype=float)
+    ry = np.arctan2(-r[..., 2, 0], np.hypot(r[..., 2, 1], r[..., 2, 2]))
+    rx = np.arctan2(r[..., 2, 1], r[..., 2, 2])
+    rz = np.arctan2(r[..., 1, 0], r[..., 0, 0])
+    lock = np.hypot(r[..., 0, 0], r[..., 1, 0]) < 1e-12
+    if np.any(lock):
+        rx = np.where(lock, 0.0, rx)
+        rz = np.where(lock, np.arctan2(-r[..., 0, 1], r[..., 1, 1]), rz)
+    return np.stack([rx, ry, rz], axis=-1)
+
+
+def rotation_exp(rotation_vector: ArrayLike) -> FloatArray:
+    """``exp(hat(phi))`` (Rodrigues) of rotation vectors (..., 3) [rad]; (..., 3, 3)."""
+    phi = np.asarray(rotation_vector, dtype=float)
+    angle = np.linalg.norm(phi, axis=-1)
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    # sin(a)/a and (1 - cos(a))/a^2 with their series near 0
+    a = np.where(small, 1.0 - angle**2 / 6.0, np.sin(safe) / safe)
+    b = np.where(small, 0.5 - angle**2 / 24.0, (1.0 - np.cos(safe)) / safe**2)
+    k = hat(phi)
+    return np.asarray(np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k))
+
+
+def position(pose: ArrayLike) -> FloatArray:
+    """Position p (..., 3) [m] of P in F_b."""
+    return np.asarray(np.asarray(pose, dtype=float)[..., :3])
+
+
+def rotation(pose: ArrayLike) -> FloatArray:
+    """Orientation R (..., 3, 3) of F_p in F_b (F_p components -> F_b components)."""
+    return rotation_from_angles(np.asarray(pose, dtype=float)[..., 3:])
+
+
+def platform_offset(pose: ArrayLike, point: ArrayLike) -> FloatArray:
+    """``R b`` (..., 3) [m]: a platform point b (F_p) relative to P, axes of F_b."""
+    return np.asarray(np.einsum("...ij,...j->...i", rotation(pose), np.asarray(point, dtype=float)))
+
+
+def _wrap_near(angle: FloatArray, reference: FloatArray) -> FloatArray:
+    """``angle`` shifted by whole turns to lie within pi of ``reference``."""
+    return np.asarray(reference + np.mod(angle - reference + math.pi, 2 * math.pi) - math.pi)
+
+
+def pose_from_rotation(p: ArrayLike, r: ArrayLike, near: ArrayLike | None = None) -> FloatArray:
+    """A pose (..., 6) from a position (..., 3) and a rotation (..., 3, 3); angles rx, rz
+    within a half turn of those of ``near`` (a pose) when given."""
+    angles = angles_from_rotation(r)
+    if near is not None:
+        ref = np.asarray(near, dtype=float)[..., 3:]
+        angles[..., 0] = _wrap_near(angles[..., 0], ref[..., 0])
+        angles[..., 2] = _wrap_near(angles[..., 2], ref[..., 2])
+    return np.concatenate([np.broadcast_to(np.asarray(p, dtype=float), angles.shape), angles], -1)
+
+
+def displaced_pose(pose: ArrayLike, twist: ArrayLike) -> FloatArray:
+    """The pose after a twist (..., 6) = (phi, v): ``R' = exp(hat(phi)) R``, ``p' = p + v``.
+
+    Parameters
+    ----------
+    pose : array_like (..., 6) [m, rad]
+    twist : array_like (..., 6) [rad, m], rotation vector about the axes of F_b first.
+
+    Returns
+    -------
+    ndarray (..., 6)
+        The angles stay within a half turn of the given ones (no jump of 2 pi).
+    """
+    q = np.asarray(pose, dtype=float)
+    t = np.asarray(twist, dtype=float)
+    r_new = rotation_exp(t[..., :3]) @ rotation(q)
+    return pose_from_rotation(q[..., :3] + t[..., 3:], r_new, near=q)
+
+
+def twist_from_coordinate_rates(pose: ArrayLike) -> FloatArray:
+    """Matrix E (..., 6, 6) with ``t = E @ qdot``: the twist (omega, v) of the platform
+    from the rates of its coordinates (x, y, z, rx, ry, rz).
+
+    ``v = (x', y', z')``; ``omega = rz' e_z + ry' Rz e_y + rx' Rz Ry e_x``.
+    """
+    q = np.asarray(pose, dtype=float)
+    ry, rz = q[..., 4], q[..., 5]
+    cz, sz = np.cos(rz), np.sin(rz)
+    cy, sy = np.cos(ry), np.sin(ry)
+    out = np.zeros(q.shape[:-1] + (6, 6))
+    out[..., 3, 0] = out[..., 4, 1] = out[..., 5, 2] = 1.0
+    # rx: Rz Ry e_x = (cz cy, sz cy, -sy)
+    out[..., 0, 3] = cz * cy
+    out[..., 1, 3] = sz * cy
+    out[..., 2, 3] = -sy
+    # ry: Rz e_y = (-sz, cz, 0)
+    out[..., 0, 4] = -sz
+    out[..., 1, 4] = cz
+    # rz: e_z
+    out[..., 2, 5] = 1.0
+    return out
+
+
+def planar_pose(planar: ArrayLike) -> FloatArray:
+    """``(x, y, 0, 0, 0, phi)`` (..., 6) from planar poses (x, y, phi) (..., 3)."""
+    p = np.asarray(planar, dtype=float)
+    out = np.zeros(p.shape[:-1] + (6,))
+    out[..., 0] = p[..., 0]
+    out[..., 1] = p[..., 1]
+    out[..., 5] = p[..., 2]
+    return out

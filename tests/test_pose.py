@@ -1,0 +1,83 @@
+"""The 6-D pose convention (docs/conventions.md): R = Rz(rz) Ry(ry) Rx(rx), extrinsic
+X-Y-Z, checked against scipy; the twist update and the angle-rate map."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from ppm_stiffness.core import pose as P
+from ppm_stiffness.core.conventions import hat
+
+RNG = np.random.default_rng(20261123)
+ANGLES = RNG.uniform(-1.2, 1.2, size=(50, 3))
+
+
+def test_rotation_is_scipy_extrinsic_xyz_not_intrinsic() -> None:
+    r = P.rotation_from_angles(ANGLES)
+    extrinsic = Rotation.from_euler("xyz", ANGLES).as_matrix()
+    intrinsic = Rotation.from_euler("XYZ", ANGLES).as_matrix()
+    assert np.max(np.abs(r - extrinsic)) < 1e-15 * 10
+    # uppercase "XYZ" (intrinsic) is another matrix: the convention is not ambiguous
+    assert np.min(np.max(np.abs(r - intrinsic), axis=(1, 2))) > 1e-3
+
+
+def test_rotation_is_rz_ry_rx_applied_to_a_platform_point() -> None:
+    rx, ry, rz = 0.3, -0.2, 0.5
+    c, s = np.cos, np.sin
+    rot_x = np.array([[1, 0, 0], [0, c(rx), -s(rx)], [0, s(rx), c(rx)]])
+    rot_y = np.array([[c(ry), 0, s(ry)], [0, 1, 0], [-s(ry), 0, c(ry)]])
+    rot_z = np.array([[c(rz), -s(rz), 0], [s(rz), c(rz), 0], [0, 0, 1]])
+    b = np.array([0.1, -0.05, 0.02])
+    pose = np.array([0.01, 0.02, 0.3, rx, ry, rz])
+    np.testing.assert_allclose(
+        P.platform_offset(pose, b) + pose[:3], pose[:3] + rot_z @ rot_y @ rot_x @ b, atol=1e-16
+    )
+
+
+def test_angles_round_trip() -> None:
+    back = P.angles_from_rotation(P.rotation_from_angles(ANGLES))
+    np.testing.assert_allclose(back, ANGLES, atol=1e-14)
+
+
+def test_planar_pose_is_a_rotation_about_z() -> None:
+    q = P.planar_pose(np.array([0.01, -0.02, 0.4]))
+    np.testing.assert_array_equal(q, [0.01, -0.02, 0.0, 0.0, 0.0, 0.4])
+    np.testing.assert_allclose(P.rotation(q), Rotation.from_euler("z", 0.4).as_matrix(), atol=1e-16)
+
+
+def test_rotation_exp_is_scipy_rotvec() -> None:
+    vecs = RNG.normal(0.0, 0.7, size=(40, 3))
+    vecs[0] = 0.0
+    vecs[1] = [1e-9, -2e-9, 0.5e-9]  # the series branch
+    np.testing.assert_allclose(
+        P.rotation_exp(vecs), Rotation.from_rotvec(vecs).as_matrix(), atol=2e-16 * 10
+    )
+
+
+def test_displaced_pose_rotates_about_base_axes() -> None:
+    pose = np.array([0.02, -0.01, 0.25, 0.2, -0.1, 0.7])
+    twist = np.array([0.01, -0.02, 0.03, 1e-3, 2e-3, -1e-3])
+    moved = P.displaced_pose(pose, twist)
+    expected = Rotation.from_rotvec(twist[:3]).as_matrix() @ P.rotation(pose)
+    np.testing.assert_allclose(P.rotation(moved), expected, atol=1e-15)
+    np.testing.assert_allclose(moved[:3], pose[:3] + twist[3:], atol=1e-17)
+    # no jump of a whole turn near rz = pi
+    near_pi = np.array([0.0, 0.0, 0.0, 0.0, 0.0, np.pi - 1e-3])
+    assert abs(P.displaced_pose(near_pi, [0, 0, 2e-3, 0, 0, 0])[5] - (np.pi + 1e-3)) < 1e-14
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_angle_rates_map_to_the_twist(seed: int) -> None:
+    """omega = rz' e_z + ry' Rz e_y + rx' Rz Ry e_x: against hat(omega) = R' R^T by
+    central differences along a straight line in the coordinates."""
+    rng = np.random.default_rng(seed)
+    q = np.concatenate([rng.normal(0, 0.1, 3), rng.uniform(-1.0, 1.0, 3)])
+    qdot = rng.normal(0, 1.0, 6)
+    h = 1e-6
+    r_plus, r_minus = P.rotation(q + h * qdot), P.rotation(q - h * qdot)
+    omega_hat = (r_plus - r_minus) / (2 * h) @ P.rotation(q).T
+    twist = P.twist_from_coordinate_rates(q) @ qdot
+    np.testing.assert_allclose(hat(twist[:3]), omega_hat, atol=1e-9)
+    np.testing.assert_allclose(twist[3:], qdot[:3], atol=1e-15)
