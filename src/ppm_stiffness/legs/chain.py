@@ -67,10 +67,30 @@ from ppm_stiffness.core.solver import LegSprings
 
 JointKind = Literal["R", "P", "C", "U", "S"]
 
+#: A direction of a joint frame: ("r", k) a rotation about e_k, ("t", k) a translation
+#: along e_k (k = 0, 1, 2 for e1, e2, e3).
+Direction = tuple[Literal["r", "t"], int]
+
+#: Freedoms of each joint kind, in order (the module doc's table).
+FREEDOM_DIRECTIONS: dict[str, tuple[Direction, ...]] = {
+    "P": (("t", 0),),
+    "R": (("r", 0),),
+    "C": (("r", 0), ("t", 0)),
+    "U": (("r", 0), ("r", 1)),
+    "S": (("r", 0), ("r", 1), ("r", 2)),
+}
+#: Constrained directions of each joint kind, in the order of its hardware springs.
+CONSTRAINED_DIRECTIONS: dict[str, tuple[Direction, ...]] = {
+    "P": (("r", 0), ("r", 1), ("r", 2), ("t", 1), ("t", 2)),
+    "R": (("r", 1), ("r", 2), ("t", 0), ("t", 1), ("t", 2)),
+    "C": (("r", 1), ("r", 2), ("t", 1), ("t", 2)),
+    "U": (("t", 0), ("t", 1), ("t", 2), ("r", 2)),
+    "S": (("t", 0), ("t", 1), ("t", 2)),
+}
 #: Number of constrained directions (hardware springs) of each joint kind.
-CONSTRAINED = {"R": 5, "P": 5, "C": 4, "U": 4, "S": 3}
+CONSTRAINED = {kind: len(d) for kind, d in CONSTRAINED_DIRECTIONS.items()}
 #: Number of freedoms of each joint kind.
-FREEDOMS = {"R": 1, "P": 1, "C": 2, "U": 2, "S": 3}
+FREEDOMS = {kind: len(d) for kind, d in FREEDOM_DIRECTIONS.items()}
 
 
 @dataclass(frozen=True)
@@ -130,7 +150,7 @@ Element = Joint | Link
 def unit(v: ArrayLike) -> FloatArray:
     """``v / |v|`` along the last axis (zero vectors stay zero)."""
     a = np.asarray(v, dtype=float)
-    n = np.linalg.norm(a, axis=-1, keepdims=True)
+    n = np.sqrt(np.einsum("...i,...i->...", a, a))[..., None]
     return np.asarray(a / np.where(n > 0, n, 1.0))
 
 
@@ -146,65 +166,27 @@ def frame_from_axis(axis: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray
     return e1, e2, np.cross(e1, e2)
 
 
+def _screws(joint: Joint, directions: tuple[Direction, ...]) -> FloatArray:
+    """Unit twists (..., 6, n) of frame directions of a joint at its point."""
+    frame = joint.frame()
+    shape = np.broadcast_shapes(frame[0].shape, np.shape(joint.point))
+    c = np.broadcast_to(np.asarray(joint.point, dtype=float), shape)
+    axes = [np.broadcast_to(e, shape) for e in frame]
+    cols = [
+        rotation_screw(axes[k], c) if kind == "r" else translation_screw(axes[k])
+        for kind, k in directions
+    ]
+    return np.stack(cols, axis=-1)
+
+
 def constrained_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's constrained directions, shape (..., 6, n)."""
-    c = np.asarray(joint.point, dtype=float)
-    frame = joint.frame()
-    shape = np.broadcast_shapes(frame[0].shape, c.shape)
-    e1, e2, e3 = (np.broadcast_to(e, shape) for e in frame)
-    c = np.broadcast_to(c, shape)
-    if joint.kind == "U":
-        cols = [
-            translation_screw(e1),
-            translation_screw(e2),
-            translation_screw(e3),
-            rotation_screw(e3, c),
-        ]
-    elif joint.kind == "S":
-        cols = [translation_screw(e1), translation_screw(e2), translation_screw(e3)]
-    elif joint.kind == "P":
-        cols = [
-            rotation_screw(e1, c),
-            rotation_screw(e2, c),
-            rotation_screw(e3, c),
-            translation_screw(e2),
-            translation_screw(e3),
-        ]
-    elif joint.kind == "C":
-        cols = [
-            rotation_screw(e2, c),
-            rotation_screw(e3, c),
-            translation_screw(e2),
-            translation_screw(e3),
-        ]
-    else:
-        cols = [
-            rotation_screw(e2, c),
-            rotation_screw(e3, c),
-            translation_screw(e1),
-            translation_screw(e2),
-            translation_screw(e3),
-        ]
-    return np.stack(cols, axis=-1)
+    return _screws(joint, CONSTRAINED_DIRECTIONS[joint.kind])
 
 
 def freedom_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's freedoms, shape (..., 6, f)."""
-    if joint.kind in ("U", "S"):
-        frame = joint.frame()
-        shape = np.broadcast_shapes(frame[0].shape, np.shape(joint.point))
-        c = np.broadcast_to(np.asarray(joint.point, dtype=float), shape)
-        axes = frame[: FREEDOMS[joint.kind]]
-        return np.stack([rotation_screw(np.broadcast_to(e, shape), c) for e in axes], axis=-1)
-    shape = np.broadcast_shapes(np.shape(joint.axis), np.shape(joint.point))
-    e1 = np.broadcast_to(unit(joint.axis), shape)
-    if joint.kind == "P":
-        cols = [translation_screw(e1)]
-    elif joint.kind == "C":
-        cols = [rotation_screw(e1, joint.point), translation_screw(e1)]
-    else:
-        cols = [rotation_screw(e1, joint.point)]
-    return np.stack(cols, axis=-1)
+    return _screws(joint, FREEDOM_DIRECTIONS[joint.kind])
 
 
 def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:

@@ -37,7 +37,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.legs.chain import Element, Joint, Link, check_chain
+from ppm_stiffness.legs.chain import (
+    CONSTRAINED_DIRECTIONS,
+    FREEDOM_DIRECTIONS,
+    Element,
+    Joint,
+    Link,
+    check_chain,
+)
 
 #: A scalar entry: an array (n,) or a Python float that holds at every pose.
 Scalar = FloatArray | float
@@ -288,24 +295,6 @@ class LegBlocks:
     outplane: ReducedBlock
 
 
-def _constrained(kind: str, frame: tuple[Direction, Direction, Direction]) -> list[tuple[str, int]]:
-    """(rotation "r" / translation "t", frame axis) of a joint's constrained directions,
-    in the order of :func:`ppm_stiffness.legs.chain.constrained_screws`."""
-    if kind == "P":
-        return [("r", 0), ("r", 1), ("r", 2), ("t", 1), ("t", 2)]
-    if kind == "C":
-        return [("r", 1), ("r", 2), ("t", 1), ("t", 2)]
-    return [("r", 1), ("r", 2), ("t", 0), ("t", 1), ("t", 2)]
-
-
-def _freedoms(kind: str) -> list[tuple[str, int]]:
-    if kind == "P":
-        return [("t", 0)]
-    if kind == "C":
-        return [("r", 0), ("t", 0)]
-    return [("r", 0)]
-
-
 def _link(element: Link, blocks: dict[bool, Block]) -> bool:
     """Add a link's cantilever compliance (eq. 3c) at P; False if not planar."""
     sx, sy, sz = _components(element.start)
@@ -360,7 +349,7 @@ def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
     def screw(kind: str, axis: int) -> tuple[bool, Vec3]:
         return rotation(frame[axis], c) if kind == "r" else translation(frame[axis])
 
-    free = [screw(k, i) for k, i in _freedoms(element.kind)]
+    free = [screw(k, i) for k, i in FREEDOM_DIRECTIONS[element.kind]]
     if element.actuated:
         inplane, vec = free[0]
         blocks[inplane].actuator = vec
@@ -369,7 +358,8 @@ def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
             blocks[inplane].passive.append(vec)
     if element.springs is not None:
         k = np.asarray(element.springs, dtype=float).tolist()
-        for stiffness, (kind, axis) in zip(k, _constrained(element.kind, frame), strict=True):
+        directions = CONSTRAINED_DIRECTIONS[element.kind]
+        for stiffness, (kind, axis) in zip(k, directions, strict=True):
             if math.isinf(stiffness):
                 continue
             inplane, vec = screw(kind, axis)
