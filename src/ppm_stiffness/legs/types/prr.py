@@ -25,7 +25,15 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import (
+    BaseFeature,
+    Branch,
+    Coordinate,
+    LegModel,
+    LegPose,
+    planar,
+    unit_planar,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -44,7 +52,7 @@ class PRRLeg(LegModel):
     base_point: tuple[Finite, Finite]
     alpha: Finite
     link_length: Positive
-    branch: Literal[-1, 1] = 1
+    branch: Branch = 1
     stroke: tuple[Finite, Finite]
     guide: GuideModel
     distal: SectionModel

@@ -28,7 +28,15 @@ from numpy.typing import ArrayLike
 from pydantic import model_validator
 
 from ppm_stiffness.core.conventions import Z_AXIS
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, planar, unit_planar
+from ppm_stiffness.legs.base import (
+    BaseFeature,
+    Branch,
+    Coordinate,
+    LegModel,
+    LegPose,
+    planar,
+    unit_planar,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -46,7 +54,7 @@ class RRRLeg(LegModel):
     base_point: tuple[Finite, Finite]
     proximal_length: Positive
     distal_length: Positive
-    branch: Literal[-1, 1] = 1
+    branch: Branch = 1
     stroke: tuple[Finite, Finite]
     proximal: SectionModel
     distal: SectionModel
