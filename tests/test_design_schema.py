@@ -196,10 +196,11 @@ def test_section_unit_mistakes_are_named_with_a_hint(
 ) -> None:
     """Paper Table 2 in its printed units (GPa, mm^2 ...) is refused with the SI value."""
     data = design_to_dict(default_design())
-    data["parts"]["proximal"][part_key] = value  # shared by every leg: leg 1 fails first
+    data["parts"]["proximal"][part_key] = value  # shared by every leg: reported once
     with pytest.raises(DesignError) as err:
         design_from_dict(data)
-    assert f"key 'leg1.{key}'" in str(err.value) and hint in str(err.value)
+    assert str(err.value).startswith(f"design: key 'parts.{key}': ") and hint in str(err.value)
+    assert "\n" not in str(err.value)
 
 
 @pytest.mark.parametrize(

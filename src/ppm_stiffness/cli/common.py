@@ -16,6 +16,7 @@ from rich.console import Console
 from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design, default_design, load_design
+from ppm_stiffness.legs.base import MAX_LENGTH
 from ppm_stiffness.model import solve_legs, workspace_centre
 
 __all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
@@ -140,11 +141,24 @@ def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def tool_point_from_args(args: argparse.Namespace, design: Design) -> np.ndarray:
-    """The tool point [m, platform frame]: --tool-point [mm] or the design's."""
+    """The tool point [m, platform frame]: --tool-point [mm] or the design's.
+
+    Each component of --tool-point is within the plausible length of a design
+    (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, 10 m = 10000 mm), as the design
+    file's ``tool_point``; beyond it the error speaks the option's unit (mm).
+    """
     text = getattr(args, "tool_point", None)
     if text is None:
         return np.asarray(design.tool_point, dtype=float)
-    return np.array(parse_floats(text, 3, "--tool-point", "X,Y,Z")) * 1e-3
+    values = parse_floats(text, 3, "--tool-point", "X,Y,Z")
+    limit_mm = MAX_LENGTH * 1e3
+    far = [v for v in values if abs(v) > limit_mm]
+    if far:
+        raise InputDataError(
+            f"--tool-point {text}: {far[0]:g} mm is beyond the {limit_mm:g} mm "
+            f"({MAX_LENGTH:g} m) any length of a design may have; X,Y,Z are in mm"
+        )
+    return np.array(values) * 1e-3
 
 
 def add_wrench_argument(parser: argparse.ArgumentParser) -> None:

@@ -12,46 +12,35 @@ Schema v2 (``schema = 2``)::
     type = "PPR"                          # a leg type (ppm_stiffness.legs.types)
     ...                                   # its geometry and parts
 
-A v1 file (no ``schema`` key; one ``architecture = "PPR"`` and shared ``actuator``,
-``guide``, ``bearing``, ``proximal``, ``distal`` tables) still loads: its shared tables
-become ``[parts]`` and each leg gets ``type = "PPR"``. A
-:class:`~ppm_stiffness.core.errors.DesignFormatWarning` says so in one line.
+A file without a ``schema`` key is read as the v1 format only if it has v1's layout
+(an ``architecture`` key or shared ``actuator``, ``guide``, ``bearing``, ``proximal``,
+``distal`` tables at the top) and none of schema 2's (a ``[parts]`` table, a leg
+``type``): its shared tables become ``[parts]`` and each leg gets ``type = "PPR"``, and
+a :class:`~ppm_stiffness.core.errors.DesignFormatWarning` says so in one line. Any
+other file without ``schema`` is refused ("no 'schema' key: add `schema = 2`"), as is
+an empty one ("file is empty"). A UTF-8 byte-order mark is skipped.
+
+Validation (:mod:`.validation`) reports every error of a file at once, one a line,
+in file order.
 """
 
 from __future__ import annotations
 
-import copy
-import difflib
-import re
 import tomllib
 import warnings
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import tomli_w
-from pydantic import ValidationError
 
 from ppm_stiffness.core.errors import DesignError, DesignFormatWarning
 from ppm_stiffness.design.schema import SCHEMA_VERSION, Design
-from ppm_stiffness.legs.registry import leg_types
+from ppm_stiffness.design.validation import design_issues, format_issues, validate_design
 
 #: Tables of a v1 file shared by every leg.
 _V1_PARTS = ("actuator", "guide", "bearing", "proximal", "distal")
-
-
-def _format_location(loc: tuple[Any, ...]) -> str:
-    out: list[str] = []
-    for i, part in enumerate(loc):
-        if isinstance(part, int) and i > 0 and loc[i - 1] == "legs":
-            out[-1] = f"leg{part + 1}"
-        elif (
-            i > 1 and isinstance(loc[i - 1], int) and loc[i - 2] == "legs" and (part in leg_types())
-        ):
-            continue  # the discriminator's tag pydantic puts in the location
-        else:
-            out.append(str(part))
-    return ".".join(out)
 
 
 def migrate_v1(data: dict[str, Any], source: str) -> dict[str, Any]:
@@ -68,63 +57,41 @@ def migrate_v1(data: dict[str, Any], source: str) -> dict[str, Any]:
     return out
 
 
-def _merge(base: Any, override: Any) -> Any:
-    if isinstance(base, dict) and isinstance(override, dict):
-        out = dict(base)
-        for k, v in override.items():
-            out[k] = _merge(base.get(k), v) if k in base else v
-        return out
-    return override
-
-
-def apply_parts(data: dict[str, Any], source: str) -> dict[str, Any]:
-    """Give every leg the ``[parts]`` it declares but does not set itself."""
-    out = {k: v for k, v in data.items() if k != "parts"}
-    parts = data.get("parts", {})
-    if not isinstance(parts, dict):
-        raise DesignError(f"{source}: key 'parts': expected a table")
+def _schema_2_layout(data: dict[str, Any]) -> list[str]:
+    """What marks ``data`` as schema 2 (a ``[parts]`` table, a leg ``type``)."""
+    signs = ["a [parts] table"] if "parts" in data else []
     legs = data.get("legs")
-    if not isinstance(legs, list):
-        return out
-    types = leg_types()
-    used: set[str] = set()
-    new_legs = []
-    for i, leg in enumerate(legs, start=1):
-        if not isinstance(leg, dict):
-            new_legs.append(leg)
-            continue
-        kind = leg.get("type")
-        if kind not in types:
-            raise DesignError(
-                f"{source}: key 'leg{i}.type': "
-                + ("missing" if kind is None else f"unknown leg type {kind!r}")
-                + f"; expected one of {', '.join(sorted(types))}"
-            )
-        fields = types[kind].model_fields
-        merged = copy.deepcopy(leg)
-        for name, value in parts.items():
-            if name in fields:
-                used.add(name)
-                merged[name] = _merge(value, leg[name]) if name in leg else copy.deepcopy(value)
-        new_legs.append(merged)
-    unused = sorted(set(parts) - used)
-    if unused:
-        raise DesignError(
-            f"{source}: key 'parts.{unused[0]}': no leg of this design has a part "
-            f"named {unused[0]!r}"
-        )
-    out["legs"] = new_legs
-    return out
+    if isinstance(legs, list) and any(isinstance(leg, dict) and "type" in leg for leg in legs):
+        signs.append("legs with a 'type'")
+    return signs
+
+
+def _is_v1(data: dict[str, Any]) -> bool:
+    """``data`` has the v1 layout (module doc)."""
+    return "architecture" in data or any(isinstance(data.get(k), dict) for k in _V1_PARTS)
 
 
 def design_from_dict(data: dict[str, Any], source: str = "design") -> Design:
     """Validate a nested dict (v2, or v1 with a warning) as a :class:`Design`.
 
-    Errors name the offending key (``leg2.guide.lateral``).
+    Raises
+    ------
+    DesignError
+        Every error of ``data``, one a line, in file order, each naming its key
+        (``leg2.guide.lateral``); or, alone, an empty input, a missing or unknown
+        ``schema``.
     """
+    if not data:
+        raise DesignError(
+            f"{source}: file is empty; a design needs `schema = 2` and at least 3 [[legs]]"
+        )
     if "schema_version" in data and "schema" not in data:  # Design.model_dump()
         data = {("schema" if k == "schema_version" else k): v for k, v in data.items()}
     if "schema" not in data:
+        signs = _schema_2_layout(data)
+        if signs or not _is_v1(data):
+            why = f" (it has {' and '.join(signs)}, as schema 2 files do)" if signs else ""
+            raise DesignError(f"{source}: no 'schema' key: add `schema = 2`{why}")
         warnings.warn(
             f"{source}: design format v1 (no 'schema' key) is deprecated and was read "
             "as schema 2; add 'schema = 2' and put the shared part tables under "
@@ -132,61 +99,24 @@ def design_from_dict(data: dict[str, Any], source: str = "design") -> Design:
             DesignFormatWarning,
             stacklevel=2,
         )
-        data = migrate_v1(data, source)
-    elif data["schema"] != SCHEMA_VERSION:
+        design, issues = design_issues(Design, migrate_v1(data, source))
+        if design is None:  # named as the v1 file has them: its shared tables at the top
+            issues = [replace(i, key=i.key.removeprefix("parts.")) for i in issues]
+            raise DesignError(format_issues(source, issues))
+        return design
+    if type(data["schema"]) is not int or data["schema"] != SCHEMA_VERSION:
         raise DesignError(
             f"{source}: key 'schema': this version reads schema {SCHEMA_VERSION}, "
             f"got {data['schema']!r}"
         )
-    data = apply_parts(data, source)
-    try:
-        return Design.model_validate(data)
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        loc = tuple(first["loc"])
-        key = _format_location(loc) or "(top level)"
-        msg = str(first["msg"]).removeprefix("Value error, ")
-        if first["type"] == "extra_forbidden":
-            msg = "unknown key" + _nearest_key(data, loc)
-        named = re.match(r"(\w+) = ", msg)  # a validator naming the offending field
-        if named and first["type"] == "value_error":
-            key = f"{key}.{named.group(1)}"
-        raise DesignError(f"{source}: key '{key}': {msg}") from None
-
-
-def _nearest_key(data: dict[str, Any], loc: tuple[Any, ...]) -> str:
-    """``"; did you mean 'roll'?"`` for a misspelt key at ``loc`` (or a list of keys)."""
-    model: Any = Design
-    for i, part in enumerate(loc[:-1]):
-        if isinstance(part, int):
-            continue
-        if i > 0 and loc[i - 1] != "legs" and part in leg_types() and isinstance(loc[i - 1], int):
-            model = leg_types()[part]
-            continue
-        field = model.model_fields.get(part)
-        if field is None:
-            return ""
-        if part == "legs":
-            kind = data["legs"][loc[i + 1]].get("type") if isinstance(loc[i + 1], int) else None
-            model = leg_types().get(str(kind), model)
-            continue
-        ann = field.annotation
-        candidates = [a for a in getattr(ann, "__args__", (ann,)) if isinstance(a, type)]
-        model = next((a for a in candidates if hasattr(a, "model_fields")), None)
-        if model is None:
-            return ""
-    valid = list(model.model_fields)
-    close = difflib.get_close_matches(str(loc[-1]), valid, n=1)
-    if close:
-        return f"; did you mean '{close[0]}'?"
-    return f"; valid keys: {', '.join(valid)}"
+    return validate_design(Design, data, source)
 
 
 def load_design(path: str | Path) -> Design:
     """Read and validate a TOML design file."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not content
     except FileNotFoundError:
         raise DesignError(f"design file not found: {p}") from None
     except UnicodeDecodeError:

@@ -12,15 +12,15 @@ from __future__ import annotations
 
 import fnmatch
 import math
-import re
 from collections import Counter
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, Field, model_validator
+from pydantic import BaseModel, Field, ValidationInfo, field_validator, model_validator
 
 from ppm_stiffness.core.errors import DesignError
-from ppm_stiffness.legs.base import LegModel
-from ppm_stiffness.legs.parts import Finite, PartModel
+from ppm_stiffness.design.validation import design_issues, validate_design
+from ppm_stiffness.legs.base import LegModel, check_plausible
+from ppm_stiffness.legs.parts import Finite, PartModel, StrictNumber
 from ppm_stiffness.legs.registry import leg_types
 
 #: The schema version this module reads and writes.
@@ -36,7 +36,7 @@ MAX_REGION_AXIS = 1000
 #: Most poses in a required region (the product of its grid).
 MAX_REGION_POSES = 1_000_000
 
-GridCount = Annotated[int, Field(ge=1, le=MAX_REGION_AXIS, strict=True)]
+GridCount = Annotated[int, StrictNumber, Field(ge=1, le=MAX_REGION_AXIS, strict=True)]
 
 
 class RequiredRegionModel(PartModel):
@@ -63,31 +63,37 @@ class RequiredRegionModel(PartModel):
     phi: tuple[Finite, Finite]
     grid: tuple[GridCount, GridCount, GridCount]
 
+    @field_validator("x", "y", "phi")
+    @classmethod
+    def _range_in_si(cls, pair: tuple[float, float], info: ValidationInfo) -> tuple[float, float]:
+        """A range ordered and in SI (the likely unit mistake named)."""
+        key, (lo, hi) = str(info.field_name), pair
+        text = f"{key} = [{lo:g}, {hi:g}]"
+        big = max(abs(lo), abs(hi))
+        if key == "phi" and big > MAX_REGION_ANGLE:
+            raise ValueError(
+                f"{text}: angles in design files are in radians (a region's |phi| <= pi); "
+                f"did you mean [{math.radians(lo):.6g}, {math.radians(hi):.6g}]?"
+            )
+        if key != "phi" and big > MAX_REGION_LENGTH:
+            raise ValueError(
+                f"{text}: lengths in design files are in metres (a region's |{key}| "
+                f"<= {MAX_REGION_LENGTH:g} m); did you mean [{lo / 1000:.6g}, "
+                f"{hi / 1000:.6g}]?"
+            )
+        if lo > hi:
+            raise ValueError(f"{text}: inverted range (lo > hi)")
+        return pair
+
     @model_validator(mode="after")
     def _consistent(self) -> RequiredRegionModel:
-        """Ranges ordered, in SI (the likely unit mistake named), matching the grid."""
+        """Ranges matching the grid, and not too many poses."""
         for key, n in zip(("x", "y", "phi"), self.grid, strict=True):
             lo, hi = getattr(self, key)
-            text = f"{key} = [{lo:g}, {hi:g}]"
-            big = max(abs(lo), abs(hi))
-            if key == "phi" and big > MAX_REGION_ANGLE:
-                raise ValueError(
-                    f"{text}: angles in design files are in radians (a region's |phi| "
-                    "<= pi); "
-                    f"did you mean [{math.radians(lo):.6g}, {math.radians(hi):.6g}]?"
-                )
-            if key != "phi" and big > MAX_REGION_LENGTH:
-                raise ValueError(
-                    f"{text}: lengths in design files are in metres (a region's |{key}| "
-                    f"<= {MAX_REGION_LENGTH:g} m); did you mean [{lo / 1000:.6g}, "
-                    f"{hi / 1000:.6g}]?"
-                )
-            if lo > hi:
-                raise ValueError(f"{text}: inverted range (lo > hi)")
             if (n == 1) != (lo == hi):
                 raise ValueError(
-                    f"{text}: a range with lo == hi has grid value 1, and grid value 1 "
-                    f"needs lo == hi (grid gives {n})"
+                    f"{key} = [{lo:g}, {hi:g}]: a range with lo == hi has grid value 1, "
+                    f"and grid value 1 needs lo == hi (grid gives {n})"
                 )
         if math.prod(self.grid) > MAX_REGION_POSES:
             raise ValueError(
@@ -124,7 +130,8 @@ class Design(PartModel):
     tool_point : (x, y, z) [m]
         A point fixed to the platform, in the platform frame F_p. Results that are
         "at the tool point" (``analyze``, ``map``, ``deflect``) are expressed there;
-        the model itself works at P.
+        the model itself works at P. Each component within the plausible length of
+        :data:`ppm_stiffness.legs.base.MAX_LENGTH`, as every length of a design.
     """
 
     schema_version: Literal[2] = Field(default=2, alias="schema")
@@ -134,6 +141,14 @@ class Design(PartModel):
     legs: Annotated[list[_LEG_UNION], Field(min_length=3)]
 
     model_config = {**PartModel.model_config, "populate_by_name": True}
+
+    @field_validator("tool_point")
+    @classmethod
+    def _plausible_tool_point(cls, point: tuple[float, float, float]) -> tuple[float, ...]:
+        """A tool point in metres (``tool_point = [0, 0, 50]`` would be a 50 m tool)."""
+        for v in point:
+            check_plausible("tool_point", v, "m")
+        return point
 
     @property
     def architecture(self) -> str:
@@ -219,7 +234,17 @@ class Design(PartModel):
         return part_units(type(part)).get(parts[2], "")
 
     def with_parameters(self, values: dict[str, float]) -> Design:
-        """A copy with the named (or globbed) scalar parameters replaced, validated again."""
+        """A copy with the named (or globbed) scalar parameters replaced, validated again.
+
+        Raises
+        ------
+        DesignError
+            ``"parameters: key '<name>': <why>"``, every error one a line.
+        """
+        return validate_design(Design, self._replaced(values), source="parameters")
+
+    def _replaced(self, values: dict[str, float]) -> dict[str, Any]:
+        """This design as a dict with the named (or globbed) parameters replaced."""
         data = self.model_dump(by_alias=True)
         for pattern, value in values.items():
             for name in self.expand(pattern):
@@ -228,9 +253,7 @@ class Design(PartModel):
                 for part in parts[:-1]:
                     target = target[part]
                 target[parts[-1]] = float(value)
-        from ppm_stiffness.design.io import design_from_dict
-
-        return design_from_dict(data, source="parameters")
+        return data
 
     def check_value(self, name: str, value: float) -> None:
         """Refuse a value that parameter ``name`` (or glob) cannot take.
@@ -239,13 +262,13 @@ class Design(PartModel):
         ------
         DesignError
             ``"<name> = <value>: <why>"``: the design file's own validation message
-            (bounds, the likely unit mistake), without the file context.
+            (bounds, the likely unit mistake), without the file context; a glob's
+            legs that fail alike give one message.
         """
-        try:
-            self.with_parameters({name: value})
-        except DesignError as exc:
-            why = re.sub(r"^parameters: key '[^']*': ", "", str(exc))
-            raise DesignError(f"{name} = {value:g}: {why}") from None
+        _, issues = design_issues(Design, self._replaced({name: value}))
+        if issues:
+            why = "; ".join(dict.fromkeys(issue.message for issue in issues))
+            raise DesignError(f"{name} = {value:g}: {why}")
 
     def check_range(self, name: str, low: float, high: float) -> None:
         """Refuse a range ``[low, high]`` for parameter ``name`` (or glob) that is empty or

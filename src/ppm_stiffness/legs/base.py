@@ -29,20 +29,57 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from pydantic import model_validator
+from pydantic import ValidationInfo, field_validator
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
-from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive
+from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive, StrictNumber
 
 #: Largest length a design file may give [m]: beyond it, a length in mm is likely.
 MAX_LENGTH = 10.0
+#: Largest angle a design file may give [rad]: beyond it, degrees are likely.
+MAX_ANGLE = 2 * math.pi
+
+#: A working mode (+1 or -1) of a leg whose inverse kinematics has two solutions; an
+#: integer, never a boolean (``branch = true`` is refused, as every coerced number).
+Branch = Annotated[Literal[-1, 1], StrictNumber]
+
+
+def check_plausible(key: str, value: float, unit: str) -> None:
+    """Refuse a length beyond :data:`MAX_LENGTH` or an angle beyond :data:`MAX_ANGLE`,
+    naming the likely unit mistake (mm, degrees).
+
+    Parameters
+    ----------
+    key : str
+        The field's name, which starts the message (``"alpha = 90: ..."``).
+    value : float
+        The value [m or rad].
+    unit : {"m", "rad"}
+        Its SI unit; any other unit is not checked.
+
+    Raises
+    ------
+    ValueError
+        ``"<key> = <value>: lengths in design files are in metres (|length| <= 10 m);
+        did you mean <value / 1000>?"`` (or the radian version).
+    """
+    if unit == "rad" and abs(value) > MAX_ANGLE:
+        raise ValueError(
+            f"{key} = {value:g}: angles in design files are in radians "
+            f"(|angle| <= 2 pi); did you mean {math.radians(value):.6g}?"
+        )
+    if unit == "m" and abs(value) > MAX_LENGTH:
+        raise ValueError(
+            f"{key} = {value:g}: lengths in design files are in metres "
+            f"(|length| <= {MAX_LENGTH:g} m); did you mean {value / 1000:.6g}?"
+        )
 
 
 @dataclass(frozen=True)
@@ -146,25 +183,17 @@ class LegModel(PartModel):
     #: coordinates the user gives; the others follow from the legs' constraints).
     TASK_COORDINATES: ClassVar[tuple[str, ...]] = ("x", "y", "z", "rx", "ry", "rz")
 
-    @model_validator(mode="after")
-    def _plausible_units(self) -> LegModel:
-        """Refuse values that are impossible in SI and name the likely unit mistake."""
-        for key, unit in type(self).UNITS.items():
-            value = getattr(self, key, None)
+    @field_validator("*")
+    @classmethod
+    def _plausible_units(cls, value: Any, info: ValidationInfo) -> Any:
+        """Refuse values that are impossible in SI and name the likely unit mistake (a
+        field check, so that it is reported with the leg's other errors)."""
+        unit = cls.UNITS.get(str(info.field_name))
+        if unit is not None:
             for v in value if isinstance(value, tuple) else (value,):
-                if not isinstance(v, (int, float)) or isinstance(v, bool):
-                    continue
-                if unit == "rad" and abs(v) > 2 * math.pi:
-                    raise ValueError(
-                        f"{key} = {v:g}: angles in design files are in radians "
-                        f"(|angle| <= 2 pi); did you mean {math.radians(v):.6g}?"
-                    )
-                if unit == "m" and abs(v) > MAX_LENGTH:
-                    raise ValueError(
-                        f"{key} = {v:g}: lengths in design files are in metres "
-                        f"(|length| <= {MAX_LENGTH:g} m); did you mean {v / 1000:.6g}?"
-                    )
-        return self
+                if isinstance(v, (int, float)):
+                    check_plausible(str(info.field_name), v, unit)
+        return value
 
     # -- to be provided by each leg type ------------------------------------------
     def attachment(self) -> FloatArray:  # pragma: no cover - abstract

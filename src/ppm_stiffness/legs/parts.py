@@ -23,15 +23,61 @@ in-plane axis: the in-plane lateral direction), ``e3 = e1 x e2`` (then: z).
 
 from __future__ import annotations
 
-from typing import Annotated
+import math
+import numbers
+import sys
+from typing import Annotated, Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic_core import PydanticCustomError
 
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import FloatArray
 
-Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+
+def value_kind(value: Any) -> str:
+    """How a message names the type of a value (``"a boolean"``, ``"a table"``)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "a boolean"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, (list, tuple)):
+        return "a list"
+    if isinstance(value, dict):
+        return "a table"
+    if isinstance(value, float):
+        return "a float"
+    if isinstance(value, int):
+        return "an integer"
+    return f"a {type(value).__name__}"
+
+
+def strict_number(value: Any) -> Any:
+    """Let a finite real number (int or float, numpy ones included) through unchanged
+    and refuse anything else, which pydantic's lax mode would coerce (``true`` to 1.0,
+    ``"4e3"`` to 4000.0): "expected a number, got a boolean"; "expected a finite
+    number, got not-a-number"."""
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        if isinstance(value, int) and abs(value) > sys.float_info.max:  # TOML allows it
+            value = math.inf if value > 0 else -math.inf
+        if math.isfinite(value):
+            return value
+        number = float(value)
+        what = "not-a-number" if math.isnan(number) else f"{'minus ' * (number < 0)}infinity"
+        raise PydanticCustomError(
+            "finite_number", "expected a finite number, got {what}", {"what": what}
+        )
+    kind = {"kind": value_kind(value)}
+    raise PydanticCustomError("number_type", "expected a number, got {kind}", kind)
+
+
+#: The number types of every numeric field of a design: finite ints and floats, never
+#: booleans or strings (:func:`strict_number`). Defined here once.
+StrictNumber = BeforeValidator(strict_number)
+Finite = Annotated[float, StrictNumber, Field(allow_inf_nan=False)]
+Positive = Annotated[float, StrictNumber, Field(gt=0.0, allow_inf_nan=False)]
+NonNegative = Annotated[float, StrictNumber, Field(ge=0.0, allow_inf_nan=False)]
 
 #: Smallest plausible Young's or shear modulus [Pa]: soft polymers have ~1e8 Pa; below
 #: this a value is a unit mistake (GPa). No upper limit: the rigid-link limit is
@@ -41,7 +87,6 @@ MIN_MODULUS = 1e6
 #: (0.083 m^4). Above, mm^2 / mm^4 are likely.
 MAX_AREA = 1.0
 MAX_SECOND_MOMENT = 0.1
-Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 
 class PartModel(BaseModel):
@@ -60,30 +105,31 @@ class SectionModel(PartModel):
     inertia_y: Positive
     inertia_z: Positive
 
-    @model_validator(mode="after")
-    def _plausible_units(self) -> SectionModel:
-        """Refuse values no structural material or section has, naming the likely
-        unit mistake (moduli in GPa, sizes in mm^2 or mm^4)."""
-        for key in ("young_modulus", "shear_modulus"):
-            v = getattr(self, key)
-            if v < MIN_MODULUS:
-                hint = f"; did you mean {v * 1e9:.6g} (GPa)?" if 1e-3 <= v <= 1e4 else ""
-                raise ValueError(
-                    f"{key} = {v:g}: moduli in design files are in Pa (>= {MIN_MODULUS:g}){hint}"
-                )
-        for key, power, limit in (
-            ("area", 2, MAX_AREA),
-            ("torsion_constant", 4, MAX_SECOND_MOMENT),
-            ("inertia_y", 4, MAX_SECOND_MOMENT),
-            ("inertia_z", 4, MAX_SECOND_MOMENT),
-        ):
-            v = getattr(self, key)
-            if v > limit:
-                raise ValueError(
-                    f"{key} = {v:g}: sections in design files are in m^{power} "
-                    f"(<= {limit:g}); did you mean {v * 1e-3**power:.6g} (mm^{power})?"
-                )
-        return self
+    @field_validator("young_modulus", "shear_modulus")
+    @classmethod
+    def _modulus_in_pa(cls, v: float, info: ValidationInfo) -> float:
+        """Refuse a modulus no structural material has, naming the likely unit
+        mistake (GPa)."""
+        if v < MIN_MODULUS:
+            hint = f"; did you mean {v * 1e9:.6g} (GPa)?" if 1e-3 <= v <= 1e4 else ""
+            raise ValueError(
+                f"{info.field_name} = {v:g}: moduli in design files are in Pa "
+                f"(>= {MIN_MODULUS:g}){hint}"
+            )
+        return v
+
+    @field_validator("area", "torsion_constant", "inertia_y", "inertia_z")
+    @classmethod
+    def _size_in_si(cls, v: float, info: ValidationInfo) -> float:
+        """Refuse a section larger than a 1 m x 1 m bar, naming the likely unit mistake
+        (mm^2, mm^4)."""
+        power, limit = (2, MAX_AREA) if info.field_name == "area" else (4, MAX_SECOND_MOMENT)
+        if v > limit:
+            raise ValueError(
+                f"{info.field_name} = {v:g}: sections in design files are in m^{power} "
+                f"(<= {limit:g}); did you mean {v * 1e-3**power:.6g} (mm^{power})?"
+            )
+        return v
 
     def section(self) -> BeamSection:
         return BeamSection(**self.model_dump())
@@ -101,8 +147,8 @@ class ActuatorModel(PartModel):
 
     locked_stiffness: Positive
     k_a: Positive
-    q: Annotated[float, Field(gt=0.0, le=1.0)]
-    threshold_displacement: Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+    q: Annotated[Positive, Field(le=1.0)]
+    threshold_displacement: NonNegative
 
 
 class GuideModel(PartModel):
@@ -155,9 +201,7 @@ MAX_JOINT_ANGLE = float(np.pi)
 class _AngleLimited(PartModel):
     """A joint part with an optional largest tilt angle ``max_angle`` [rad]."""
 
-    max_angle: Annotated[float, Field(gt=0.0, le=MAX_JOINT_ANGLE, allow_inf_nan=False)] | None = (
-        None
-    )
+    max_angle: Annotated[Positive, Field(le=MAX_JOINT_ANGLE)] | None = None
 
 
 class UniversalModel(_AngleLimited):

@@ -27,6 +27,7 @@ from pydantic import model_validator
 from ppm_stiffness.core.conventions import Z_AXIS, FloatArray
 from ppm_stiffness.legs.base import (
     BaseFeature,
+    Branch,
     Coordinate,
     LegPose,
     PlanarLegModel,
@@ -53,7 +54,7 @@ class PRRLeg(PlanarLegModel):
     base_point: tuple[Finite, Finite]
     alpha: Finite
     link_length: Positive
-    branch: Literal[-1, 1] = 1
+    branch: Branch = 1
     stroke: tuple[Finite, Finite]
     guide: GuideModel
     distal: SectionModel

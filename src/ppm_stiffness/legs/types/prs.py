@@ -38,7 +38,7 @@ from pydantic import model_validator
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose
+from ppm_stiffness.legs.base import BaseFeature, Branch, Coordinate, LegModel, LegPose
 from ppm_stiffness.legs.chain import Element, Joint, Link, unit
 from ppm_stiffness.legs.parts import (
     Finite,
@@ -69,7 +69,7 @@ class PRSLeg(LegModel):
     revolute_axis: Vector3
     link_length: Positive
     platform_point: Vector3
-    branch: Literal[-1, 1] = 1
+    branch: Branch = 1
     stroke: tuple[Finite, Finite]
     link: SectionModel
     guide: GuideModel | None = None

@@ -30,6 +30,7 @@ from pydantic import model_validator
 from ppm_stiffness.core.conventions import Z_AXIS
 from ppm_stiffness.legs.base import (
     BaseFeature,
+    Branch,
     Coordinate,
     LegPose,
     PlanarLegModel,
@@ -55,7 +56,7 @@ class RRRLeg(PlanarLegModel):
     base_point: tuple[Finite, Finite]
     proximal_length: Positive
     distal_length: Positive
-    branch: Literal[-1, 1] = 1
+    branch: Branch = 1
     stroke: tuple[Finite, Finite]
     proximal: SectionModel
     distal: SectionModel
