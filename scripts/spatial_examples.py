@@ -43,7 +43,7 @@ def fmt(value: object) -> str:
     if isinstance(value, int):
         return str(value)
     if isinstance(value, float):
-        return "0.0" if abs(value) < 1e-12 else repr(float(f"{value:.10g}"))
+        return "0.0" if abs(value) < 1e-12 else repr(float(f"{value:.15g}"))
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(fmt(v) for v in value) + "]"
     if isinstance(value, str):

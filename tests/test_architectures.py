@@ -20,6 +20,7 @@ import pytest
 import legacy_ppr
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.conventions import length_balanced, rotation_z, twist_b_from_twist_a
+from ppm_stiffness.core.pose import pose_from_rotation, rotation
 from ppm_stiffness.core.solver import cartesian_stiffness
 from ppm_stiffness.design import Design, default_design, design_from_dict, load_design
 from ppm_stiffness.model import (
@@ -28,6 +29,7 @@ from ppm_stiffness.model import (
     stiffness_at_tool_point,
     tool_offset,
 )
+from ppm_stiffness.poses import full_poses, home_pose, task_indices
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SHIPPED = {
@@ -37,15 +39,18 @@ SHIPPED = {
 
 
 def random_reachable_poses(design: Design, n: int, seed: int) -> np.ndarray:
-    """Seeded reachable, nonsingular poses around the workspace centre."""
+    """Seeded reachable, nonsingular full poses (n, 6) around the home pose: task
+    coordinates within 20 mm and 0.2 rad (0.05 rad for a design with six), completed."""
     rng = np.random.default_rng(seed)
-    ws = design.workspace
-    centre = np.array([ws.centre_x, ws.centre_y, ws.phi])
+    home = home_pose(design)
+    task = list(task_indices(design))
+    angle = 0.05 if len(task) == 6 else 0.2
+    spans = np.array([0.02, 0.02, 0.02, angle, angle, angle])[task]
     out: list[np.ndarray] = []
     for _ in range(200 * n):
-        pose = centre + rng.uniform(-1, 1, 3) * [0.02, 0.02, 0.2]
-        if all(bool(leg.reachable(leg.solve(pose))) for leg in design.legs):
-            out.append(pose)
+        full, ok = full_poses(design, home[task] + rng.uniform(-1, 1, len(task)) * spans)
+        if ok and all(bool(leg.reachable(leg.solve(full))) for leg in design.legs):
+            out.append(full)
             if len(out) == n:
                 break
     assert len(out) == n, "too few reachable poses near the centre"
@@ -177,27 +182,32 @@ def test_symmetric_positive_definite_at_random_poses(name: str) -> None:
         assert np.linalg.eigvalsh(kb)[0] > 0
 
 
+#: Leg fields that are points or directions fixed in F_b (they turn with the base).
+BASE_VECTORS = ("base_point", "rail_direction", "revolute_axis", "base_joint_axis")
+
+
 def rotated(design: Design, angle: float) -> Design:
     """The whole design turned by ``angle`` about the z axis of F_b through its origin:
-    base points rotate; every angle measured from the x axis of F_b (rails and a rotary
-    actuator's stroke) grows by ``angle``; platform attachments (psi) are in the
-    platform frame and turn with the pose."""
-    c, s = math.cos(angle), math.sin(angle)
+    base points and base directions rotate; every angle measured from the x axis of F_b
+    (rails and a rotary actuator's stroke) grows by ``angle``; platform attachments
+    (psi, platform points and axes) are in the platform frame and turn with the pose."""
+    r = rotation_z(angle)
     data = design.model_dump()
     for leg_data, leg in zip(data["legs"], design.legs, strict=True):
-        bx, by = leg_data["base_point"]
-        leg_data["base_point"] = (c * bx - s * by, s * bx + c * by)
+        for key in BASE_VECTORS:
+            if key in leg_data:
+                v = np.zeros(3)
+                v[: len(leg_data[key])] = leg_data[key]
+                leg_data[key] = tuple((r @ v)[: len(leg_data[key])])
         if "alpha" in leg_data:
             leg_data["alpha"] = math.remainder(leg_data["alpha"] + angle, 2 * math.pi)
         if leg.COORDINATES[leg.ACTUATED_COORDINATE].unit == "rad":
             lo, hi = leg_data["stroke"]
             leg_data["stroke"] = (lo + angle, hi + angle)
     ws = data["workspace"]
-    ws["centre_x"], ws["centre_y"] = (
-        c * ws["centre_x"] - s * ws["centre_y"],
-        s * ws["centre_x"] + c * ws["centre_y"],
-    )
+    ws["centre_x"], ws["centre_y"], _ = r @ [ws["centre_x"], ws["centre_y"], 0.0]
     ws["phi"] += angle
+    ws["required"] = None  # a region over rx, ry does not turn with the machine
     return design_from_dict(data)
 
 
@@ -212,9 +222,9 @@ def test_frame_equivariance(name: str) -> None:
     t = np.zeros((6, 6))
     t[:3, :3] = t[3:, 3:] = r
     for pose in random_reachable_poses(design, 4, seed=5):
-        xy = r[:2, :2] @ pose[:2]
+        moved = pose_from_rotation(r @ pose[:3], r @ rotation(pose))
         k = stiffness_at_pose(design, pose)
-        k_turned = stiffness_at_pose(turned, [xy[0], xy[1], pose[2] + gamma])
+        k_turned = stiffness_at_pose(turned, moved)
         assert rel_diff_balanced(k_turned, t @ k @ t.T) < 1e-10
 
 
@@ -224,7 +234,8 @@ def test_chain_built_ppr_equals_the_hand_written_springs(name: str) -> None:
     design = SHIPPED[name]
     for pose in random_reachable_poses(design, 10, seed=3):
         chain = cartesian_stiffness(leg_springs_at_pose(design, pose))
-        hand = cartesian_stiffness([legacy_ppr.leg_springs(leg, pose) for leg in design.legs])
+        planar = pose[[0, 1, 5]]
+        hand = cartesian_stiffness([legacy_ppr.leg_springs(leg, planar) for leg in design.legs])
         assert rel_diff_balanced(chain, hand) <= 1e-9
 
 

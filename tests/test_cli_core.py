@@ -54,7 +54,10 @@ def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> Non
         "decoupling",
         "principal",
     }
-    assert data["pose"] == pytest.approx({"x": 0.002, "y": -0.003, "phi": np.radians(5)})
+    five = np.radians(5)
+    assert data["pose"] == pytest.approx(
+        {"x": 0.002, "y": -0.003, "z": 0, "rx": 0, "ry": 0, "rz": five, "phi": five}
+    )
     assert len(data["eigenscrews"]) == 6
     assert set(data["eigenscrews"][0]) == {
         "eigenvalue",

@@ -240,7 +240,7 @@ def test_bad_pose_and_wrench_shapes_raise_library_errors() -> None:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.model import stiffness_at_pose
 
-    with pytest.raises(InputDataError, match="3 components"):
+    with pytest.raises(InputDataError, match="3 task coordinates"):
         stiffness_at_pose(default_design(), [0.0, 0.0])
     with pytest.raises(InputDataError, match="finite"):
         stiffness_at_pose(default_design(), [0.0, float("nan"), 0.0])

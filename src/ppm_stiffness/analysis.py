@@ -18,6 +18,7 @@ from ppm_stiffness.core.conventions import twist_b_from_twist_a, wrench_b_from_w
 from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
@@ -25,7 +26,6 @@ from ppm_stiffness.model import (
     stiffness_at_tool_point,
     tool_offset,
     validate_pose,
-    workspace_centre,
 )
 from ppm_stiffness.statics.loading import loaded_state, validate_wrench
 
@@ -128,13 +128,17 @@ def analyze_design(
         ``actuator_displacements`` (delta(G), the integral of 1/K_act),
         ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point).
     """
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
     offset = tool_offset(p, tool)  # tool point - P, axes of F_b
     out: dict[str, Any] = {
-        "pose": {"x": float(p[0]), "y": float(p[1]), "phi": float(p[2])},
+        "pose": {
+            **{name: float(v) for name, v in zip(POSE_COORDINATES, p, strict=True)},
+            "phi": float(p[5]),
+        },
+        "task_coordinates": list(design.task_coordinates),
         "architecture": design.architecture,
         "tool_point": tool.tolist(),
         "actuator_units": [list(leg.actuator_units()) for leg in design.legs],
@@ -186,7 +190,7 @@ ENVELOPE_KEYS = ("schema_version", "ppm_stiffness_version", "command", "units")
 
 #: SI units of the values of :func:`analyze_design` (keys, or ``a.b`` paths).
 ANALYSIS_UNITS = {
-    "pose": "x, y [m], phi [rad]",
+    "pose": "x, y, z [m], rx, ry, rz [rad] (phi = rz)",
     "tool_point": "m (platform frame)",
     "stiffness_matrix": "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)",
     "actuator_stiffness": "N/m (N·m/rad for a rotary actuator): see actuator_units",

@@ -1,8 +1,11 @@
 """The Cartesian stiffness of a design at a pose: the single-pose API.
 
 Joins each leg's inverse kinematics and joint chain (:mod:`ppm_stiffness.legs`) and
-the generic solver (:mod:`ppm_stiffness.core.solver`). Poses are ``(x, y, phi)`` in
-F_b [m, m, rad]; matrices are at P with the axes of F_b (see
+the engines (:mod:`ppm_stiffness.legs.planar` for planar designs,
+:mod:`ppm_stiffness.legs.engine` for any chain; both the model of
+:mod:`ppm_stiffness.core.solver`). A pose is given as the design's task coordinates or
+a full pose (x, y, z, rx, ry, rz) [m, rad] (:mod:`ppm_stiffness.poses`): for a planar
+design ``(x, y, phi)`` as ever. Matrices are at P with the axes of F_b (see
 :mod:`ppm_stiffness.core.conventions`) unless a function says "at the tool point".
 """
 
@@ -11,19 +14,20 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import (
     FloatArray,
     length_balanced,
-    rotation_z,
     stiffness_b_from_stiffness_a,
 )
-from ppm_stiffness.core.errors import DesignError, InputDataError, SingularConfigurationError
-from ppm_stiffness.core.solver import LegSprings, cartesian_stiffness, leg_stiffness
+from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.solver import LegSprings, leg_stiffness
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
-from ppm_stiffness.legs import planar
-from ppm_stiffness.legs.base import LegPose
+from ppm_stiffness.legs import engine, planar
+from ppm_stiffness.legs.base import LegPose, as_poses
 from ppm_stiffness.legs.chain import leg_springs
+from ppm_stiffness.poses import full_pose, home_pose, task_values
 
 #: Smallest admissible ratio of the smallest to the largest eigenvalue of the
 #: length-balanced stiffness matrix (conventions.length_balanced): below it the
@@ -32,9 +36,9 @@ SINGULARITY_TOLERANCE = 1e-6
 
 
 def workspace_centre(design: Design) -> FloatArray:
-    """The design's workspace centre pose (x, y, phi) [m, m, rad]."""
-    ws = design.workspace
-    return np.array([ws.centre_x, ws.centre_y, ws.phi])
+    """The task coordinates of the design's home pose (:func:`ppm_stiffness.poses
+    .home_pose`): (x, y, phi) [m, m, rad] for a planar design."""
+    return task_values(design, home_pose(design))
 
 
 def locked_actuator_stiffness(design: Design) -> FloatArray:
@@ -57,19 +61,15 @@ def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | No
     return k
 
 
-def validate_pose(pose: ArrayLike) -> FloatArray:
-    """One pose as a finite (3,) array (x [m], y [m], phi [rad]), or raise."""
-    p = np.asarray(pose, dtype=float)
-    if p.shape != (3,):
-        raise InputDataError(f"a pose has 3 components (x, y, phi), got shape {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise InputDataError("pose components must be finite")
-    return p
+def validate_pose(design: Design, pose: ArrayLike | None) -> FloatArray:
+    """One full pose (6,) [m, rad] from task coordinates or a full pose (the home pose if
+    None), or raise (:func:`ppm_stiffness.poses.full_pose`)."""
+    return full_pose(design, pose)
 
 
 def solve_legs(design: Design, pose: ArrayLike) -> list[LegPose]:
     """Inverse kinematics of every leg at one pose, raising if it is unreachable."""
-    p = validate_pose(pose)
+    p = full_pose(design, pose)
     out = []
     for i, leg in enumerate(design.legs):
         lp = leg.solve(p)
@@ -123,9 +123,14 @@ def check_nonsingular(stiffness: FloatArray, where: str = "") -> None:
 
 
 def pose_label(pose: ArrayLike) -> str:
-    """`` at pose (x mm, y mm, phi deg)`` for messages."""
-    p = np.asarray(pose, dtype=float)
-    return f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, {np.degrees(p[2]):.2f} deg)"
+    """`` at pose (x mm, y mm, phi deg)`` for messages; a pose out of the plane (z, rx
+    or ry not 0) as `` at pose (x = .. mm, ..., rz = .. deg)``."""
+    p = as_poses(pose)
+    if np.any(p[[2, 3, 4]] != 0):
+        from ppm_stiffness.poses import format_pose
+
+        return f" at pose ({format_pose(p)})"
+    return f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, {np.degrees(p[5]):.2f} deg)"
 
 
 def planar_stiffness(
@@ -158,8 +163,9 @@ def stiffness_at_pose(
     Parameters
     ----------
     design : Design
-    pose : array_like, shape (3,), optional
-        (x [m], y [m], phi [rad]) of P in F_b; the workspace centre if None.
+    pose : array_like, shape (n_task,) or (6,), optional
+        The task coordinates ((x [m], y [m], phi [rad]) for a planar design) or the full
+        pose of P in F_b (:mod:`ppm_stiffness.poses`); the home pose if None.
     actuator_stiffness : array_like, shape (n_legs,) or scalar, optional
         [N/m, or N·m/rad for a rotary actuator]; the locked values if None.
 
@@ -170,19 +176,20 @@ def stiffness_at_pose(
 
     Raises
     ------
-    UnreachablePoseError, SingularConfigurationError
+    InputDataError, UnreachablePoseError, SingularConfigurationError
     """
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = full_pose(design, pose)
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
     leg_poses = solve_legs(design, p)
-    k = planar_stiffness(design, leg_poses, k_act)
-    if k is None:  # a chain out of the plane: the general springs and bordered inverse
-        k = cartesian_stiffness(
+    k = planar_stiffness(design, leg_poses, k_act) if design.planar else None
+    if k is None:  # chains out of the plane: the batched engine on one pose
+        k = engine.platform_stiffness(
             [
-                leg_springs(leg.chain(lp), k_act[i])
-                for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True))
-            ]
-        )
+                engine.reduce_chain(leg.chain(lp), 1)
+                for leg, lp in zip(design.legs, leg_poses, strict=True)
+            ],
+            k_act,
+        )[0]
     check_nonsingular(k, pose_label(p))
     return k
 
@@ -191,14 +198,14 @@ def leg_stiffnesses_at_pose(
     design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
 ) -> list[FloatArray]:
     """Each leg's 6x6 stiffness at P (their sum is :func:`stiffness_at_pose`)."""
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = full_pose(design, pose)
     return [leg_stiffness(leg) for leg in leg_springs_at_pose(design, p, actuator_stiffness)]
 
 
 def tool_offset(pose: ArrayLike, tool_point: ArrayLike) -> FloatArray:
-    """Tool point relative to P in F_b components [m]: ``R_z(phi) @ tool_point``."""
-    p = np.asarray(pose, dtype=float)
-    return np.asarray(rotation_z(p[2]) @ np.asarray(tool_point, dtype=float))
+    """Tool point relative to P in F_b components [m]: ``R @ tool_point`` at a full pose
+    (..., 6) (a planar pose (x, y, phi) is read as one)."""
+    return pose6.platform_offset(as_poses(pose), np.asarray(tool_point, dtype=float))
 
 
 def stiffness_at_tool_point(
@@ -209,7 +216,7 @@ def stiffness_at_tool_point(
     Parameters
     ----------
     stiffness_p : array_like (6, 6), at P, axes of F_b.
-    pose : array_like (3,) [m, m, rad]
+    pose : array_like (6,) [m, rad], or a planar (x, y, phi)
     tool_point : array_like (3,)
         In the platform frame F_p [m].
     """

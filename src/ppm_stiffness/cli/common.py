@@ -15,9 +15,10 @@ from rich.console import Console
 
 from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.pose import POSE_INDEX
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.legs.base import MAX_LENGTH
-from ppm_stiffness.model import solve_legs, workspace_centre
+from ppm_stiffness.model import solve_legs
 
 __all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
 
@@ -125,10 +126,34 @@ def add_design_argument(parser: argparse.ArgumentParser) -> None:
     )
 
 
+#: The pose options: option name -> (pose coordinate, factor to SI, unit).
+POSE_OPTIONS = {
+    "x": ("x", 1e-3, "mm"),
+    "y": ("y", 1e-3, "mm"),
+    "z": ("z", 1e-3, "mm"),
+    "rx": ("rx", math.pi / 180, "deg"),
+    "ry": ("ry", math.pi / 180, "deg"),
+    "rz": ("rz", math.pi / 180, "deg"),
+    "phi": ("rz", math.pi / 180, "deg"),
+}
+
+
 def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--x --y --z`` [mm], ``--rx --ry --rz`` [deg] (R = Rz Ry Rx), ``--phi`` = --rz:
+    the design's task coordinates; the others follow from the legs."""
     parser.add_argument("--x", type=float, metavar="MM", help="x of P in F_b [mm]")
     parser.add_argument("--y", type=float, metavar="MM", help="y of P in F_b [mm]")
-    parser.add_argument("--phi", type=float, metavar="DEG", help="orientation [deg]")
+    parser.add_argument("--z", type=float, metavar="MM", help="z of P in F_b [mm]")
+    parser.add_argument(
+        "--rx", type=float, metavar="DEG", help="roll about the x axis of F_b [deg]"
+    )
+    parser.add_argument(
+        "--ry", type=float, metavar="DEG", help="pitch about the y axis of F_b [deg]"
+    )
+    parser.add_argument(
+        "--rz", type=float, metavar="DEG", help="yaw about the z axis of F_b [deg] (R = Rz Ry Rx)"
+    )
+    parser.add_argument("--phi", type=float, metavar="DEG", help="orientation [deg]: --rz")
 
 
 def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
@@ -180,25 +205,45 @@ def load_design_arg(args: argparse.Namespace) -> Design:
 def pose_from_args(
     args: argparse.Namespace, design: Design, check_reach: bool = True
 ) -> np.ndarray:
-    """Pose (x, y, phi) [m, m, rad] from --x/--y [mm] and --phi [deg], checked (unless
-    ``check_reach`` is False) to be within every leg's reach: an unreachable pose is
-    refused with the reachable x and y extent at its phi and the reachable phi at its
-    (x, y)."""
-    pose = workspace_centre(design).copy()
-    for i, (name, factor) in enumerate((("x", 1e-3), ("y", 1e-3), ("phi", math.pi / 180))):
-        value = getattr(args, name, None)
-        if value is not None:
-            if not math.isfinite(value):
-                raise InputDataError(f"--{name} must be finite")
-            pose[i] = value * factor
+    """The full pose (6,) [m, rad] from the pose options (mm, deg): the home pose with the
+    task coordinates given replaced, completed (:mod:`ppm_stiffness.poses`). An option
+    for a coordinate that is not a task coordinate is refused, naming the task
+    coordinates; unless ``check_reach`` is False, a pose out of reach is refused with
+    what is reachable near it."""
+    from ppm_stiffness.poses import full_pose, home_pose, task_indices
+
+    values = home_pose(design)
+    task = design.task_coordinates
+    given: dict[str, float] = {}
+    for option, (name, factor, _unit) in POSE_OPTIONS.items():
+        value = getattr(args, option, None)
+        if value is None:
+            continue
+        if not math.isfinite(value):
+            raise InputDataError(f"--{option} must be finite")
+        if name not in task:
+            raise InputDataError(
+                f"--{option}: {name} is not a task coordinate of this design; give "
+                + ", ".join(f"--{n}" for n in task)
+                + " (the other coordinates follow from the legs)"
+            )
+        if name in given:
+            raise InputDataError("--phi and --rz are the same coordinate: give one")
+        given[name] = value * factor
+    for name, value in given.items():
+        values[POSE_INDEX[name]] = value
+    pose = values[list(task_indices(design))]
     try:
+        full = full_pose(design, pose)
         if check_reach:
-            solve_legs(design, pose)
+            solve_legs(design, full)
     except UnreachablePoseError as exc:
         from ppm_stiffness.maps.reach import reach_hint
 
-        raise UnreachablePoseError(f"{exc}; {reach_hint(design, pose)}") from None
-    return pose
+        if not check_reach:
+            raise
+        raise UnreachablePoseError(f"{exc}; {reach_hint(design, values)}") from None
+    return full
 
 
 def parse_floats(text: str, count: int, option: str, spec: str) -> list[float]:

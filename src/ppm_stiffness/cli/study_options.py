@@ -87,19 +87,20 @@ def region_from_args(args: argparse.Namespace, designs: Sequence[Design]) -> Req
 def region_text(region: RequiredRegionModel) -> str:
     """One line describing the region in mm and deg."""
     nx, ny, nphi = region.grid
+    phi = region.range("phi")
     return (
-        f"x [{region.x[0] * 1e3:g}, {region.x[1] * 1e3:g}] mm, "
-        f"y [{region.y[0] * 1e3:g}, {region.y[1] * 1e3:g}] mm, "
-        f"φ [{math.degrees(region.phi[0]):.4g}, {math.degrees(region.phi[1]):.4g}]°; "
+        f"x [{region.range('x')[0] * 1e3:g}, {region.range('x')[1] * 1e3:g}] mm, "
+        f"y [{region.range('y')[0] * 1e3:g}, {region.range('y')[1] * 1e3:g}] mm, "
+        f"φ [{math.degrees(phi[0]):.4g}, {math.degrees(phi[1]):.4g}]°; "
         f"grid {nx} x {ny} x {nphi} = {nx * ny * nphi} poses"
     )
 
 
 def region_json(region: RequiredRegionModel) -> dict[str, Any]:
     return {
-        "x": list(region.x),
-        "y": list(region.y),
-        "phi": list(region.phi),
+        "x": list(region.range("x")),
+        "y": list(region.range("y")),
+        "phi": list(region.range("phi")),
         "grid": list(region.grid),
     }
 
@@ -124,20 +125,20 @@ def region_maps(
     over the region's box widened by a quarter of its size on each side."""
     from ppm_stiffness.maps.workspace import stiffness_map
 
-    phi = 0.5 * (region.phi[0] + region.phi[1])
-    wx = max(region.x[1] - region.x[0], 1e-3)
-    wy = max(region.y[1] - region.y[0], 1e-3)
+    phi = 0.5 * (region.range("phi")[0] + region.range("phi")[1])
+    wx = max(region.range("x")[1] - region.range("x")[0], 1e-3)
+    wy = max(region.range("y")[1] - region.range("y")[0], 1e-3)
     bounds = (
-        region.x[0] - wx / 4,
-        region.x[1] + wx / 4,
-        region.y[0] - wy / 4,
-        region.y[1] + wy / 4,
+        region.range("x")[0] - wx / 4,
+        region.range("x")[1] + wx / 4,
+        region.range("y")[0] - wy / 4,
+        region.range("y")[1] + wy / 4,
     )
     return [stiffness_map(d, phi=phi, grid=grid, bounds=bounds) for d in designs]
 
 
 def region_box(region: RequiredRegionModel) -> tuple[float, float, float, float]:
-    return (region.x[0], region.x[1], region.y[0], region.y[1])
+    return (region.range("x")[0], region.range("x")[1], region.range("y")[0], region.range("y")[1])
 
 
 def figure_cell(value: float | None) -> str:

@@ -133,6 +133,12 @@ def load_design(path: str | Path) -> Design:
 def design_to_dict(design: Design) -> dict[str, Any]:
     """The design as a v2 dict; parts equal in every leg go to ``[parts]``."""
     data = design.model_dump(mode="json", by_alias=True, exclude_none=True)
+    if {type(leg).TASK_COORDINATES for leg in design.legs} == {design.task_coordinates}:
+        del data["task_coordinates"]  # what the legs state: no need to write it
+    workspace = data.get("workspace", {})
+    for key in ("centre_z", "rx", "ry"):  # a planar file stays as it was
+        if workspace.get(key) == 0.0:
+            del workspace[key]
     legs: list[dict[str, Any]] = data.pop("legs")
     shared: dict[str, Any] = {}
     for name, value in legs[0].items():

@@ -15,11 +15,19 @@ import math
 from collections import Counter
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, Field, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    AliasChoices,
+    BaseModel,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.validation import design_issues, validate_design
-from ppm_stiffness.legs.base import LegModel, check_plausible
+from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
 from ppm_stiffness.legs.parts import Finite, PartModel, StrictNumber
 from ppm_stiffness.legs.registry import leg_types
 
@@ -27,9 +35,9 @@ from ppm_stiffness.legs.registry import leg_types
 SCHEMA_VERSION = 2
 
 
-#: Largest |x|, |y| of a required region [m]: beyond it, a length in mm is likely.
+#: Largest |x|, |y|, |z| of a required region [m]: beyond it, a length in mm is likely.
 MAX_REGION_LENGTH = 1.0
-#: Largest |phi| of a required region [rad] (half a turn): beyond it, degrees are likely.
+#: Largest |angle| of a required region [rad] (half a turn): beyond it, degrees are likely.
 MAX_REGION_ANGLE = math.pi
 #: Most grid values along one axis of a required region.
 MAX_REGION_AXIS = 1000
@@ -37,6 +45,9 @@ MAX_REGION_AXIS = 1000
 MAX_REGION_POSES = 1_000_000
 
 GridCount = Annotated[int, StrictNumber, Field(ge=1, le=MAX_REGION_AXIS, strict=True)]
+Range = tuple[Finite, Finite]
+#: The name a design file may use for rz (the planar orientation, phi).
+RZ_ALIASES = AliasChoices("phi", "rz")
 
 
 class RequiredRegionModel(PartModel):
@@ -45,37 +56,57 @@ class RequiredRegionModel(PartModel):
 
     Attributes
     ----------
-    x, y : (lo, hi) [m]
-        Range of the position of P in F_b.
-    phi : (lo, hi) [rad]
-        Range of the platform orientation.
-    grid : (nx, ny, nphi)
-        Grid values along each range, ends included; a range with ``lo == hi`` has
-        one value, and one value needs ``lo == hi``.
+    x, y, z : (lo, hi) [m], optional
+        Ranges of the position of P in F_b.
+    rx, ry, phi : (lo, hi) [rad], optional
+        Ranges of the orientation angles (:mod:`ppm_stiffness.core.pose`); ``phi`` is rz
+        (a file may write either name).
+    grid : (n, ...)
+        Grid values along each range given, in the order x, y, z, rx, ry, rz, ends
+        included; a range with ``lo == hi`` has one value, and one value needs
+        ``lo == hi``.
 
-    It is a table, not a scalar parameter: ``sweep`` and ``optimize`` do not vary it.
-    Values beyond :data:`MAX_REGION_LENGTH` (1 m) or :data:`MAX_REGION_ANGLE` (pi rad)
-    are refused with the likely unit mistake (mm, degrees) named.
+    The ranges given are the design's task coordinates (:attr:`Design.task_coordinates`:
+    x, y, phi for a planar design). It is a table, not a scalar parameter: ``sweep`` and
+    ``optimize`` do not vary it. Values beyond :data:`MAX_REGION_LENGTH` (1 m) or
+    :data:`MAX_REGION_ANGLE` (pi rad) are refused with the likely unit mistake (mm,
+    degrees) named.
     """
 
-    x: tuple[Finite, Finite]
-    y: tuple[Finite, Finite]
-    phi: tuple[Finite, Finite]
-    grid: tuple[GridCount, GridCount, GridCount]
+    x: Range | None = None
+    y: Range | None = None
+    z: Range | None = None
+    rx: Range | None = None
+    ry: Range | None = None
+    phi: Range | None = Field(default=None, validation_alias=RZ_ALIASES)
+    grid: Annotated[tuple[GridCount, ...], Field(min_length=1, max_length=6)]
 
-    @field_validator("x", "y", "phi")
+    model_config = {**PartModel.model_config, "populate_by_name": True}
+
+    @field_validator("x", "y", "z", "rx", "ry", "phi")
     @classmethod
-    def _range_in_si(cls, pair: tuple[float, float], info: ValidationInfo) -> tuple[float, float]:
-        """A range ordered and in SI (the likely unit mistake named)."""
+    def _range_in_si(cls, pair: tuple[float, float] | None, info: ValidationInfo) -> Any:
+        """A range of a task coordinate (when the design's are known: validation
+        context ``task_coordinates``), ordered and in SI (the likely unit mistake named)."""
+        if pair is None:
+            return pair
         key, (lo, hi) = str(info.field_name), pair
         text = f"{key} = [{lo:g}, {hi:g}]"
-        big = max(abs(lo), abs(hi))
-        if key == "phi" and big > MAX_REGION_ANGLE:
+        task = (info.context or {}).get("task_coordinates")
+        name = POSE_COORDINATES[REGION_KEYS.index(key)]
+        if task and name not in task:
             raise ValueError(
-                f"{text}: angles in design files are in radians (a region's |phi| <= pi); "
+                f"{text}: {name} is not a task coordinate of this design; the region's "
+                f"ranges are over {', '.join(task)}"
+            )
+        big = max(abs(lo), abs(hi))
+        angle = key in ("rx", "ry", "phi")
+        if angle and big > MAX_REGION_ANGLE:
+            raise ValueError(
+                f"{text}: angles in design files are in radians (a region's |{key}| <= pi); "
                 f"did you mean [{math.radians(lo):.6g}, {math.radians(hi):.6g}]?"
             )
-        if key != "phi" and big > MAX_REGION_LENGTH:
+        if not angle and big > MAX_REGION_LENGTH:
             raise ValueError(
                 f"{text}: lengths in design files are in metres (a region's |{key}| "
                 f"<= {MAX_REGION_LENGTH:g} m); did you mean [{lo / 1000:.6g}, "
@@ -85,11 +116,42 @@ class RequiredRegionModel(PartModel):
             raise ValueError(f"{text}: inverted range (lo > hi)")
         return pair
 
+    def ranges(self) -> dict[str, tuple[float, float]]:
+        """The ranges given, by pose coordinate name (``rz`` for phi), in pose order."""
+        out = {}
+        for name, key in zip(POSE_COORDINATES, REGION_KEYS, strict=True):
+            value = getattr(self, key)
+            if value is not None:
+                out[name] = (float(value[0]), float(value[1]))
+        return out
+
+    def range(self, name: str) -> tuple[float, float]:
+        """The range of pose coordinate ``name`` (``"rz"`` or ``"phi"`` for rz).
+
+        Raises
+        ------
+        DesignError
+            If the region has no range of that coordinate.
+        """
+        ranges = self.ranges()
+        key = "rz" if name == "phi" else name
+        if key not in ranges:
+            raise DesignError(
+                f"the required region has no range of {name} (its ranges: {', '.join(ranges)})"
+            )
+        return ranges[key]
+
     @model_validator(mode="after")
     def _consistent(self) -> RequiredRegionModel:
         """Ranges matching the grid, and not too many poses."""
-        for key, n in zip(("x", "y", "phi"), self.grid, strict=True):
-            lo, hi = getattr(self, key)
+        ranges = self.ranges()
+        if len(ranges) != len(self.grid):
+            raise ValueError(
+                f"grid = {list(self.grid)}: one grid value per range given "
+                f"({', '.join(ranges) or 'none'}: {len(ranges)})"
+            )
+        for (name, (lo, hi)), n in zip(ranges.items(), self.grid, strict=True):
+            key = REGION_KEYS[POSE_COORDINATES.index(name)]
             if (n == 1) != (lo == hi):
                 raise ValueError(
                     f"{key} = [{lo:g}, {hi:g}]: a range with lo == hi has grid value 1, "
@@ -103,14 +165,33 @@ class RequiredRegionModel(PartModel):
         return self
 
 
+#: The region's (and the workspace's) key of each pose coordinate.
+REGION_KEYS = ("x", "y", "z", "rx", "ry", "phi")
+
+
 class WorkspaceModel(PartModel):
-    """The workspace centre [m, m, rad] in F_b (the default pose of the CLI), and an
-    optional required region (:class:`RequiredRegionModel`, ``[workspace.required]``)."""
+    """The workspace centre, or home pose, in F_b [m, rad] (the default pose of the CLI,
+    and the start of the pose completion), and an optional required region
+    (:class:`RequiredRegionModel`, ``[workspace.required]``).
+
+    ``centre_x, centre_y, centre_z`` [m] and ``rx, ry, phi`` [rad] (``phi`` is rz; a
+    file may write either name). The coordinates that are not task coordinates of the
+    design are the start of the completion; the home pose is the completed one.
+    """
 
     centre_x: Finite = 0.0
     centre_y: Finite = 0.0
-    phi: Finite = 0.0
+    centre_z: Finite = 0.0
+    rx: Finite = 0.0
+    ry: Finite = 0.0
+    phi: Finite = Field(default=0.0, validation_alias=RZ_ALIASES)
     required: RequiredRegionModel | None = None
+
+    model_config = {**PartModel.model_config, "populate_by_name": True}
+
+    def start(self) -> tuple[float, float, float, float, float, float]:
+        """The home pose as written (x, y, z, rx, ry, rz) [m, rad]."""
+        return (self.centre_x, self.centre_y, self.centre_z, self.rx, self.ry, self.phi)
 
 
 _LEG_UNION: Any = Annotated[
@@ -120,13 +201,20 @@ _LEG_UNION: Any = Annotated[
 
 
 class Design(PartModel):
-    """A planar parallel manipulator: legs (any registered type, any number >= 3)
-    joining the base to a platform.
+    """A parallel manipulator: legs (any registered type, any number >= 3) joining the
+    base to a platform.
 
     Attributes
     ----------
     schema_version : int
         2 (the file's ``schema`` key).
+    task_coordinates : tuple of str
+        The pose coordinates the user gives (:mod:`ppm_stiffness.core.pose`), in pose
+        order (x, y, z, rx, ry, rz): ``("x", "y", "rz")`` for a planar design, all six
+        for a hexapod, ``("z", "rx", "ry")`` for a 3-PRS or 3-RPS tripod. The others
+        follow from the legs' constraints (:mod:`ppm_stiffness.legs.completion`).
+        Optional in a file when every leg type states the same ones
+        (``LegModel.TASK_COORDINATES``).
     tool_point : (x, y, z) [m]
         A point fixed to the platform, in the platform frame F_p. Results that are
         "at the tool point" (``analyze``, ``map``, ``deflect``) are expressed there;
@@ -138,9 +226,74 @@ class Design(PartModel):
     name: str = "unnamed design"
     workspace: WorkspaceModel = WorkspaceModel()
     tool_point: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    task_coordinates: tuple[str, ...] = ()
     legs: Annotated[list[_LEG_UNION], Field(min_length=3)]
 
     model_config = {**PartModel.model_config, "populate_by_name": True}
+
+    @classmethod
+    def validation_context(cls, data: dict[str, Any]) -> dict[str, Any]:
+        """What the parts of a design need to know of the whole while it is validated:
+        its task coordinates when the raw ``data`` states them (``task_coordinates``, or
+        the one set its leg types state)."""
+        given = data.get("task_coordinates")
+        if isinstance(given, (list, tuple)) and all(isinstance(n, str) for n in given):
+            return {"task_coordinates": tuple(given)}
+        legs = data.get("legs")
+        types = leg_types()
+        if isinstance(legs, list) and legs:
+            kinds = [leg.get("type") if isinstance(leg, dict) else None for leg in legs]
+            stated = {types[k].TASK_COORDINATES for k in kinds if k in types}
+            if len(stated) == 1 and all(k in types for k in kinds):
+                return {"task_coordinates": stated.pop()}
+        return {}
+
+    @field_validator("task_coordinates")
+    @classmethod
+    def _known_coordinates(cls, names: tuple[str, ...]) -> tuple[str, ...]:
+        """Pose coordinate names, each once, in pose order."""
+        unknown = [n for n in names if n not in POSE_COORDINATES]
+        if unknown:
+            raise ValueError(
+                f"unknown coordinate {unknown[0]!r}; task coordinates are among "
+                f"{', '.join(POSE_COORDINATES)}"
+            )
+        ordered = tuple(n for n in POSE_COORDINATES if n in names)
+        if tuple(names) != ordered or len(set(names)) != len(names):
+            raise ValueError(
+                f"{list(names)}: give each task coordinate once, in the order "
+                f"{', '.join(POSE_COORDINATES)} ({list(ordered)})"
+            )
+        return tuple(names)
+
+    @model_validator(mode="after")
+    def _task_coordinates(self) -> Design:
+        """The task coordinates: given, or the one set every leg type states; the
+        required region's ranges are over them."""
+        if not self.task_coordinates:
+            stated = {type(leg).TASK_COORDINATES for leg in self.legs}
+            if len(stated) != 1:
+                raise ValueError(
+                    "task_coordinates: the leg types state different task coordinates "
+                    f"({'; '.join(sorted(', '.join(t) for t in stated))}); give them"
+                )
+            object.__setattr__(self, "task_coordinates", stated.pop())
+        region = self.workspace.required
+        if region is not None and tuple(region.ranges()) != self.task_coordinates:
+            raise ValueError(
+                f"workspace.required: its ranges ({', '.join(region.ranges()) or 'none'}) "
+                f"must be the task coordinates ({', '.join(self.task_coordinates)}); rz "
+                "may be written phi"
+            )
+        return self
+
+    @property
+    def planar(self) -> bool:
+        """True for a planar design: task coordinates (x, y, rz) and planar legs, whose
+        results also have the paper's planar meaning (k_x, k_y, k_phi)."""
+        return self.task_coordinates == ("x", "y", "rz") and all(
+            isinstance(leg, PlanarLegModel) for leg in self.legs
+        )
 
     @field_validator("tool_point")
     @classmethod
@@ -218,7 +371,7 @@ class Design(PartModel):
         first = self.expand(name)[0]
         parts = first.split(".")
         if parts[0] == "workspace":
-            return "rad" if parts[-1] == "phi" else "m"
+            return "rad" if parts[-1] in ("phi", "rx", "ry") else "m"
         leg = self.legs[int(parts[0][3:]) - 1]
         if len(parts) == 2:
             return type(leg).UNITS.get(parts[1], "")

@@ -89,7 +89,10 @@ def design_issues(root: type[M], data: dict[str, Any]) -> tuple[M | None, list[I
     parts = apply_parts(data)
     issues = list(parts.issues)
     try:
-        model = root.model_validate(parts.merged)
+        context = getattr(root, "validation_context", None)
+        model = root.model_validate(
+            parts.merged, context=None if context is None else context(parts.merged)
+        )
     except ValidationError as exc:
         issues += _issues_of(exc, root, data, parts)
     else:

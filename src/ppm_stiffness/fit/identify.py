@@ -67,7 +67,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import validate_pose, workspace_centre
+from ppm_stiffness.model import validate_pose
 from ppm_stiffness.statics.measurements import COMPONENT_COLUMNS, Measurements
 
 #: A combination whose relative 1-sigma (1 / singular value) exceeds this is
@@ -186,9 +186,9 @@ def measurement_rows(
             "wrench says nothing about stiffness"
         )
     if measurements.poses is not None:
-        poses = np.array([validate_pose(p) for p in measurements.poses])
+        poses = np.array([validate_pose(design, p) for p in measurements.poses])
     else:
-        poses = np.tile(workspace_centre(design), (n, 1))
+        poses = np.tile(validate_pose(design, None), (n, 1))
     sig = (
         np.full((n, 6), np.nan)
         if measurements.sigmas is None

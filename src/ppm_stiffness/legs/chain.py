@@ -112,7 +112,10 @@ class Joint:
         The part's name in the design (``guide``, ``bearing``, ...), for pictures
         and the FE model.
     axis2 : ndarray (..., 3) or None
-        A U joint's second axis e2 (unit, normal to e1); None for other kinds.
+        A U joint's second axis e2 (unit, normal to e1). For other kinds, optional: the
+        direction of e2 of the joint frame (its component normal to e1), where the
+        default ``unit(z x e1)`` does not follow the hardware (a guide on a vertical
+        rail, whose lateral direction the leg's geometry defines).
     """
 
     kind: JointKind
@@ -125,13 +128,13 @@ class Joint:
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
-        if self.kind == "U":
-            if self.axis2 is None:
+        if self.axis2 is None:
+            if self.kind == "U":
                 raise DesignError(f"universal joint {self.name or ''}: its second axis is missing")
-            e1, e2 = unit(self.axis), unit(self.axis2)
-            e1, e2 = np.broadcast_arrays(e1, e2)
-            return e1, e2, np.cross(e1, e2)
-        return frame_from_axis(self.axis)
+            return frame_from_axis(self.axis)
+        e1, e2 = np.broadcast_arrays(unit(self.axis), np.asarray(self.axis2, dtype=float))
+        e2 = unit(e2 - np.einsum("...i,...i->...", e2, e1)[..., None] * e1)
+        return e1, e2, np.cross(e1, e2)
 
 
 @dataclass(frozen=True)

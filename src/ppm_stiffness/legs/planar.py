@@ -337,8 +337,8 @@ def _link(element: Link, blocks: dict[bool, Block]) -> bool:
 def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
     """Add a joint's springs, its actuator twist or its passive twists; False if not
     planar (a U or S joint is never planar: its freedoms leave the plane)."""
-    if element.kind not in ("R", "P", "C"):
-        return False
+    if element.kind not in ("R", "P", "C") or element.axis2 is not None:
+        return False  # the plane model's frames come from the axis alone
     e1 = _direction(element.axis)
     cx, cy, cz = _components(element.point)
     if e1 is None or not _all_small(cz, PLANAR_ATOL):

@@ -692,6 +692,10 @@ def evaluate_poses(
         ``path="reduced"`` for a design whose legs offer no reduced form.
     """
     p = np.asarray(poses, dtype=float)
+    if p.shape[-1:] == (6,) and design.planar:  # full poses of a planar design
+        if np.any(p[..., 2:5] != 0):
+            raise InputDataError("a planar design's poses have z = rx = ry = 0")
+        p = p[..., [0, 1, 5]]
     if p.shape[-1:] != (3,):
         raise InputDataError(f"poses must have shape (..., 3), got {p.shape}")
     if not np.all(np.isfinite(p)):

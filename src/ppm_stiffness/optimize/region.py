@@ -87,9 +87,9 @@ def region_axes(region: RequiredRegionModel) -> tuple[FloatArray, FloatArray, Fl
     """The grid values x (nx,), y (ny,) [m] and phi (nphi,) [rad]."""
     nx, ny, nphi = region.grid
     return (
-        np.linspace(region.x[0], region.x[1], nx),
-        np.linspace(region.y[0], region.y[1], ny),
-        np.linspace(region.phi[0], region.phi[1], nphi),
+        np.linspace(region.range("x")[0], region.range("x")[1], nx),
+        np.linspace(region.range("y")[0], region.range("y")[1], ny),
+        np.linspace(region.range("phi")[0], region.range("phi")[1], nphi),
     )
 
 

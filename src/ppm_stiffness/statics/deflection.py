@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import tool_offset, validate_pose, workspace_centre
+from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.statics.actuator import (
     actuator_displacement,
     powered_stiffness,
@@ -185,7 +185,7 @@ def closed_form_twist(
     ends at ``wrench`` gives this twist.
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = validate_pose(design, pose)
     return equilibrium(design, w, p).twist
 
 
@@ -313,7 +313,7 @@ def deflection_path(
     x = _validate_loads(loads)
     if method not in METHODS:
         raise InputDataError(f"unknown method {method!r}; expected one of {METHODS}")
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     offset = tool_offset(p, tool)
     w_tool = w_hat

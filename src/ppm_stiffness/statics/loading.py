@@ -24,7 +24,6 @@ from ppm_stiffness.model import (
     actuator_screws_at_pose,
     leg_stiffnesses_at_pose,
     validate_pose,
-    workspace_centre,
 )
 from ppm_stiffness.statics.equilibrium import (
     MAX_ROTATION,
@@ -67,7 +66,7 @@ def actuator_forces(
     locked ones by default), *not* the loaded equilibrium: use :func:`loaded_state`.
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = validate_pose(design, pose)
     legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)
     shares = leg_wrenches(legs, w)
     screws = actuator_screws_at_pose(design, p)
@@ -97,7 +96,7 @@ def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = Non
     UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
     w = validate_wrench(wrench)
-    p = workspace_centre(design) if pose is None else validate_pose(pose)
+    p = validate_pose(design, pose)
     return equilibrium(design, w, p)
 
 

@@ -63,7 +63,7 @@ from ppm_stiffness.core.conventions import (
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
-from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis
+from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
@@ -301,7 +301,7 @@ def _add_joint(
 ) -> str:
     """Add one joint after node ``before``; returns the node after it."""
     point = _point(joint.point)
-    e1, e2, e3 = frame_from_axis(_point(joint.axis))
+    e1, e2, e3 = (_point(e) for e in joint.frame())
     frame = (np.asarray(e1), np.asarray(e2), np.asarray(e3))
     k = joint_stiffness(joint, k_act)
     after = fb.node(point, "J")

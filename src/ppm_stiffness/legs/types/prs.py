@@ -14,7 +14,9 @@ below B along u (the link leans towards +u), ``-1`` above it. No solution where
 ``h > link_length``.
 
 Joints. The guide's springs (``guide``) act at the carriage C with the rail as its
-axis; the revolute's (``carriage_revolute``) at C; the spherical joint's
+axis, its lateral direction (e2) along the revolute axis e_R (the guide rail's
+mounting face holds the revolute's bearings) and its vertical direction (e3) normal
+to both; the revolute's (``carriage_revolute``) at C; the spherical joint's
 (``platform_joint``, axial along the link) at B. A joint is rigid in its constrained
 directions when its part is absent. ``platform_joint.max_angle`` limits the angle
 between the link (from B to C) and ``platform_joint_axis`` (platform frame).
@@ -154,7 +156,9 @@ class PRSLeg(LegModel):
         u, e = self.directions()
         s = unit(pts["B"] - pts["C"])
         return [
-            Joint("P", u, pts["C"], joint_springs(self.guide), actuated=True, name="guide"),
+            Joint(
+                "P", u, pts["C"], joint_springs(self.guide), actuated=True, name="guide", axis2=e
+            ),
             Joint(
                 "R", e, pts["C"], joint_springs(self.carriage_revolute), name="carriage_revolute"
             ),
