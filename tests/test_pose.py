@@ -81,3 +81,24 @@ def test_angle_rates_map_to_the_twist(seed: int) -> None:
     twist = P.twist_from_coordinate_rates(q) @ qdot
     np.testing.assert_allclose(hat(twist[:3]), omega_hat, atol=1e-9)
     np.testing.assert_allclose(twist[3:], qdot[:3], atol=1e-15)
+
+
+def test_rotation_entries_kept_for_the_next_call_are_those_of_its_angles() -> None:
+    """The last batch's rotation is reused only for the same angles (bit for bit): a
+    repeated call gives the fresh values, an array changed in place its new rotation,
+    and the kept entries cannot be written to."""
+    poses = np.zeros((30, 6))
+    poses[:, 3:] = ANGLES[:30]
+    fresh = P.rotation(poses.copy())
+    again = P.rotation(poses)  # the same angles: from the kept entries
+    np.testing.assert_array_equal(again, fresh)
+    assert np.max(np.abs(again - Rotation.from_euler("xyz", ANGLES[:30]).as_matrix())) < 1e-15
+    poses[5, 4] += 0.3  # changed in place: not the batch that was kept
+    moved = P.rotation(poses)
+    np.testing.assert_allclose(
+        moved[5], Rotation.from_euler("xyz", poses[5, 3:]).as_matrix(), atol=1e-15
+    )
+    np.testing.assert_array_equal(moved[:5], fresh[:5])
+    entries = P.rotation_entries(poses[:, 3:])
+    with pytest.raises(ValueError, match="read-only"):
+        entries[0][0][0] = 2.0

@@ -41,25 +41,62 @@ PLANAR_INDEX = (0, 1, 5)
 ANGLE_COORDINATES = frozenset({"rx", "ry", "rz"})
 
 
-def _axis_rotation(angle: ArrayLike, axis: int) -> FloatArray:
-    a = np.asarray(angle, dtype=float)
-    c, s = np.cos(a), np.sin(a)
-    i, j = (axis + 1) % 3, (axis + 2) % 3  # cyclic: R[i, j] = -sin
-    out = np.zeros(a.shape + (3, 3))
-    out[..., axis, axis] = 1.0
-    out[..., i, i] = c
-    out[..., j, j] = c
-    out[..., i, j] = -s
-    out[..., j, i] = s
-    return out
+#: The nine entries of R, row by row (each an array of the batch shape).
+RotationEntries = tuple[tuple[FloatArray, ...], ...]
+#: Largest batch whose rotation :func:`rotation_entries` keeps for the next call.
+ROTATION_CACHE_POSES = 65536
+#: The last batch of angles evaluated (a private copy) and its entries.
+_last_rotation: tuple[FloatArray, RotationEntries] | None = None
+
+
+def rotation_entries(angles: ArrayLike) -> RotationEntries:
+    """The nine entries ``R[i][j]`` (each (...), read-only) of ``R = Rz(rz) Ry(ry) Rx(rx)``
+    from angles (..., 3) = (rx, ry, rz) [rad], in closed form (one array per entry: no
+    (..., 3, 3) temporaries or matrix products).
+
+    Every leg of a design evaluates R at the same poses (its inverse kinematics), twice
+    for a spatial leg: the entries of the last batch (up to
+    :data:`ROTATION_CACHE_POSES` poses) are kept with a copy of its angles and returned
+    again when the angles are the same bits, so that the result is the same whether or
+    not it comes from the cache (and an array changed in place is not mistaken for the
+    one evaluated). The pair is replaced in one assignment: threads may share it.
+    """
+    global _last_rotation
+    a = np.asarray(angles, dtype=float)
+    last = _last_rotation
+    if (
+        last is not None
+        and last[0].shape == a.shape
+        and np.array_equal(last[0].view(np.int64), a.view(np.int64))
+    ):
+        return last[1]
+    columns = np.moveaxis(a, -1, 0).copy()  # contiguous rx, ry, rz
+    cx, sx = np.cos(columns[0]), np.sin(columns[0])
+    cy, sy = np.cos(columns[1]), np.sin(columns[1])
+    cz, sz = np.cos(columns[2]), np.sin(columns[2])
+    szsy, czsy = sz * sy, cz * sy
+    entries = (
+        (cz * cy, czsy * sx - sz * cx, czsy * cx + sz * sx),
+        (sz * cy, szsy * sx + cz * cx, szsy * cx - cz * sx),
+        (-sy, cy * sx, cy * cx),
+    )
+    for row in entries:
+        for value in row:
+            if isinstance(value, np.ndarray):  # (one pose: immutable numpy scalars)
+                value.flags.writeable = False
+    if a.size <= 3 * ROTATION_CACHE_POSES:
+        _last_rotation = (a.copy(), entries)
+    return entries
 
 
 def rotation_from_angles(angles: ArrayLike) -> FloatArray:
     """``R = Rz(rz) Ry(ry) Rx(rx)`` from angles (..., 3) = (rx, ry, rz) [rad]; (..., 3, 3)."""
-    a = np.asarray(angles, dtype=float)
-    return np.asarray(
-        _axis_rotation(a[..., 2], 2) @ _axis_rotation(a[..., 1], 1) @ _axis_rotation(a[..., 0], 0)
-    )
+    entries = rotation_entries(angles)
+    out = np.empty(entries[0][0].shape + (3, 3))
+    for i, row in enumerate(entries):
+        for j, value in enumerate(row):
+            out[..., i, j] = value
+    return out
 
 
 def angles_from_rotation(rotation: ArrayLike) -> FloatArray:
@@ -103,7 +140,21 @@ def rotation(pose: ArrayLike) -> FloatArray:
 
 def platform_offset(pose: ArrayLike, point: ArrayLike) -> FloatArray:
     """``R b`` (..., 3) [m]: a platform point b (F_p) relative to P, axes of F_b."""
-    return np.asarray(np.einsum("...ij,...j->...i", rotation(pose), np.asarray(point, dtype=float)))
+    q = np.asarray(pose, dtype=float)
+    b = np.asarray(point, dtype=float)
+    entries = rotation_entries(q[..., 3:])
+    out = np.empty(np.broadcast_shapes(q.shape[:-1], b.shape[:-1]) + (3,))
+    if b.ndim == 1:  # one point: its components are numbers, exact zeros cost nothing
+        terms = [(j, float(b[j])) for j in range(3) if b[j] != 0.0]
+        for i, row in enumerate(entries):
+            value: FloatArray | float = 0.0
+            for j, bj in terms:
+                value = row[j] * bj if type(value) is float else value + row[j] * bj
+            out[..., i] = value
+        return out
+    for i, row in enumerate(entries):
+        out[..., i] = row[0] * b[..., 0] + row[1] * b[..., 1] + row[2] * b[..., 2]
+    return out
 
 
 def _wrap_near(angle: FloatArray, reference: FloatArray) -> FloatArray:

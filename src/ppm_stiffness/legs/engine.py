@@ -14,39 +14,62 @@ compliance of the leg's structure against the wrenches it transmits with a rigid
 actuator (what :class:`LegReduction` holds): the loaded statics reuse it.
 
 Every array has one batch axis (n,); points and axes of the chain may be (n, 3) or
-constant (3,). W is computed by Gram-Schmidt in length-balanced units
-(:data:`ppm_stiffness.core.conventions.LENGTH_SCALE`): orthonormalise the passive
-twists, then complete with the base vectors of largest remainder. A pose whose passive
-twists are dependent (to :data:`DEPENDENT_TOLERANCE`) gets NaN entries, which callers
-mask as singular. Twists and wrenches at P, axes of F_b, SI.
+constant (3,). Twists and wrenches at P, axes of F_b, SI.
+
+The basis. W is an orthonormal basis, in length-balanced units
+(:data:`ppm_stiffness.core.conventions.LENGTH_SCALE`), of the wrenches reciprocal to
+the passive twists; K does not depend on which (``W -> W T`` cancels). The passive
+twists are taken at a reference point c, the point of the passive joint with the most
+rotational freedoms: its rotations have no translation part there, and when it is a
+spherical joint they span every rotation about c, so that W is made of forces through
+c and only the translation parts of the other twists need a QR (Householder,
+:mod:`ppm_stiffness.legs._soa`, whose remainders test the twists' dependence). W is
+then made orthonormal at P. A pose whose passive twists are dependent (a remainder at
+most :data:`DEPENDENT_TOLERANCE` times the twist's norm, at c) gets NaN entries, which
+callers mask as singular.
+
+Evaluation. The poses are taken :data:`CHUNK` at a time, "structure of arrays": every
+scalar entry of a point, axis, twist or small matrix is one contiguous array of the
+chunk's poses, or a Python float when it holds at every pose (constant geometry, exact
+zeros skipped), so that the work is elementwise numpy arithmetic on short arrays; at
+one pose (n = 1) every entry is a float. Points and axes shared by several elements of
+the chain (the same array object) are read once. The blocks' compliances are applied
+by :mod:`ppm_stiffness.legs._forms` (a cantilever from its entries' monomials in the
+length; equal compliances about the axes of a frame through ``|x|^2``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
-from ppm_stiffness.core.conventions import BALANCE, FloatArray
+from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.legs import _forms as forms
+from ppm_stiffness.legs import _soa as soa
+from ppm_stiffness.legs._soa import Scalar, Vec
 from ppm_stiffness.legs.chain import (
     CONSTRAINED_DIRECTIONS,
     FREEDOM_DIRECTIONS,
-    Direction,
+    FREEDOMS,
     Element,
     Joint,
     Link,
     check_chain,
-    frame_from_axis,
 )
 
-#: Smallest norm of a passive twist's remainder (length-balanced, after removing the
-#: twists before it) for the passive joints to count as independent.
+#: Smallest norm of a passive twist's remainder (length-balanced, at the reference
+#: point, after removing the twists before it) relative to its norm, for the passive
+#: joints to count as independent.
 DEPENDENT_TOLERANCE = 1e-10
-#: Length-balancing of twist rows (rotation rows times L): balanced = SCALE * twist.
-_SCALE = 1.0 / BALANCE
+#: Poses evaluated together: their arrays stay in the processor's caches
+#: (benchmarks/bench_engine.py).
+CHUNK = 4096
 
 
 @dataclass(frozen=True)
@@ -72,113 +95,145 @@ class LegReduction:
     twist: FloatArray
 
 
-def _vectors(value: ArrayLike, n: int) -> FloatArray:
-    return np.broadcast_to(np.asarray(value, dtype=float), (n, 3))
-
-
-def _frame(element: Joint | Link, n: int) -> tuple[FloatArray, list[FloatArray]]:
-    """Point (n, 3) and axes [(n, 3)] * 3 of a joint frame or a link's tip frame."""
-    if isinstance(element, Link):
-        axis = np.asarray(element.end, dtype=float) - np.asarray(element.start, dtype=float)
-        axes = frame_from_axis(axis)
-        return _vectors(element.end, n), [_vectors(e, n) for e in axes]
-    return _vectors(element.point, n), [_vectors(e, n) for e in element.frame()]
-
-
-def _twists(
-    point: FloatArray, axes: list[FloatArray], directions: Sequence[Direction]
-) -> list[FloatArray]:
-    """Unit twists (n, 6) of frame directions at a point."""
-    out = []
-    for kind, k in directions:
-        e = axes[k]
-        if kind == "r":
-            out.append(np.concatenate([e, _cross(point, e)], axis=-1))
-        else:
-            out.append(np.concatenate([np.zeros_like(e), e], axis=-1))
+def reciprocal_basis(passive: Sequence[FloatArray], n: int) -> FloatArray:
+    """W (n, 6, 6 - p) reciprocal to the passive twists (each (n, 6)), orthonormal in
+    length-balanced units; NaN where the twists are dependent (module doc; the twists
+    as given, at P)."""
+    if len(passive) > 6:
+        raise DesignError(f"{len(passive)} passive twists: a leg has at most 6 freedoms")
+    out = np.empty((n, 6, 6 - len(passive)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for lo in range(0, n, CHUNK):
+            hi = min(n, lo + CHUNK)
+            twists = [list(np.asarray(q, dtype=float)[lo:hi].T.copy()) for q in passive]
+            columns, bad = soa.householder_complement(
+                [[soa.mul(LENGTH_SCALE, x) for x in q[:3]] + q[3:] for q in twists],
+                DEPENDENT_TOLERANCE,
+            )
+            for j, y in enumerate(columns):
+                w = [soa.mul(LENGTH_SCALE, x) for x in y[:3]] + y[3:]
+                soa.stack([soa.where(bad, math.nan, x) for x in w], out[lo:hi, :, j])
     return out
 
 
-def reciprocal_basis(passive: Sequence[FloatArray], n: int) -> FloatArray:
-    """W (n, 6, 6 - p) reciprocal to the passive twists (each (n, 6)), orthonormal in
-    length-balanced units; NaN where the twists are dependent (module doc).
-
-    Gram-Schmidt on the balanced passive twists gives U (n, 6, p); the projector
-    ``I - U U^T`` onto their complement then gives W column by column: the base vector
-    with the largest remainder (the largest diagonal entry), normalised, then removed.
-    """
-    done: list[FloatArray] = []
-    bad = np.zeros(n, dtype=bool)
-    for q in passive:
-        v = q * _SCALE
-        size = _norm(v)
-        for u in done:
-            v = v - _dot(v, u)[:, None] * u
-        norm = _norm(v)
-        bad |= ~(norm > DEPENDENT_TOLERANCE * size)
-        done.append(v / np.where(norm > 0, norm, 1.0)[:, None])
-    r = 6 - len(done)
-    projector = np.broadcast_to(np.eye(6), (n, 6, 6)).copy()
-    if done:
-        u = np.stack(done, axis=-1)
-        projector -= u @ np.swapaxes(u, -1, -2)
-    basis = np.empty((n, 6, r))
-    rows = np.arange(n)
-    for j in range(r):
-        diagonal = np.einsum("nii->ni", projector)
-        pick = np.argmax(diagonal, axis=1)
-        w = projector[rows, :, pick] / np.sqrt(diagonal[rows, pick])[:, None]
-        basis[:, :, j] = w
-        if j + 1 < r:
-            projector -= w[:, :, None] * w[:, None, :]
-    basis *= _SCALE[None, :, None]
-    if np.any(bad):
-        basis[bad] = np.nan
-    return basis
+def _reference(chain: Sequence[Element]) -> int | None:
+    """Index of the passive joint with the most rotational freedoms (the last of
+    equals), or None if no passive joint rotates."""
+    best, ref = 0, None
+    for i, element in enumerate(chain):
+        if isinstance(element, Joint) and not element.actuated:
+            count = sum(kind == "r" for kind, _ in FREEDOM_DIRECTIONS[element.kind])
+            if count and count >= best:
+                best, ref = count, i
+    return ref
 
 
-def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.asarray(np.einsum("ni,ni->n", a, b))
+def _orthonormal_at_p(columns: list[list[Vec]], ref: Vec | None) -> list[list[Vec]]:
+    """Columns ``[m_c, f]`` (moment about the reference point c, force) of a basis,
+    made orthonormal in length-balanced units at P (Gram-Schmidt); each returned as
+    ``[m_c, f, m]`` with m the moment about P."""
+    out: list[list[Vec]] = []
+    weight = 1.0 / LENGTH_SCALE**2
+
+    def inner(a: list[Vec], b: list[Vec]) -> Scalar:
+        return soa.add(soa.mul(weight, soa.dot(a[2], b[2])), soa.dot(a[1], b[1]))
+
+    for m_c, f in columns:
+        m = (
+            m_c
+            if ref is None
+            else [soa.add(a, b) for a, b in zip(m_c, soa.cross(ref, f), strict=True)]
+        )
+        col = [m_c, f, m]
+        for prev in out:
+            d = inner(col, prev)
+            col = [soa.axpy(a, d, b) for a, b in zip(col, prev, strict=True)]
+        scale = soa.recip(soa.sqrt(inner(col, col)))
+        out.append([[soa.mul(scale, x) for x in v] for v in col])
+    return out
 
 
-def _norm(a: FloatArray) -> FloatArray:
-    return np.sqrt(_dot(a, a))
+def _wrenches(
+    chain: Sequence[Element], placed: list[tuple[soa.Frame, Scalar]]
+) -> tuple[list[list[Vec]], Callable[[Vec], Vec], Vec]:
+    """W at one chunk (module doc): columns ``[m_c, f, m]``, the offset ``q - c`` of a
+    point of the chain from the reference point, and the actuated joint's twist a."""
+    index = _reference(chain)
+    ref = None if index is None else placed[index][0].point
+    offsets: dict[int, Vec] = {} if ref is None else {id(ref): [0.0, 0.0, 0.0]}
 
+    def offset(point: Vec) -> Vec:
+        if id(point) not in offsets:
+            offsets[id(point)] = (
+                point if ref is None else [soa.sub(a, b) for a, b in zip(point, ref, strict=True)]
+            )
+        return offsets[id(point)]
 
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``a x b`` along axis 1 of (n, 3, ...) arrays (broadcasting)."""
-    return np.stack(
-        [
-            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
-            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
-            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-        ],
-        axis=1,
+    twist: Vec = [0.0] * 6
+    passive: list[Vec] = []
+    all_rotations: soa.Mask | None = None
+    for i, (element, (frame, norm)) in enumerate(zip(chain, placed, strict=True)):
+        if not isinstance(element, Joint):
+            continue
+        directions = FREEDOM_DIRECTIONS[element.kind]
+        if i == index and [kind for kind, _ in directions] == ["r", "r", "r"]:
+            all_rotations = norm > 0.0  # every rotation about c where its frame exists
+            continue
+        axes = frame.axes() if any(k for _, k in directions) else [frame.e1]
+        if element.actuated:
+            kind, k = directions[0]
+            twist = soa.twist(kind, frame.point, axes[k])
+            continue
+        free = [
+            soa.twist(kind, offset(frame.point), axes[k], LENGTH_SCALE) for kind, k in directions
+        ]
+        passive = free + passive if i == index else passive + free
+    columns, bad = soa.householder_complement(passive, DEPENDENT_TOLERANCE, all_rotations)
+    basis = _orthonormal_at_p(
+        [[[soa.mul(LENGTH_SCALE, x) for x in y[:3]], y[3:]] for y in columns], ref
     )
+    if soa.any_true(bad):
+        basis = [[[soa.where(bad, math.nan, x) for x in v] for v in col] for col in basis]
+    return basis, offset, twist
 
 
-def _wrench_in_frame(
-    basis: FloatArray, point: FloatArray, axes: list[FloatArray]
-) -> tuple[list[FloatArray], list[FloatArray]]:
-    """Components (n, r) of each wrench of W in a frame at ``point``: moments about
-    e_k through the point, forces along e_k."""
-    m, f = basis[:, :3, :], basis[:, 3:, :]
-    m_c = m - _cross(point[:, :, None], f)
-    rot = [np.einsum("ni,nir->nr", e, m_c) for e in axes]
-    tra = [np.einsum("ni,nir->nr", e, f) for e in axes]
-    return rot, tra
-
-
-def _add_outer(
-    acc: FloatArray, c: FloatArray | float, g: FloatArray, h: FloatArray | None = None
-) -> None:
-    """``acc += c g g^T`` (or ``c (g h^T + h g^T)``) for g, h (n, r), c (n,) or float."""
-    cc = np.asarray(c, dtype=float)
-    cc = cc[:, None, None] if cc.ndim else cc
-    if h is None:
-        acc += cc * (g[:, :, None] * g[:, None, :])
-    else:
-        acc += cc * (g[:, :, None] * h[:, None, :] + h[:, :, None] * g[:, None, :])
+def _reduce(
+    chain: Sequence[Element], geo: soa.Geometry
+) -> tuple[list[Vec], list[Scalar], Vec, Vec]:
+    """W (columns), A (upper triangle), v and a at one chunk of poses."""
+    placed = [geo.frame(e) for e in chain]
+    basis, offset, twist = _wrenches(chain, placed)
+    r = len(basis)
+    acc: list[Scalar] = [0.0] * (r * (r + 1) // 2)
+    forces = [col[1] for col in basis]
+    cache = forms.Projections()
+    moments: dict[int, list[Vec]] = {}
+    for element, (frame, length) in zip(chain, placed, strict=True):
+        terms: Sequence[forms.Term]
+        if isinstance(element, Link):
+            monomials = forms.cantilever_terms(element.section)
+            terms = (
+                monomials
+                if monomials is not None
+                else forms.full_terms(cantilever_compliance(element.section, length))
+            )
+        elif element.springs is not None:
+            springs = np.asarray(element.springs, dtype=float).tolist()
+            terms = forms.spring_terms(springs, CONSTRAINED_DIRECTIONS[element.kind])
+        else:
+            continue
+        key = id(frame.point)
+        if key not in moments:  # moments about the element's point: m_c - d x f
+            d = offset(frame.point)
+            moments[key] = [
+                soa.cross(f, d)
+                if soa.is_zero(m_c)
+                else [soa.sub(a, b) for a, b in zip(m_c, soa.cross(d, f), strict=True)]
+                for m_c, f, _ in basis
+            ]
+        forms.add_block(acc, terms, length, frame, (moments[key], forces), cache)
+    w = [col[2] + col[1] for col in basis]
+    return w, acc, [soa.dot(x, twist) for x in w], twist
 
 
 def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:
@@ -192,82 +247,94 @@ def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:
         Number of poses.
     """
     check_chain(chain)
-    passive: list[FloatArray] = []
-    twist = np.zeros((n, 6))
-    for element in chain:
-        if isinstance(element, Joint):
-            point, axes = _frame(element, n)
-            free = _twists(point, axes, FREEDOM_DIRECTIONS[element.kind])
-            if element.actuated:
-                twist = free[0]
-            else:
-                passive += free
-    basis = reciprocal_basis(passive, n)
-    r = basis.shape[-1]
-    acc = np.zeros((n, r, r))
-    for element in chain:
-        point, axes = _frame(element, n)
-        rot, tra = _wrench_in_frame(basis, point, axes)
-        if isinstance(element, Link):
-            length = np.linalg.norm(
-                np.asarray(element.end, dtype=float) - np.asarray(element.start, dtype=float),
-                axis=-1,
-            )
-            c = cantilever_compliance(element.section, np.broadcast_to(length, (n,)))
-            g = rot + tra
-            for i in range(6):
-                _add_outer(acc, c[:, i, i], g[i])
-            _add_outer(acc, c[:, 2, 4], g[2], g[4])
-            _add_outer(acc, c[:, 1, 5], g[1], g[5])
-            continue
-        if element.springs is None:
-            continue
-        for k, (kind, axis) in zip(
-            np.asarray(element.springs, dtype=float).tolist(),
-            CONSTRAINED_DIRECTIONS[element.kind],
-            strict=True,
-        ):
-            if np.isinf(k):
-                continue
-            _add_outer(acc, 1.0 / k, rot[axis] if kind == "r" else tra[axis])
-    actuator = np.einsum("nir,ni->nr", basis, twist)
-    return LegReduction(basis, acc, actuator, twist)
+    p = sum(FREEDOMS[e.kind] for e in chain if isinstance(e, Joint) and not e.actuated)
+    if p > 6:
+        raise DesignError(f"a leg with {p} passive freedoms (at most 6)")
+    r = 6 - p
+    basis = np.empty((n, 6, r))
+    compliance = np.empty((n, r, r))
+    actuator = np.empty((n, r))
+    twist = np.empty((n, 6))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for lo in range(0, n, CHUNK):
+            hi = min(n, lo + CHUNK)
+            w, acc, v, a = _reduce(chain, soa.Geometry(lo, hi))
+            for j, col in enumerate(w):
+                soa.stack(col, basis[lo:hi, :, j])
+            k = 0
+            for i in range(r):
+                for j in range(i, r):
+                    compliance[lo:hi, i, j] = compliance[lo:hi, j, i] = acc[k]
+                    k += 1
+            soa.stack(v, actuator[lo:hi])
+            soa.stack(a, twist[lo:hi])
+    return LegReduction(basis, compliance, actuator, twist)
 
 
-def _inverse(m: FloatArray) -> FloatArray:
-    """Inverses of (n, r, r) symmetric matrices; NaN where singular or not finite."""
-    r = m.shape[-1]
-    if r == 0:
-        return m.copy()
-    if r == 1:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.asarray(1.0 / m)
-    ok = np.all(np.isfinite(m), axis=(1, 2))
-    out = np.full(m.shape, np.nan)
-    if np.any(ok):
-        safe = m[ok]
+def _by_inverse(m: FloatArray, w: FloatArray) -> FloatArray:
+    """``W M^-1 W^T`` (n, 6, 6) symmetrised, by the inverse; NaN where M is singular or
+    not finite."""
+    out = np.full((m.shape[0], 6, 6), np.nan)
+    for i in np.flatnonzero(np.isfinite(m).all(axis=(1, 2))):
         try:
-            out[ok] = np.linalg.inv(safe)
+            k = w[i] @ np.linalg.inv(m[i]) @ w[i].T
         except np.linalg.LinAlgError:
-            for i, idx in enumerate(np.flatnonzero(ok)):
-                try:
-                    out[idx] = np.linalg.inv(safe[i])
-                except np.linalg.LinAlgError:
-                    continue
+            continue
+        out[i] = 0.5 * (k + k.T)
     return out
 
 
 def leg_stiffness(reduction: LegReduction, actuator_stiffness: ArrayLike | None) -> FloatArray:
     """A leg's stiffness (n, 6, 6) at P with the actuator stiffness (n,) or scalar
-    [N/m or N·m/rad]; None: a rigid actuator."""
+    [N/m or N·m/rad]; None: a rigid actuator.
+
+    With the Cholesky factor ``M = A + v v^T / k = R^T R`` (entry by entry),
+    ``K = U U^T`` for ``U = W R^-1``: exactly symmetric. Where M has no such factor
+    (singular, or not positive: a non-physical actuator), K is taken from the inverse,
+    NaN where M is singular or not finite.
+    """
     m = reduction.compliance
-    if actuator_stiffness is not None:
-        k = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), m.shape[:1])
-        v = reduction.actuator
-        m = m + (v[:, :, None] * v[:, None, :]) / k[:, None, None]
-    w = reduction.basis
-    k_leg = w @ _inverse(m) @ np.swapaxes(w, -1, -2)
-    return np.asarray(0.5 * (k_leg + np.swapaxes(k_leg, -1, -2)))
+    n, r = m.shape[0], m.shape[-1]
+    if r == 0 or n == 0:
+        return np.zeros((n, 6, 6))
+    k_inv = (
+        None
+        if actuator_stiffness is None
+        else 1.0 / np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n,))
+    )
+    v = reduction.actuator
+    w = np.ascontiguousarray(reduction.basis.transpose(2, 1, 0))  # (r, 6, n)
+    factor: list[list[FloatArray]] = []  # R[j][i - j], i >= j
+    cols: list[FloatArray] = []  # the columns of U, (6, n) each
+    out = np.empty(0)
+    ok = np.ones(n, dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for j in range(r):
+            row = []
+            for i in range(j, r):
+                mji = m[:, j, i] if k_inv is None else m[:, j, i] + v[:, j] * v[:, i] * k_inv
+                for k in range(j):
+                    mji = mji - factor[k][j - k] * factor[k][i - k]
+                row.append(mji)
+            ok &= (row[0] > 0.0) & (row[0] < math.inf)  # False where NaN
+            pivot = np.sqrt(row[0])
+            inv = 1.0 / pivot
+            factor.append([pivot] + [x * inv for x in row[1:]])
+            u = w[j]
+            for k in range(j):
+                u = u - factor[k][j - k] * cols[k]
+            cols.append(u * inv)
+            # each term a fresh array (not np.zeros: calloc'd pages fault when written)
+            term = np.einsum("in,jn->nij", cols[j], cols[j])
+            out = term if j == 0 else out + term
+    if not ok.all():
+        bad = ~ok
+        m_bad = m[bad]
+        if k_inv is not None:
+            vb = v[bad]
+            m_bad = m_bad + vb[:, :, None] * vb[:, None, :] * k_inv[bad][:, None, None]
+        out[bad] = _by_inverse(m_bad, reduction.basis[bad])
+    return out
 
 
 def platform_stiffness(
@@ -276,7 +343,7 @@ def platform_stiffness(
     """K (n, 6, 6) at P: the sum of the legs' (eq. 4); ``actuator_stiffness`` (n, n_legs)
     or (n_legs,)."""
     k_act = np.asarray(actuator_stiffness, dtype=float)
-    total = np.zeros(reductions[0].basis.shape[:1] + (6, 6))
-    for i, red in enumerate(reductions):
+    total = leg_stiffness(reductions[0], k_act[..., 0])
+    for i, red in enumerate(reductions[1:], start=1):
         total += leg_stiffness(red, k_act[..., i])
     return total
