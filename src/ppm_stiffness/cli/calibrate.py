@@ -13,6 +13,7 @@ from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
+    add_seed_argument,
     check_output_path,
     console,
     eng,
@@ -69,9 +70,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=1,
         help="number of starting points (first = the design's values)",
     )
-    parser.add_argument(
-        "--seed", type=int, default=0, help="seed of the random starting points (default 0)"
-    )
+    add_seed_argument(parser, "the random starting points")
     parser.add_argument("--out", metavar="FILE.toml", help="write the calibrated design here")
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 

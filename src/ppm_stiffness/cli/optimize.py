@@ -14,6 +14,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     add_wrench_argument,
     check_output_path,
     console,
@@ -81,7 +82,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="most design evaluations, the start design's included (default 300)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    add_seed_argument(parser, "the initial population and the evolution")
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_execution_arguments(parser)

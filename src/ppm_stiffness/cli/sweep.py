@@ -16,6 +16,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     add_wrench_argument,
     check_output_path,
     console,
@@ -58,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="every combination of the --vary values (default), or N scrambled Sobol "
         "points (N a power of 2)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="scrambles the Sobol sample")
+    add_seed_argument(parser, "the Sobol sample's scrambling")
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_execution_arguments(parser)

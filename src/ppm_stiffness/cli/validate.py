@@ -21,6 +21,7 @@ from rich.table import Table
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     check_output_path,
     console,
     eng,
@@ -54,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="seeded reachable poses besides the workspace centre (default 5)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    add_seed_argument(parser, "the poses")
     parser.add_argument(
         "--radius",
         type=float,
