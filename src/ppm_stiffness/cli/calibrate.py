@@ -23,6 +23,7 @@ from ppm_stiffness.cli.common import (
     progress,
     read_matrix_csv,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
@@ -121,14 +122,15 @@ def run(args: argparse.Namespace) -> int:
             seed=args.seed,
             progress=advance,
         )
+    if args.out:
+        with output_files(args.overwrite) as out:
+            save_design(result.design, out.temp(args.out, "--out"))
     if args.json:
         print(json_document("calibrate", _json(result, args.out), _JSON_UNITS))
-    else:
-        _print(result)
+        return 0
+    _print(result)
     if args.out:
-        save_design(result.design, args.out)
-        if not args.json:
-            console.print(f"calibrated design written to {escape(args.out)}")
+        console.print(f"calibrated design written to {escape(args.out)}")
     return 0
 
 

@@ -28,6 +28,7 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import (
     add_tolerance_arguments,
     curve_uncertainty,
@@ -316,14 +317,16 @@ def run(args: argparse.Namespace) -> int:
     curve, meas = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
     bands, unc = curve_uncertainty(args, design, variables, curve)
-    if args.csv:
-        write_csv(curve, args.csv)
-    if args.plot:
-        from ppm_stiffness.visuals import save_figure, use_headless_backend
-        from ppm_stiffness.visuals.deflection import plot_deflection_curves
+    with output_files(args.overwrite) as out:
+        if args.csv:
+            write_csv(curve, out.temp(args.csv, "--csv"))
+        if args.plot:
+            from ppm_stiffness.visuals import save_figure, use_headless_backend
+            from ppm_stiffness.visuals.deflection import plot_deflection_curves
 
-        use_headless_backend()
-        save_figure(plot_deflection_curves([curve], meas, bands=[bands]), args.plot)
+            use_headless_backend()
+            fig = plot_deflection_curves([curve], meas, bands=[bands])
+            save_figure(fig, out.temp(args.plot, "--plot"))
     if args.json:
         doc = _json(curve, rms) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("deflect", doc, _JSON_UNITS))

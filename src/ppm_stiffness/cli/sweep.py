@@ -26,6 +26,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     progress,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     add_execution_arguments,
     add_region_argument,
@@ -102,6 +103,19 @@ def _rows(result: Any, names: list[str]) -> list[dict[str, Any]]:
     return rows
 
 
+def _write_csv(
+    path: Path, fields: list[str], rows: list[dict[str, Any]], partial: str | None
+) -> None:
+    """One row per design done; an interrupted sweep's file starts with a ``#`` line
+    saying so (``partial: interrupted after 37 of 100 designs; ...``)."""
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        if partial is not None:
+            fh.write(f"# {partial}\n")
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.optimize.executors import open_executor
     from ppm_stiffness.optimize.objectives import quantity
@@ -145,34 +159,33 @@ def run(args: argparse.Namespace) -> int:
     rows = _rows(result, names)
     values = [q.value(s) for s in result.summaries]
 
-    if args.csv:
-        with Path(args.csv).open("w", newline="", encoding="utf-8") as fh:
-            writer = csv.DictWriter(fh, fieldnames=[v.name for v in variables] + ["covers", *names])
-            writer.writeheader()
-            writer.writerows(rows)
-    if args.out and rows:
-        import numpy as np
+    with output_files(args.overwrite) as out:
+        if args.csv:
+            fields = [v.name for v in variables] + ["covers", *names]
+            _write_csv(out.temp(args.csv, "--csv"), fields, rows, result.partial_note())
+        if args.out and rows:
+            import numpy as np
 
-        from ppm_stiffness.visuals.maps import save_map_figure
-        from ppm_stiffness.visuals.optimization import plot_sweep
+            from ppm_stiffness.visuals.maps import save_map_figure
+            from ppm_stiffness.visuals.optimization import plot_sweep
 
-        done = len(result.summaries)
-        shape = (
-            tuple(v.count for v in variables)
-            if sample == "grid" and len(variables) == 2 and not result.interrupted
-            else None
-        )
-        fig = plot_sweep(
-            result.points[:done],
-            np.array(values, dtype=float),
-            [s.covers for s in result.summaries],
-            [v.name for v in variables],
-            [v.unit for v in variables],
-            q.name,
-            q.unit,
-            shape=shape,  # type: ignore[arg-type]
-        )
-        save_map_figure(fig, args.out)
+            done = len(result.summaries)
+            shape = (
+                tuple(v.count for v in variables)
+                if sample == "grid" and len(variables) == 2 and not result.interrupted
+                else None
+            )
+            fig = plot_sweep(
+                result.points[:done],
+                np.array(values, dtype=float),
+                [s.covers for s in result.summaries],
+                [v.name for v in variables],
+                [v.unit for v in variables],
+                q.name,
+                q.unit,
+                shape=shape,  # type: ignore[arg-type]
+            )
+            save_map_figure(fig, out.temp(args.out, "--out"))
     if args.json:
         payload = {
             "region": region_json(region),
