@@ -46,7 +46,12 @@ from ppm_stiffness.statics.deflection import (
     deflection_curve,
     deflection_path,
 )
-from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
+from ppm_stiffness.statics.measurements import (
+    Measurements,
+    check_mode,
+    read_measurements,
+    rms_differences,
+)
 
 #: Default largest load of each mode [N or N·m].
 DEFAULT_MAX = {"planar-force": 10.0, "moment": 0.5, "vertical-force": 20.0, "wrench": 1.0}
@@ -171,6 +176,8 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         raise InputDataError("--wrench goes with --mode wrench (and only with it)")
     if not math.isfinite(args.alpha):
         raise InputDataError("--alpha must be finite")
+    if meas is not None:  # the file's mode and direction, before any load is computed
+        check_mode(meas, mode, math.radians(args.alpha))
     top = DEFAULT_MAX[mode] if args.max is None else args.max
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
