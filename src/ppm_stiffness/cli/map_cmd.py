@@ -262,9 +262,13 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
     def _values(k: np.ndarray) -> str:
         return ", ".join(f"{v:.6g} {u}" for v, u in zip(k, units, strict=True))
 
+    load_units = sorted({leg.actuator_units()[0] for leg in design.legs})
+    reference = f"{args.reference_force:g} {' or '.join(load_units)}" + (
+        " (each leg in its actuator's unit)" if len(load_units) > 1 else ""
+    )
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
-        + (f" (reference load {args.reference_force:g})" if state == "min" else "")
+        + (f" (reference load {reference})" if state == "min" else "")
     )
     console.print(
         f"actuator stiffness ({state}): "
