@@ -118,3 +118,17 @@ def test_measurement_rows_carry_their_lines() -> None:
     rows = measurement_rows(default_design(), read_measurements(IDENTIFICATION))
     assert rows.labels[0] == f"{IDENTIFICATION}, line 11" and len(rows.labels) == rows.n_rows
     assert rows.repeated(2).labels == rows.labels * 2
+
+
+def test_an_actuator_data_row_names_its_line(tmp_path: Path) -> None:
+    """fit-actuator's reader counted rows from the header, not lines: with two comment
+    lines the bad row (line 6) was called 'data row 4'."""
+    from ppm_stiffness.statics.actuator_fit import read_force_displacement
+
+    path = tmp_path / "a.csv"
+    path.write_text(
+        "# load cell\n# 2024\ndisplacement_mm,force_N\n0.01,3.5\n0.02,4.0\n0.03,x\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(InputDataError, match="^" + re.escape(f"{path}, line 6: not numeric")):
+        read_force_displacement(path)

@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.csvio import read_commented_csv
+from ppm_stiffness.csvio import read_numbered_csv
 
 #: Displacement column names and their factor to metres.
 DISPLACEMENT_COLUMNS = {"displacement_mm": 1e-3, "displacement_m": 1.0}
@@ -217,7 +217,8 @@ class ForceDisplacementData:
 def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     """Read an actuator force-displacement CSV (format in the module docstring)."""
     p = Path(path)
-    comments, rows = read_commented_csv(p)
+    data = read_numbered_csv(p)
+    comments, rows = data.comments, data.rows
     if not rows:
         raise InputDataError(f"{p}: no header row and no data")
     header = [c.strip() for c in rows[0]]
@@ -231,16 +232,16 @@ def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     i_d, i_f = header.index(disp_cols[0]), header.index(FORCE_COLUMN)
     d: list[float] = []
     f: list[float] = []
-    for lineno, row in enumerate(rows[1:], start=2):
+    for lineno, row in zip(data.row_lines[1:], rows[1:], strict=True):
         if len(row) != len(header):
             raise InputDataError(
-                f"{p}: data row {lineno} has {len(row)} fields, the header has {len(header)}"
+                f"{p}, line {lineno}: {len(row)} fields, the header has {len(header)}"
             )
         try:
             d.append(float(row[i_d]))
             f.append(float(row[i_f]))
         except ValueError:
-            raise InputDataError(f"{p}: data row {lineno} is not numeric: {row}") from None
+            raise InputDataError(f"{p}, line {lineno}: not numeric: {row}") from None
     factor = DISPLACEMENT_COLUMNS[disp_cols[0]]
     d_m = np.array(d) * factor
     f_n = np.array(f)
