@@ -153,11 +153,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             for v, u in zip(result["actuator_displacements"], units, strict=True)
         )
         c.print(f"actuator forces: {forces}; displacements: {disp}")
-        t = result["twist"]
+        t = result["twist"]  # deg and mm, as every CLI table (docs/conventions.md)
         c.print(
-            "deflection: rotation ({:.4g}, {:.4g}, {:.4g}) mrad, displacement "
-            "({:.4g}, {:.4g}, {:.4g}) µm".format(
-                *(1e3 * np.asarray(t[:3])), *(1e6 * np.asarray(t[3:]))
+            "deflection: rotation ({:.4g}, {:.4g}, {:.4g}) deg, displacement "
+            "({:.4g}, {:.4g}, {:.4g}) mm".format(
+                *np.degrees(np.asarray(t[:3]) + 0.0), *(1e3 * np.asarray(t[3:]) + 0.0)
             )
         )
     k = np.asarray(result["stiffness_matrix"])
