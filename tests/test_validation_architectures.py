@@ -179,26 +179,22 @@ def test_joint_stiffness_layout() -> None:
     np.testing.assert_array_equal(k, [0.0, np.inf, np.inf, 0.0, np.inf, np.inf])
 
 
-@pytest.mark.parametrize("name", ["3rpr.toml", "3prr.toml", "3rrr.toml"])
-def test_cli_validate_other_architectures(
-    name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+def test_cli_validate_prints_the_library_comparison(
+    case: tuple[str, Design, list], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    """`validate --poses 1` on each design file writes the library's comparison at the
+    centre and the first seeded pose (the seeded poses are drawn in order: the same
+    as the first of test_every_architecture_agrees_at_six_poses's), in full digits."""
+    name, _, comparisons = case
     out = tmp_path / "v.csv"
-    argv = [
-        "validate",
-        "--design",
-        str(EXAMPLES / name),
-        "--poses",
-        "5",
-        "--csv",
-        str(out),
-        "--quiet",
-    ]
+    design_args = [] if name == "builtin" else ["--design", str(EXAMPLES / name)]
+    argv = ["validate", *design_args, "--poses", "1", "--csv", str(out), "--quiet"]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "planar" in text and "ok" in text
-    rows = out.read_text().splitlines()
-    assert len(rows) == 1 + 2 * 6
-    for row in rows[1:]:
-        block, value = row.split(",")[3:]
-        assert float(value) < min(BOUNDS[name][:2]) * 10 < TOLERANCES[block]
+    rows = out.read_text().splitlines()[1:]
+    expected = [(b, c.differences[b]) for c in comparisons[:2] for b in ("planar", "out_of_plane")]
+    assert [row.split(",")[3] for row in rows] == [b for b, _ in expected]
+    got = [float(row.split(",")[4]) for row in rows]
+    np.testing.assert_allclose(got, [v for _, v in expected], rtol=1e-12)
+    assert all(v < TOLERANCES[b] for b, v in expected)
