@@ -78,9 +78,11 @@ def test_batched_equals_single_pose_at_the_centre_with_the_paper_numbers() -> No
     res = batch.evaluate_poses(DESIGN, np.zeros(3))
     ref = single(DESIGN, np.zeros(3))
     np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], ref[:3], rtol=RTOL)
-    # paper (31)-(32): k_phi = 193.5 N·m/rad, k_x = 0.3458e5, k_y = 0.6597e5 N/m, from a
-    # matrix printed to +-5 per entry (tests/paper.py): agreement within 0.5 %.
-    np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], [193.5, 34580, 65970], rtol=5e-3)
+    # paper (31)-(32): k_phi = 193.5 N·m/rad, k_x = 0.3458e5, k_y = 0.6597e5 N/m.
+    # Measured: 193.588, 34570.09, 65950.00, relative +4.5e-4, -2.9e-4, -3.0e-4 (the
+    # design is calibrated on (22), which prints K_tt 10-20 N/m below (31)-(32));
+    # 1.5e-3 allowed.
+    np.testing.assert_allclose([res.k_phi, res.k_x, res.k_y], [193.5, 34580, 65970], rtol=1.5e-3)
 
 
 def test_masked_poses_are_exactly_those_the_single_pose_path_rejects() -> None:
@@ -136,15 +138,6 @@ def test_actuator_forces_batch_equal_the_loading_module() -> None:
         )
         ref = actuator_forces(design, wrench, pose)
         np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-12 * np.max(np.abs(ref)))
-
-
-def test_paper_loaded_case_actuator_forces() -> None:
-    """f = [5, 5, 20] N, m_z = 0.1 N·m at the centre: about (-2.31, 7.31, 5) N (brief)."""
-    legs = batch.reduce_design(DESIGN)
-    forces = batch.actuator_forces_batch(
-        legs, 0.0, 0.0, 0.0, [0, 0, 0.1, 5, 5, 20], DESIGN.actuator.locked_stiffness
-    )
-    np.testing.assert_allclose(np.abs(forces), [2.31, 7.31, 5.0], atol=0.01)
 
 
 def test_decouple_batch_equals_decouple_on_general_matrices() -> None:
