@@ -18,6 +18,7 @@ from ppm_stiffness.core.conventions import twist_b_from_twist_a, wrench_b_from_w
 from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
@@ -82,7 +83,7 @@ def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, 
     """
     if method not in ("paper", "least-squares"):
         raise InputDataError(f"unknown decoupling method {method!r}")
-    k = np.asarray(stiffness, dtype=float)
+    k = as_float_array(stiffness, "stiffness matrix")
     dec = decouple(k, "paper")
     best = decouple(k, "least-squares")
     return {

@@ -32,7 +32,7 @@ from ppm_stiffness.cli.tolerances import (
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.fit.calibration import validate_stiffness_matrix
+from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.model import check_nonsingular
 
 
@@ -70,7 +70,9 @@ def run(args: argparse.Namespace) -> int:
                 "--matrix cannot be combined with --design, a pose, --wrench, --tool-point "
                 "or --tolerances"
             )
-        k = validate_stiffness_matrix(read_matrix_csv(args.matrix), args.matrix)
+        k = validate_stiffness_matrix(
+            read_matrix_csv(args.matrix), args.matrix, PRINTED_SYMMETRY_TOLERANCE
+        )
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
         result.update(analyze_matrix(k, args.method))

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, hat, vect
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.inputs import validate_stiffness_matrix
 
 Method = Literal["paper", "least-squares"]
 
@@ -128,14 +129,23 @@ def decouple(stiffness: ArrayLike, method: Method = "paper") -> Decoupling:
     Parameters
     ----------
     stiffness : array_like, shape (6, 6)
-        SI, order of ``conventions``.
+        SI, order of ``conventions``: symmetric positive definite (checked by
+        :func:`~ppm_stiffness.core.inputs.validate_stiffness_matrix`).
     method : {"paper", "least-squares"}
 
     Returns
     -------
     Decoupling
+
+    Raises
+    ------
+    InputDataError
+        If the matrix is not 6x6, finite, symmetric and positive definite, or the
+        method is unknown.
     """
-    k = np.asarray(stiffness, dtype=float)
+    if method not in ("paper", "least-squares"):
+        raise InputDataError(f"unknown decoupling method {method!r}")
+    k = validate_stiffness_matrix(stiffness)
     krt, ktt = k[:3, 3:], k[3:, 3:]
     m = 0.5 * (np.trace(ktt) * np.eye(3) - ktt)
     if method == "paper":

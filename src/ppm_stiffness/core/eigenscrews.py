@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import GAMMA, FloatArray
 from ppm_stiffness.core.errors import SingularConfigurationError
+from ppm_stiffness.core.inputs import validate_stiffness_matrix
 
 
 @dataclass(frozen=True)
@@ -87,11 +88,13 @@ def eigenscrews(stiffness: ArrayLike) -> ScrewSprings:
 
     Raises
     ------
+    InputDataError
+        If the matrix is not 6x6, finite, symmetric and positive definite.
     SingularConfigurationError
         If an eigenvalue is complex or an eigenvector has no rotational part
         (a pure translation: its axis and pitch are undefined).
     """
-    k = np.asarray(stiffness, dtype=float)
+    k = validate_stiffness_matrix(stiffness)
     lam, vec = np.linalg.eig(GAMMA @ k)  # K z = lam Gamma z  <=>  Gamma K z = lam z
     if np.max(np.abs(lam.imag)) > 1e-8 * np.max(np.abs(lam.real)):
         raise SingularConfigurationError("eigenscrew problem has complex eigenvalues")
