@@ -79,17 +79,21 @@ def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, 
     The keys keep their meaning whatever ``method``: ``decoupling``/``principal`` are
     the paper's eq. (19), ``decoupling_least_squares``/``principal_least_squares`` the
     shift that minimises the coupling; ``method`` records which one was asked for (and
-    is shown first).
+    is shown first). ``eigenscrews_repeated`` lists the groups of springs (0-based
+    indices into ``eigenscrews``) that share a repeated eigenvalue: inside a group the
+    springs are one valid choice among many (:mod:`ppm_stiffness.core.eigenscrews`).
     """
     if method not in ("paper", "least-squares"):
         raise InputDataError(f"unknown decoupling method {method!r}")
     k = as_float_array(stiffness, "stiffness matrix")
+    springs = eigenscrews(k)  # checks k (InputDataError)
     dec = decouple(k, "paper")
     best = decouple(k, "least-squares")
     return {
         "method": method,
         "stiffness_matrix": k.tolist(),
-        "eigenscrews": eigenscrews_dict(eigenscrews(k)),
+        "eigenscrews": eigenscrews_dict(springs),
+        "eigenscrews_repeated": [list(g) for g in springs.repeated],
         "decoupling": decoupling_dict(dec),
         "principal": principal_dict(dec),
         "decoupling_least_squares": decoupling_dict(best),

@@ -195,6 +195,13 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     for i, sc in enumerate(springs, start=1):
         g.add_row(f"s{i}", _vec(sc["axis"]), _vec(1e3 * np.asarray(sc["position"]), 2))
     c.print(g)
+    groups = result.get("eigenscrews_repeated") or []
+    if groups:
+        names = "; ".join(", ".join(f"s{i + 1}" for i in grp) for grp in groups)
+        c.print(
+            f"note: repeated eigenvalues ({escape(names)}): inside each group the screw "
+            "springs are not unique; shown: those whose axes are closest to x, y, z"
+        )
 
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":

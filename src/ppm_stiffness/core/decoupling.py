@@ -20,7 +20,11 @@ Two methods:
 ``residual_coupling = ||K_rt + D K_tt||_F / ||K_rt||_F`` (0 when decoupled exactly).
 Principal stiffnesses and directions are the eigen-pairs of K'_rr and K'_tt, ordered
 as the paper (directions closest to x, y, z), so that ``k_phi = f_rr[2]``,
-``k_x = f_tt[0]``, ``k_y = f_tt[1]`` for a planar design.
+``k_x = f_tt[0]``, ``k_y = f_tt[1]`` for a planar design. Equal principal stiffnesses
+(closer than :data:`~ppm_stiffness.core.eigenscrews.REPEATED_EIGENVALUE_TOLERANCE`,
+e.g. k_x = k_y of a 3- or 4-fold symmetric design) have no unique directions: inside
+such a group the directions closest to the coordinate axes are returned
+(:func:`~ppm_stiffness.core.eigenscrews.basis_closest_to_axes`).
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.eigenscrews import REPEATED_EIGENVALUE_TOLERANCE, basis_closest_to_axes
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import validate_stiffness_matrix
 
@@ -88,10 +93,13 @@ def shift_blocks(stiffness: ArrayLike, d: ArrayLike) -> tuple[FloatArray, FloatA
 def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Eigen-pairs of a symmetric 3x3 block, ordered as the paper.
 
-    Each eigenvector is assigned to the coordinate axis it is closest to (x, y, z),
-    and signed so that its largest component is... as a generic solver leaves it, made
-    deterministic: the component along its own axis is non-negative for x and z and
-    the first nonzero component is negative for in-plane pairs (the paper's (32)).
+    Each eigenvector is assigned to the coordinate axis it is closest to (x, y, z) and
+    signed so that its component along that axis is non-negative. Eigenvalues closer
+    than :data:`~ppm_stiffness.core.eigenscrews.REPEATED_EIGENVALUE_TOLERANCE` of the
+    largest |value| form a group whose eigenvectors are not unique: its basis is the
+    one closest to the coordinate axes
+    (:func:`~ppm_stiffness.core.eigenscrews.basis_closest_to_axes`), its values the
+    block's ``v^T B v`` along those directions.
 
     Returns
     -------
@@ -100,6 +108,14 @@ def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """
     b = np.asarray(block, dtype=float)
     vals, vecs = np.linalg.eigh(0.5 * (b + b.T))
+    v = vals.tolist()
+    gap = REPEATED_EIGENVALUE_TOLERANCE * max(abs(v[0]), abs(v[2]))
+    first = 0 if v[1] - v[0] <= gap else 1
+    end = 3 if v[2] - v[1] <= gap else 2
+    if end - first > 1:  # a repeated eigenvalue (ascending values: a run)
+        q = basis_closest_to_axes(vecs[:, first:end])[0]
+        vecs[:, first:end] = vecs[:, first:end] @ q
+        vals[first:end] = (q * q).T @ vals[first:end]
     # assign eigenvectors to axes greedily by the largest |component| (the first
     # largest in row-major order, as numpy's argmax), in plain Python: 3 x 3 entries
     weights = np.abs(vecs).tolist()
