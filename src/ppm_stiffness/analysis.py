@@ -47,7 +47,8 @@ def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
 
 
 def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
-    """The decoupling as plain data: method, M, d, K_rr, K_tt, residual_coupling (SI)."""
+    """The decoupling as plain data: method, M, d, K_rr, K_tt, residual_coupling and
+    already_decoupled (K_rt is round-off: d = 0, residual_coupling = 0) (SI)."""
     return {
         "method": dec.method,
         "M": dec.M.tolist(),
@@ -55,6 +56,7 @@ def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
         "K_rr": dec.K_rr.tolist(),
         "K_tt": dec.K_tt.tolist(),
         "residual_coupling": dec.residual_coupling,
+        "already_decoupled": dec.already_decoupled,
     }
 
 

@@ -211,7 +211,12 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
         c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
         c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
-        c.print(f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}")
+        if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
+            c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
+        else:
+            c.print(
+                f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}"
+            )
         c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
         c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
         pt = Table(title="Principal stiffnesses and directions", title_justify="left")

@@ -218,7 +218,11 @@ def _decoupling_section(result: dict[str, Any], key: str) -> str:
         dec, pr = result[dkey], result[pkey]
         base = f"{key}/{dkey}"
         d_cells = _vector_cells(dec["d"], f"{base}/d", scale=1e3, sig=4)
-        res = _cell(dec["residual_coupling"], f"{base}/residual_coupling", sig=4)
+        res = (
+            "<td>n/a (already decoupled: K<sub>rt</sub> is round-off)</td>"
+            if dec["already_decoupled"]
+            else _cell(dec["residual_coupling"], f"{base}/residual_coupling", sig=4)
+        )
         block = [
             f"<h3>Decoupling: {title}</h3>",
             _table(
