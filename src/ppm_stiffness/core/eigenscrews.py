@@ -55,6 +55,7 @@ REPEATED_EIGENVALUE_TOLERANCE = 1e-9
 
 #: Rows of ``Gamma @ M``: Gamma swaps the rotational and translational halves.
 _SWAP = [3, 4, 5, 0, 1, 2]
+_COLUMNS = np.arange(6)
 
 
 @dataclass(frozen=True)
@@ -196,56 +197,44 @@ def eigenscrews(stiffness: ArrayLike) -> ScrewSprings:
     values = nu.tolist()
     groups = _groups(values, REPEATED_EIGENVALUE_TOLERANCE)
     level, rank = list(values), [0] * 6  # the group's eigenvalue, rank inside it
-    rotation = None  # block diagonal: each group's basis_closest_to_axes
     for g in groups:
         if len(g) > 1:
             first, end = g[0], g[-1] + 1  # a group is a run of the ascending values
-            if rotation is None:
-                rotation = np.eye(6)
-            rotation[first:end, first:end] = basis_closest_to_axes(vec[:3, first:end])[0]
+            q = basis_closest_to_axes(vec[:3, first:end])[0]
+            vec[:, first:end] = vec[:, first:end] @ q
+            w = (q * q).tolist()  # new zeta_i^T Gamma zeta_i = sum_k q_ki^2 nu_k
             mean = sum(values[first:end]) / len(g)
             for r, i in enumerate(g):
+                nu[i] = sum(w[j][r] * values[first + j] for j in range(len(g)))
                 level[i], rank[i] = mean, r
-    if rotation is not None:
-        vec = vec @ rotation
-        nu = (rotation * rotation).T @ nu  # zeta_i^T Gamma zeta_i of the new basis
     idx = _order(level, rank)
     where = {j: n for n, j in enumerate(idx)}
     repeated = tuple(sorted(tuple(sorted(where[j] for j in g)) for g in groups if len(g) > 1))
     lam = nu[idx]
     vec = vec[:, idx]
-    vec = vec / np.linalg.norm(vec, axis=0)
-    eta = vec[:3]
-    eta_norm = np.linalg.norm(eta, axis=0)
-    if np.any(eta_norm < 1e-12):
+    vec /= np.sqrt(np.einsum("ij,ij->j", vec, vec))
+    eta2 = np.einsum("ij,ij->j", vec[:3], vec[:3])  # |eta|^2
+    if float(eta2.min()) < 1e-24:
         raise SingularConfigurationError("an eigenscrew is a pure translation (infinite pitch)")
-    lead = np.argmax(np.abs(eta), axis=0)
-    sign = np.sign(eta[lead, np.arange(6)])
-    vec = vec * sign
-    eta = vec[:3]
-    xi = vec[3:]
-    axes = (eta / eta_norm).T
+    lead = np.abs(vec[:3]).argmax(axis=0)
+    vec *= np.sign(vec[lead, _COLUMNS])
+    eta, xi = vec[:3], vec[3:]
+    eta_norm = np.sqrt(eta2)
     # eta x xi, column by column (np.cross costs more than the rest of this function)
-    cross = np.stack(
-        [
-            eta[1] * xi[2] - eta[2] * xi[1],
-            eta[2] * xi[0] - eta[0] * xi[2],
-            eta[0] * xi[1] - eta[1] * xi[0],
-        ],
-        axis=1,
-    )
-    positions = cross / eta_norm[:, None] ** 2
-    pitches = np.einsum("ij,ij->j", eta, xi) / eta_norm**2
-    with np.errstate(divide="ignore"):
-        spring = np.where(pitches != 0, lam / (2.0 * pitches), np.inf)
+    cross = eta[[1, 2, 0]] * xi[[2, 0, 1]] - eta[[2, 0, 1]] * xi[[1, 2, 0]]
+    pitches = np.einsum("ij,ij->j", eta, xi) / eta2
+    spring = [  # lambda / (2 h): infinite for a zero pitch
+        v / (2.0 * h) if h != 0 else math.inf
+        for v, h in zip(lam.tolist(), pitches.tolist(), strict=True)
+    ]
     return ScrewSprings(
         eigenvalues=lam,
         eigenvectors=vec,
         eigenforces=lam * eta_norm,
         pitches=pitches,
-        axes=axes,
-        positions=positions,
-        spring_constants=spring,
+        axes=(eta / eta_norm).T,
+        positions=(cross / eta2).T,
+        spring_constants=np.array(spring),
         screws=vec / eta_norm,
         repeated=repeated,
     )
