@@ -15,10 +15,12 @@ below are 1e-14.
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import ROOT, design_named
 from ppm_stiffness.core.conventions import (
     BALANCE,
     GAMMA,
@@ -250,3 +252,22 @@ def test_equal_principal_stiffnesses_get_the_axes(name: str) -> None:
         ):
             np.testing.assert_allclose(values[1], values[0], rtol=1e-12)
             np.testing.assert_allclose(directions, np.eye(3), atol=1e-9)
+
+
+def test_outputs_name_the_repeated_groups(capsys: pytest.CaptureFixture[str]) -> None:
+    from ppm_stiffness.cli import main
+
+    design = str(ROOT / "examples" / "redundant_4ppr.toml")
+    assert main(["analyze", "--design", design]) == 0
+    assert "note: repeated eigenvalues (s1, s2; s4, s5)" in capsys.readouterr().out
+    assert main(["analyze", "--design", design, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["eigenscrews_repeated"] == [[0, 1], [3, 4]]
+    assert main(["analyze"]) == 0  # the paper's design: nothing repeated
+    assert "repeated" not in capsys.readouterr().out
+    pytest.importorskip("matplotlib")
+    from ppm_stiffness.visuals.springs import plot_screw_springs
+
+    fig = plot_screw_springs(eigenscrews(home_stiffness("redundant_4ppr")))
+    labels = [ln.get_label() for ln in fig.axes[0].get_lines() if ln.get_label()[0] == "s"]
+    assert [("repeated with" in lab) for lab in labels] == [True, True, False] * 2
+    assert "repeated with s2" in labels[0] and "repeated with s4" in labels[4]
