@@ -44,6 +44,7 @@ from ppm_stiffness.core.errors import (
     InputDataError,
     SingularConfigurationError,
 )
+from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.base import LegModel
@@ -52,6 +53,7 @@ from ppm_stiffness.model import (
     check_nonsingular,
     leg_springs_at_pose,
     pose_label,
+    validate_pose,
 )
 from ppm_stiffness.statics import actuator as act
 
@@ -300,10 +302,13 @@ def equilibrium(
 
     Raises
     ------
+    InputDataError
+        If the wrench is not 6 finite numbers or the pose not 3.
     UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
-    w = np.asarray(wrench, dtype=float)
-    st = LegStructures(design, pose) if structures is None else structures
+    w = validate_wrench(wrench)
+    p = validate_pose(pose)
+    st = LegStructures(design, p) if structures is None else structures
     g, iterations = solve_forces(design, st, w)
     delta = displacements(design, g)
     k_tan = tangent_stiffnesses(design, g)
