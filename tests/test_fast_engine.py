@@ -201,7 +201,7 @@ def test_a_chunk_with_no_reachable_pose_is_masked_not_a_crash(
     """Review finding: a 3-RPR chunk whose poses are all out of reach raised IndexError
     (its joint axes depend on the pose, and there was none to read)."""
     from ppm_stiffness.cli import main
-    from ppm_stiffness.maps.batch import loaded_poses
+    from ppm_stiffness.maps.loaded import loaded_poses
 
     design = load_design(ROOT / "examples" / "3rpr.toml")
     far = np.array([[1.0, 1.0, 0.0]] * 5)

@@ -1,4 +1,4 @@
-"""The batched loaded state (maps.batch.loaded_poses) against the single-pose
+"""The batched loaded state (maps.loaded.loaded_poses) against the single-pose
 equilibrium (statics.loading.loaded_state) at seeded poses of every shipped design.
 
 Both run Newton's method to the same force tolerance (1e-12 of the force scale), so
@@ -15,7 +15,7 @@ import pytest
 from helpers import design_named, poses_around_workspace
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
-from ppm_stiffness.maps import batch
+from ppm_stiffness.maps.loaded import loaded_poses
 from ppm_stiffness.maps.workspace import workspace_bounds
 from ppm_stiffness.statics.loading import loaded_state
 
@@ -48,7 +48,7 @@ def test_loaded_poses_equal_loaded_state(name: str, scale: float) -> None:
     design = design_named(name)
     wrench = scale * WRENCH
     poses = poses_over(design, 40, 21)
-    res = batch.loaded_poses(design, poses, wrench, matrices=True, chunk_size=16)
+    res = loaded_poses(design, poses, wrench, matrices=True, chunk_size=16)
     assert res.stiffness is not None
     checked = 0
     for i, pose in enumerate(poses):
@@ -76,18 +76,18 @@ def test_loaded_poses_equal_loaded_state(name: str, scale: float) -> None:
 def test_redundant_design_iterates_and_a_too_large_load_is_flagged() -> None:
     design = design_named("redundant_4ppr")
     pose = np.array([0.015, -0.015, np.radians(-12.0)])
-    res = batch.loaded_poses(design, pose, WRENCH)
+    res = loaded_poses(design, pose, WRENCH)
     assert res.valid and res.iterations > 0  # the secant law shares the load
     np.testing.assert_allclose(
         res.actuator_forces, loaded_state(design, WRENCH, pose).actuator_forces, rtol=RTOL
     )
-    big = batch.loaded_poses(design, np.stack([pose, pose]), 10 * WRENCH)
+    big = loaded_poses(design, np.stack([pose, pose]), 10 * WRENCH)
     # solved, but beyond the small-displacement model: loaded_state refuses it
     assert big.solved.all() and not big.valid.any()
     with pytest.raises(InputDataError, match="load too large"):
         loaded_state(design, 10 * WRENCH, pose)
     # 30 times: Newton's method fails in both (100 iterations, residual 5e-9 N)
-    huge = batch.loaded_poses(design, pose, 30 * WRENCH)
+    huge = loaded_poses(design, pose, 30 * WRENCH)
     assert huge.reachable and not huge.singular and not huge.solved
     assert huge.iterations == -1 and huge.twist.mask.all()
     with pytest.raises(EquilibriumError):
@@ -100,7 +100,7 @@ def test_the_worst_deflection_over_a_grid() -> None:
     box = workspace_bounds(design, 0.0)
     x, y = np.meshgrid(np.linspace(box[0], box[1], 9), np.linspace(box[2], box[3], 7))
     poses = np.stack([x, y, np.zeros_like(x)], axis=-1)
-    res = batch.loaded_poses(design, poses, WRENCH)
+    res = loaded_poses(design, poses, WRENCH)
     assert res.twist.shape == (7, 9, 6) and res.valid.shape == (7, 9)
     dxy = np.hypot(res.twist[..., 3], res.twist[..., 4])
     j, i = np.unravel_index(np.ma.argmax(dxy), dxy.shape)

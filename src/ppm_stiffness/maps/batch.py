@@ -7,8 +7,8 @@ Three paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.mo
 shipped leg type, redundant designs): the general model in closed form per in-plane and
 out-of-plane block over arrays of poses (:mod:`ppm_stiffness.legs.planar`), about 10x
 the general path; ``"auto"`` takes it when a design has no reduced form. The batched
-loaded state under a wrench, :func:`loaded_poses`, builds on it
-(:mod:`ppm_stiffness.maps.loaded`).
+loaded state under a wrench, :func:`ppm_stiffness.maps.loaded.loaded_poses`, builds
+on it (that module imports this one, never the reverse).
 
 **The general path** (the reference; :func:`general_stiffness`, any architecture). Per
 chunk of poses and per leg: the batched inverse kinematics ``leg.solve(poses)``, the
@@ -97,13 +97,11 @@ from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
 
 __all__ = [
     "IN_PLANE",
-    "LoadedBatch",
     "OUT_OF_PLANE",
     "ReducedLeg",
     "reduce_design",
     "reduce_leg",
     "reduced_design",
-    "loaded_poses",
 ]
 
 #: Poses per chunk of the general path (about 6 kB per pose and leg of temporaries).
@@ -761,8 +759,3 @@ def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatA
     krt_t = np.swapaxes(krt, -1, -2)
     new_rr = krr - krt @ dd + dd @ (krt_t - ktt @ dd)
     return d, new_rr, ktt.copy()
-
-
-# The batched loaded state lives in its own module (it builds on this one); it is
-# re-exported here so that ``maps.batch.loaded_poses`` is the batch API's one place.
-from ppm_stiffness.maps.loaded import LoadedBatch, loaded_poses  # noqa: E402
