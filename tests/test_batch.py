@@ -104,15 +104,15 @@ def test_masked_poses_are_exactly_those_the_single_pose_path_rejects() -> None:
     assert np.all(np.isfinite(res.k_x.compressed()))
 
 
-def test_singular_orientation_is_masked_like_check_nonsingular() -> None:
+def test_singular_orientation_is_masked_like_the_single_pose_path() -> None:
     """At phi = 90 deg the force lines of legs 1 and 2 coincide (x_D1 = x_D2): the
-    in-plane stiffness is singular. Near it the eigenvalue ratio crosses the threshold;
-    the cheap bound must hand those poses to the exact test and agree with the
-    single-pose path pose by pose."""
+    in-plane stiffness is singular. Near it the transmission index crosses the
+    threshold; the cheap bound must hand those poses to the exact test and agree with
+    the single-pose path pose by pose."""
     design = wide_design()
-    # the length-balanced eigenvalue ratio grows as 0.0187 offset^2 and crosses the
-    # tolerance 1e-6 near 0.0073 rad
-    offsets = np.array([0.0, 1e-9, 1e-6, 1e-4, 1e-3, 0.006, 0.0073, 0.0074, 0.01, -0.0075, -0.05])
+    # the transmission index grows as 0.0447 offset^2 and crosses the tolerance 1e-6
+    # near 0.0047 rad
+    offsets = np.array([0.0, 1e-9, 1e-6, 1e-4, 1e-3, 0.0046, 0.0047, 0.0048, 0.01, -0.0048, -0.05])
     poses = np.stack([np.zeros_like(offsets), np.zeros_like(offsets), np.pi / 2 + offsets], axis=-1)
     res = batch.evaluate_poses(design, poses)
     expected = np.ones(offsets.size, dtype=bool)

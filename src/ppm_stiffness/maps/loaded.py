@@ -44,6 +44,7 @@ from ppm_stiffness.maps.batch import (
     nonsingular_from_entries,
     principal_from_entries,
 )
+from ppm_stiffness.model import transmission_blocks
 from ppm_stiffness.statics.equilibrium import (
     FORCE_TOLERANCE,
     MAX_ITERATIONS,
@@ -245,7 +246,11 @@ def _loaded_chunk(design: Design, poses: FloatArray, wrench: FloatArray) -> _Chu
         entries_s = PlanarEntries(
             *(np.broadcast_to(np.asarray(v, dtype=float), (k,)) for v in ks_in + ks_out)
         )
-        nonsingular = nonsingular_from_entries(entries_s)
+        pi_in, pi_out = transmission_blocks(blocks)
+        pi = PlanarEntries(
+            *(np.broadcast_to(np.asarray(v, dtype=float), (k,)) for v in pi_in + pi_out)
+        )
+        nonsingular = nonsingular_from_entries(entries_s, pi)
         c_in, c_out = engine.sym3_inverse(ks_in), engine.sym3_inverse(ks_out)
         # b_i = K_i^S a_i and C^S b_i, by block
         a6, b6, cb6 = [], [], []

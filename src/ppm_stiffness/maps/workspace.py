@@ -646,7 +646,8 @@ def stiffness_map(
             with np.errstate(all="ignore"):
                 entries, reach_g = batch.planar_entries(legs, xr, yc, phi, k_const)
                 pr = batch.principal_from_entries(entries)
-            ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
+                pi = batch.reduced_projector(legs, phi)
+            ok = (reach_g & batch.nonsingular_from_entries(entries, pi)).reshape(-1)
         else:
             k_p, _, ok, pr, _ = batch.chunk_result(
                 design, legs, poses, k_act, planar, matrices=at_tool

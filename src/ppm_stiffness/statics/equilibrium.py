@@ -44,12 +44,13 @@ from ppm_stiffness.core.errors import (
     InputDataError,
     SingularConfigurationError,
 )
+from ppm_stiffness.core.singularity import leg_projector, nonsingular, transmission_index
 from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.base import LegModel
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
-    check_nonsingular,
+    check_transmission,
     leg_springs_at_pose,
     pose_label,
 )
@@ -168,7 +169,10 @@ class LegStructures:
             raise SingularConfigurationError(
                 f"a leg is rigid with its actuator locked{pose_label(self.pose)}"
             )
-        check_nonsingular(total, pose_label(self.pose) + " (actuators rigid)")
+        pi = np.sum([leg_projector(q) for q in self.passive], axis=0)
+        check_transmission(
+            bool(nonsingular(transmission_index(pi))), total, pi, pose_label(self.pose)
+        )
         b = np.einsum("lij,lj->il", k_s, self.actuator)
         c_s = np.linalg.inv(total)
         c_s = 0.5 * (c_s + c_s.T)
