@@ -37,6 +37,7 @@ poses by a cheap bound and hands the others to :func:`transmission_index`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -143,10 +144,14 @@ def nonsingular(index: ArrayLike) -> BoolArray:
         return np.asarray(tau > SINGULARITY_TOLERANCE)
 
 
-def assemble_blocks(inplane: Sym3, outplane: Sym3, shape: tuple[int, ...]) -> FloatArray:
+def assemble_blocks(
+    inplane: Sym3, outplane: Sym3, shape: tuple[int, ...], out: FloatArray | None = None
+) -> FloatArray:
     """The full symmetric matrices (*shape, 6, 6) of two blocks (upper triangles): the
-    in-plane block on components (2, 3, 4), the out-of-plane one on (0, 1, 5)."""
-    out = np.zeros(shape + (6, 6))
+    in-plane block on components (2, 3, 4), the out-of-plane one on (0, 1, 5); written
+    into ``out`` (zeros elsewhere) when given."""
+    if out is None:
+        out = np.zeros(shape + (6, 6))
     for block, idx in ((inplane, (2, 3, 4)), (outplane, (0, 1, 5))):
         for value, (i, j) in zip(block, _PAIRS, strict=True):
             out[..., idx[i], idx[j]] = value
@@ -167,6 +172,16 @@ def _block_bounds(s: Sym3) -> tuple[FloatArray, FloatArray]:
     return bound, trace
 
 
+def _float_bounds(
+    a: float, b: float, c: float, d: float, f: float, g: float
+) -> tuple[float, float]:
+    """:func:`_block_bounds` of one block of Python floats."""
+    det = a * (d * g - f * f) - b * (b * g - f * c) + c * (b * f - d * c)
+    trace = a + d + g
+    pd = a > 0 and a * d - b * b > 0 and det > 0
+    return (4.0 * det / (trace * trace) if pd else -math.inf), trace
+
+
 def nonsingular_blocks(inplane: Sym3, outplane: Sym3, shape: tuple[int, ...]) -> BoolArray:
     """:func:`nonsingular` of :func:`transmission_index` for a block-diagonal ``Pi``.
 
@@ -182,6 +197,12 @@ def nonsingular_blocks(inplane: Sym3, outplane: Sym3, shape: tuple[int, ...]) ->
     shape : tuple of int
         The batch shape.
     """
+    if shape == () and all(type(v) is float for v in (*inplane, *outplane)):
+        # one pose in plain float arithmetic (the single-pose API): the same bound
+        bounds = [_float_bounds(*blk) for blk in (inplane, outplane)]  # type: ignore[arg-type]
+        if min(b[0] for b in bounds) > SINGULARITY_TOLERANCE * max(b[1] for b in bounds):
+            return np.array(True)
+        return nonsingular(transmission_index(assemble_blocks(inplane, outplane, ())))
     lb_in, tr_in = _block_bounds(inplane)
     lb_out, tr_out = _block_bounds(outplane)
     with np.errstate(invalid="ignore"):
