@@ -84,7 +84,6 @@ from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import (
     DesignError,
     InputDataError,
-    SingularConfigurationError,
 )
 from ppm_stiffness.core.singularity import (
     Vec3,
@@ -94,7 +93,7 @@ from ppm_stiffness.core.singularity import (
     nonsingular_blocks,
     transmission_index,
 )
-from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
+from ppm_stiffness.core.solver import leg_compliance_at_platform
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.base import LegPose
@@ -108,6 +107,7 @@ from ppm_stiffness.maps.reduced_leg import (
     reduced_design,
 )
 from ppm_stiffness.model import actuator_stiffness_vector, transmission_blocks
+from ppm_stiffness.statics.structures import bordered_or_nan, take
 
 __all__ = [
     "IN_PLANE",
@@ -353,79 +353,6 @@ def nonsingular_from_matrices(stiffness: ArrayLike, projector: ArrayLike) -> Boo
     return np.asarray(finite & nonsingular(transmission_index(projector)))
 
 
-def actuator_forces_batch(
-    legs: tuple[ReducedLeg, ...],
-    x: ArrayLike,
-    y: ArrayLike,
-    phi: ArrayLike,
-    wrench: ArrayLike,
-    locked_stiffness: ArrayLike,
-) -> FloatArray:
-    """Actuator forces [N] under ``wrench`` (m_x..f_z at P, F_b), shape (..., n_legs).
-
-    :func:`ppm_stiffness.statics.loading.actuator_forces` batched: the wrench is shared in
-    proportion to the locked leg stiffnesses, ``w_i = K_i K^{-1} w``; the actuator
-    carries ``u_i . f_i``. Only the in-plane part of each leg's wrench has a force
-    along u, so a 3x3 in-plane solve per pose suffices.
-
-    ``locked_stiffness`` is a scalar or one value per leg (n_legs,) [N/m]. The split is
-    the statics of the locked manipulator: right for a non-redundant design (3 legs,
-    each transmitting one in-plane force: the split is determinate and does not depend
-    on the stiffness values); a redundant design needs the loaded statics of
-    :func:`ppm_stiffness.statics.loading.loaded_state`.
-    """
-    w = np.asarray(wrench, dtype=float)
-    n = len(legs)
-    k_lock = np.broadcast_to(np.asarray(locked_stiffness, dtype=float), (n,))
-    e, _ = planar_entries(legs, x, y, phi, k_lock)
-    a, b, c, d_, f, g = e.k22, e.k23, e.k24, e.k33, e.k34, e.k44
-    rhs = (w[2], w[3], w[4])
-    # adjugate solve of the symmetric in-plane block [[a,b,c],[b,d,f],[c,f,g]] t = rhs
-    c00, c01, c02 = d_ * g - f * f, c * f - b * g, b * f - c * d_
-    c11, c12, c22 = a * g - c * c, b * c - a * f, a * d_ - b * b
-    det = a * c00 + b * c01 + c * c02
-    t = (
-        (c00 * rhs[0] + c01 * rhs[1] + c02 * rhs[2]) / det,
-        (c01 * rhs[0] + c11 * rhs[1] + c12 * rhs[2]) / det,
-        (c02 * rhs[0] + c12 * rhs[1] + c22 * rhs[2]) / det,
-    )
-    forces = []
-    for i, leg in enumerate(legs):
-        dx, dy, _, rod = leg.kinematics(x, y, phi)
-        mz, fx, fy = leg.in_basis
-        q = (mz + dx * fy - dy * fx, fx, fy)
-        s_in = _horner(leg.in_poly, rod) + leg.in_actuator**2 / k_lock[i]
-        lam = (q[0] * t[0] + q[1] * t[1] + q[2] * t[2]) / s_in
-        forces.append(lam * (fx * leg.u[0] + fy * leg.u[1]))
-    shape = np.broadcast_shapes(np.shape(x), np.shape(y), np.shape(phi))
-    return np.stack([np.broadcast_to(fv, shape) for fv in forces], axis=-1)
-
-
-def _take(leg_pose: LegPose, index: np.ndarray) -> LegPose:
-    """The poses ``index`` of a leg pose with one batch axis."""
-    return LegPose(
-        poses=leg_pose.poses[index],
-        points={k: v[index] for k, v in leg_pose.points.items()},
-        coordinates={k: v[index] for k, v in leg_pose.coordinates.items()},
-        solvable=np.broadcast_to(leg_pose.solvable, leg_pose.poses.shape[:-1])[index],
-    )
-
-
-def _leg_stiffness_or_nan(compliance6: FloatArray, passive: FloatArray) -> FloatArray:
-    """:func:`bordered_stiffness` of a batch (n, ...); NaN for the poses whose bordered
-    matrix is singular (redone pose by pose when the batched inverse fails)."""
-    try:
-        return bordered_stiffness(compliance6, passive)
-    except SingularConfigurationError:
-        out = np.full(compliance6.shape[:-2] + (6, 6), np.nan)
-        for n in range(compliance6.shape[0]):
-            try:
-                out[n] = bordered_stiffness(compliance6[n], passive[n])
-            except SingularConfigurationError:
-                continue
-        return out
-
-
 def _solve_chunk(
     design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
 ) -> tuple[FloatArray, list[LegPose], BoolArray]:
@@ -475,9 +402,9 @@ def general_stiffness(
     sub = np.zeros((index.size, 6, 6))
     sub_pi = np.zeros((index.size, 6, 6))
     for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
-        springs = leg_springs(leg.chain(_take(lp, index)), k_act[index, i])
+        springs = leg_springs(leg.chain(take(lp, index)), k_act[index, i])
         c6 = leg_compliance_at_platform(springs.screws, springs.compliance)
-        sub += _leg_stiffness_or_nan(c6, springs.passive)
+        sub += bordered_or_nan(c6, springs.passive)
         sub_pi += leg_projector(springs.passive)
     total[index] = sub
     pi[index] = sub_pi
@@ -502,7 +429,7 @@ def planar_engine_entries(
     index: np.ndarray | None = None
     if not reach.all():
         index = np.flatnonzero(reach)
-        leg_poses = [_take(lp, index) for lp in leg_poses]
+        leg_poses = [take(lp, index) for lp in leg_poses]
         k_act = k_act[index]
     legs, found = [], []
     with np.errstate(all="ignore"):
