@@ -2,15 +2,15 @@
 item 4a): the transmission index of :mod:`ppm_stiffness.core.singularity`.
 
 - The rigid-structure limit (every modulus 1e20 Pa, every joint spring 1e13 times
-  stiffer) spreads the length-balanced K's eigenvalues to ratios of 1e-10..1e-7, which
-  the old test (ratio below 1e-6) refused at every pose of the 3-RPR; nothing is
-  singular there, and the index, which depends on the joints' geometry only, equals
-  the original design's to rounding (measured: 1e-16 relative).
+  stiffer) spreads the length-balanced K's eigenvalues to ratios of 4e-11..3.5e-8 at
+  the workspace centres (measured), which the old test (ratio at or below 1e-6) refused
+  (every pose of the 3-RPR); nothing is singular there, and the index, which depends on
+  the joints' geometry only, equals the original design's (measured: identical).
 - True singular poses (the leg force lines of the 3-RPR meeting at P, type-II
   singularities of the 3-PRR and 3-RRR, coincident force lines of the P-P-R designs)
   are refused by every path, also for the stiff design; that the stiffness is really
   lost there is checked independently: the eigenvalue ratio of K summed from the legs'
-  springs (no check) is below 1e-9 (measured 1e-17..1e-12).
+  springs (no check) is below 1e-9 (measured: at most 1.1e-16 in magnitude).
 """
 
 from __future__ import annotations

@@ -2,10 +2,10 @@
 
 The single-pose functions (:func:`ppm_stiffness.model.stiffness_at_pose`,
 :func:`ppm_stiffness.statics.loading.loaded_state`) raise at a pose exactly where the
-batched ones (:func:`ppm_stiffness.maps.batch.evaluate_poses`,
-:func:`ppm_stiffness.maps.loaded.loaded_poses`, the maps) give it a nonzero code, and
-the code names the error: the checks run in the order of :class:`Refusal`, and the
-first that fails decides (:func:`first_refusal`).
+batched ones give it a nonzero code (:func:`ppm_stiffness.maps.loaded.loaded_poses`,
+:attr:`ppm_stiffness.maps.workspace.StiffnessMap.refusal`; ``evaluate_poses`` masks the
+same poses), and the code names the error: the checks run in the order of
+:class:`Refusal`, and the first that fails decides (:func:`first_refusal`).
 """
 
 from __future__ import annotations

@@ -7,8 +7,9 @@ Three paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.mo
 shipped leg type, redundant designs): the general model in closed form per in-plane and
 out-of-plane block over arrays of poses (:mod:`ppm_stiffness.legs.planar`), about 10x
 the general path; ``"auto"`` takes it when a design has no reduced form. The batched
-loaded state under a wrench, :func:`ppm_stiffness.maps.loaded.loaded_poses`, builds
-on it (that module imports this one, never the reverse).
+loaded state under a wrench (:func:`ppm_stiffness.maps.loaded.loaded_poses`, which
+imports this module, never the reverse) runs the same engine through
+:mod:`ppm_stiffness.statics.structures`.
 
 **The general path** (the reference; :func:`general_stiffness`, any architecture). Per
 chunk of poses and per leg: the batched inverse kinematics ``leg.solve(poses)``, the
