@@ -142,13 +142,6 @@ def test_batched_loaded_forces_equal_the_linear_split_of_a_determinate_design() 
         np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-12 * np.max(np.abs(ref)))
 
 
-def test_paper_loaded_case_actuator_forces() -> None:
-    """f = [5, 5, 20] N, m_z = 0.1 N·m at the centre: about (-2.31, 7.31, 5) N (brief)."""
-    res = loaded_poses(DESIGN, np.zeros(3), [0, 0, 0.1, 5, 5, 20])
-    assert res.valid
-    np.testing.assert_allclose(np.abs(res.actuator_forces.data), [2.31, 7.31, 5.0], atol=0.01)
-
-
 def test_decouple_batch_equals_decouple_on_general_matrices() -> None:
     rng = np.random.default_rng(11)
     a = rng.normal(size=(20, 6, 6)) * np.array([0.1, 0.1, 0.1, 1.0, 1.0, 1.0])
