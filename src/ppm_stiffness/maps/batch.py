@@ -516,7 +516,9 @@ class BatchResult:
     Attributes
     ----------
     valid : ndarray of bool
-        Reachable (joint limits) and nonsingular (model.check_nonsingular).
+        Reachable (joint limits) and not singular (the transmission index of
+        :mod:`ppm_stiffness.core.singularity`, K finite): where
+        :func:`ppm_stiffness.model.stiffness_at_pose` returns.
     reachable : ndarray of bool
         Every leg's IK solvable and its joint coordinates within limits.
     k_phi, k_x, k_y : numpy.ma.MaskedArray

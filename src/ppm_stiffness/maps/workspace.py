@@ -3,9 +3,9 @@
 The workspace at orientation phi is the set of platform positions (x, y) where every
 leg's inverse kinematics has a solution with its joint coordinates inside their limits
 (:meth:`ppm_stiffness.legs.base.LegModel.reachable`: strokes, rod ranges, actuator
-angles), and whose stiffness matrix is not (nearly) singular by the criterion of
-:func:`ppm_stiffness.model.check_nonsingular`. The map grid spans the bounding box of
-the joint-limit workspace (:func:`workspace_bounds`) and masks what lies outside.
+angles), and that are not (nearly) singular (the transmission index of
+:mod:`ppm_stiffness.core.singularity`). The map grid spans the bounding box of the
+joint-limit workspace (:func:`workspace_bounds`) and masks what lies outside.
 
 Workspace bounds, two methods:
 
