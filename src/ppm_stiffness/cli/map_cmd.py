@@ -185,7 +185,8 @@ def run(args: argparse.Namespace) -> int:
     if not np.any(smap.reachable):
         raise UnreachablePoseError(
             f"no grid point of the map is in the workspace at phi = "
-            f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
+            f"{math.degrees(smap.phi):.4g} deg: {smap.masked_text()}"
+            + (" (check --bounds)" if args.bounds else "")
         )
     bands, unc = map_uncertainty(args, design, variables, smap, wrench)
     with output_files(args.overwrite) as out:
@@ -249,6 +250,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
             "y_range": [float(smap.y[0]), float(smap.y[-1])],
         },
         "reachable_fraction": float(np.mean(smap.reachable)),
+        "masked": smap.refusal_counts(),
         "summary": smap.summary(),
         "data": args.data,
         "figure": args.out,
@@ -280,4 +282,6 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
         f"grid {x.size} x {y.size}: x in [{x[0]:.3f}, {x[-1]:.3f}] mm, y in "
         f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
     )
+    if not np.all(smap.reachable):
+        console.print(escape(smap.masked_text()))
     console.print(_summary_table(smap))
