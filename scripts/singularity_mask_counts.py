@@ -1,65 +1,77 @@
-"""Masked grid points of the built-in design's default maps under the old and the new
-singularity criterion (docs/maps.md).
+"""Masked grid points of the shipped designs' default maps under the previous and the
+current singularity test (docs/maps.md, "How the masks changed").
 
-old: eigenvalues of K / s_i / s_j with s = (10, 10, 10, 1, 1, 1) (K_rr * L^2, L = 0.1 m),
-     singular when lambda_min <= 1e-9 lambda_max;
-new: model.check_nonsingular: the length-balanced K (K_rr / L^2), tolerance 1e-6.
-Grid: the map command's defaults (200 x 200 over the workspace bounding box) at
-phi = 0 and 30 deg, plus the same grid over a box 20 % wider than the workspace.
-Last line: key=value counts. Run: .venv/bin/python scripts/singularity_mask_counts.py
+previous: the spread of K, the length-balanced eigenvalue ratio of K at or below 1e-6;
+current: the transmission index of core.singularity at or below 1e-6 (or K not finite).
+Grid: the map command's defaults (200 x 200 over the workspace bounding box at the
+design's workspace phi, locked actuators) for every shipped design, the built-in design
+also at phi = 30 deg and over a box 20 % wider, and the rigid-structure limit of the
+3-RPR (moduli 1e20 Pa, joint springs 1e13 times stiffer). Last line: key=value counts.
+Run: .venv/bin/python scripts/singularity_mask_counts.py
 """
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 
-from ppm_stiffness.design import default_design
+from ppm_stiffness.core.singularity import transmission_index
+from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.workspace import workspace_bounds, workspace_grid
-from ppm_stiffness.model import eigenvalue_ratio
+from ppm_stiffness.model import MATRIX_RATIO_TOLERANCE, eigenvalue_ratio
 
-S_OLD = np.array([10.0, 10, 10, 1, 1, 1])
+ROOT = Path(__file__).parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from test_singularity import rigid_structure  # noqa: E402
 
 
-def counts(phi: float, widen: float) -> dict[str, int]:
-    design = default_design()
+def counts(design: Design, phi: float, widen: float = 0.0) -> dict[str, float]:
     box = workspace_bounds(design, phi)
     pad = widen * np.array([box[1] - box[0], box[3] - box[2]])
     bounds = None if widen == 0 else box + np.array([-pad[0], pad[0], -pad[1], pad[1]])
     x, y = workspace_grid(design, phi, 200, bounds)
     xx, yy = np.meshgrid(x, y)
     poses = np.stack([xx, yy, np.full_like(xx, phi)], axis=-1).reshape(-1, 3)
-    res = batch.evaluate_poses(design, poses, matrices=True)
+    res = batch.evaluate_poses(design, poses)
     reach = res.reachable
-    mats, _ = batch.general_stiffness(
-        design, poses, [leg.actuator.locked_stiffness for leg in design.legs]
-    )
-    eig_old = np.linalg.eigvalsh(mats[reach] / S_OLD[:, None] / S_OLD[None, :])
-    old_ok = np.zeros(reach.shape, dtype=bool)
-    old_ok[reach] = eig_old[:, 0] > 1e-9 * eig_old[:, -1]
-    new_ok = res.valid
+    k_lock = [leg.actuator.locked_stiffness for leg in design.legs]
+    mats, pis, _ = batch.general_stiffness(design, poses, k_lock)
+    ratio = eigenvalue_ratio(mats[reach])
+    tau = transmission_index(pis[reach])
+    previous_ok = np.zeros(reach.shape, dtype=bool)
+    previous_ok[reach] = np.isfinite(ratio) & (ratio > MATRIX_RATIO_TOLERANCE)
     return {
         "points": int(reach.size),
         "outside_limits": int((~reach).sum()),
-        "masked_old": int((~old_ok).sum()),
-        "masked_new": int((~new_ok).sum()),
-        "singular_old": int((reach & ~old_ok).sum()),
-        "singular_new": int((reach & ~new_ok).sum()),
-        "min_ratio_new_e9": int(1e9 * eigenvalue_ratio(mats[reach]).min()),
+        "masked_previous": int((~previous_ok).sum()),
+        "masked_now": int((~res.valid).sum()),
+        "singular_previous": int((reach & ~previous_ok).sum()),
+        "singular_now": int((reach & ~res.valid).sum()),
+        "min_ratio": float(ratio.min()) if ratio.size else float("nan"),
+        "min_index": float(tau.min()) if tau.size else float("nan"),
     }
 
 
 def main() -> None:
+    cases: list[tuple[str, Design, float, float]] = [
+        ("paper", default_design(), 0.0, 0.0),
+        ("paper_phi30", default_design(), np.radians(30.0), 0.0),
+        ("paper_wide", default_design(), 0.0, 0.1),
+    ]
+    for name in ("symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"):
+        design = load_design(ROOT / "examples" / f"{name}.toml")
+        cases.append((name, design, design.workspace.phi, 0.0))
+    stiff = rigid_structure(load_design(ROOT / "examples" / "3rpr.toml"))
+    cases.append(("3rpr_rigid_structure", stiff, 0.0, 0.0))
     out = []
-    for deg in (0.0, 30.0):
-        for widen in (0.0, 0.1):
-            c = counts(np.radians(deg), widen)
-            label = f"phi{deg:g}" + ("_wide" if widen else "")
-            print(label, c)
-            out += [
-                f"{label}_masked_old={c['masked_old']}",
-                f"{label}_masked_new={c['masked_new']}",
-            ]
+    for label, design, phi, widen in cases:
+        c = counts(design, phi, widen)
+        print(label, {k: (f"{v:.3g}" if isinstance(v, float) else v) for k, v in c.items()})
+        out += [f"{label}_masked_previous={c['masked_previous']}"]
+        out += [f"{label}_masked_now={c['masked_now']}"]
     print(" ".join(out))
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import base64
 import io
+import json
 import re
 from pathlib import Path
 
@@ -22,17 +23,20 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
+from helpers import capture_saved_figures, colour_count, half_unit, lines_by_gid  # noqa: E402
+from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import Design, default_design, load_design  # noqa: E402
 from ppm_stiffness.legs.chain import Joint, Link  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre  # noqa: E402
+from ppm_stiffness.statics.loading import loaded_state  # noqa: E402
 from ppm_stiffness.visuals.mechanism import (  # noqa: E402
     mechanism_legs,
     plot_mechanism,
 )
-from ppm_stiffness.visuals.report import build_report, embedded_json  # noqa: E402
-from ppm_stiffness.visuals.springs import plot_screw_springs  # noqa: E402
+from ppm_stiffness.visuals.report import DEFAULT_WRENCH, build_report, embedded_json  # noqa: E402
+from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ("symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr")
@@ -223,14 +227,38 @@ def test_unreachable_pose_names_limits_and_unsolvable_legs() -> None:
 
 
 @pytest.mark.parametrize("name", DESIGNS)
-def test_mechanism_and_springs_commands_on_every_design(tmp_path: Path, name: str) -> None:
-    """Both figure commands run on the design file and write a PNG of a sensible size."""
+def test_mechanism_and_springs_commands_on_every_design(
+    tmp_path: Path, name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Both figure commands on the design file draw the model at the workspace centre:
+    the mechanism's joints at the legs' chain points, the six spring axes through the
+    screw springs' positions along their axes (eq. 9-10), all to 1e-12 m; the PNGs
+    decode at a sensible size with a drawing in them."""
+    figures = capture_saved_figures(monkeypatch)
     for command in ("mechanism", "springs"):
         out = tmp_path / f"{command}.png"
         assert main([command, "--design", str(_design_path(name)), "--out", str(out)]) == 0
         img = mpimg.imread(out)
         assert img.shape[0] > 600 and img.shape[1] > 900, (command, img.shape)
-        assert len(np.unique(img.reshape(-1, img.shape[2]), axis=0)) > 20
+        assert colour_count(img) > 20
+    mechanism, springs_fig = figures
+    design = _design(name)
+    pose = workspace_centre(design)
+    art = _artists(mechanism)
+    p_abs = np.array([pose[0], pose[1], 0.0])
+    for i, leg in enumerate(design.legs, start=1):
+        joints = [e for e in leg.chain(leg.solve(pose)) if isinstance(e, Joint)]
+        for j, joint in enumerate(joints, start=1):
+            drawn = art[f"joint-{i}-{j}"][0] / 1e3
+            np.testing.assert_allclose(drawn, (joint.point + p_abs)[:2], rtol=0, atol=1e-12)
+    springs = eigenscrews(stiffness_at_pose(design, pose))
+    axes = lines_by_gid(springs_fig, AXIS_GID)
+    assert sorted(axes) == [1, 2, 3, 4, 5, 6]
+    for i in range(6):
+        a, b = axes[i + 1][0] / 1e3, axes[i + 1][-1] / 1e3  # mm -> m
+        direction = (b - a) / np.linalg.norm(b - a)
+        assert np.linalg.norm(np.cross(springs.positions[i] - a, direction)) < 1e-12
+        assert np.linalg.norm(np.cross(direction, springs.axes[i])) < 1e-12
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
@@ -303,7 +331,11 @@ def test_report_of_a_3rrr_images_decode(rrr_report: str) -> None:
 
 
 @pytest.mark.parametrize("name", ["redundant_4ppr", "3prr", "3rpr"])
-def test_report_runs_on_the_other_examples(tmp_path: Path, name: str) -> None:
+def test_report_of_the_other_examples_shows_their_analysis(tmp_path: Path, name: str) -> None:
+    """The report of each other example at its centre: the embedded analyses are
+    analyze_design's, unloaded and under the default wrench, the actuator-force cells
+    print the loaded state's forces to their printed digits, and every architecture
+    has its stiffness maps."""
     code = main(
         [
             "report",
@@ -318,8 +350,19 @@ def test_report_runs_on_the_other_examples(tmp_path: Path, name: str) -> None:
     )
     assert code == 0
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
-    n = len(_design(name).legs)
-    assert all(f"loaded/actuator_forces/{i}" in page for i in range(n))
+    design = _design(name)
+    for block, wrench in (("analysis-unloaded", None), ("analysis-loaded", DEFAULT_WRENCH)):
+        expected = json.loads(dump_json(analyze_design(design, None, wrench)))
+        embedded = embedded_json(page, block)
+        assert {k: v for k, v in embedded.items() if k not in ENVELOPE_KEYS} == expected
+    forces = loaded_state(design, DEFAULT_WRENCH).actuator_forces
+    for i, g in enumerate(forces):
+        cell = re.search(
+            rf'data-path="loaded/actuator_forces/{i}" data-scale="([^"]+)">([^<]+)<', page
+        )
+        assert cell is not None, i
+        shown = float(cell.group(2)) / float(cell.group(1))
+        assert abs(shown - g) <= half_unit(cell.group(2)) / float(cell.group(1)), (i, g)
     assert "no map" not in page  # every architecture has its stiffness maps
 
 

@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 
 from helpers import wide_design
-from paper import EQ22, PAPER_K_ACT_HALF_UNIT, PAPER_K_ACT_LOADED
+from paper import EQ22, PAPER_WRENCH
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.cli import main
 from ppm_stiffness.design import default_design, dump_design, save_design
+from ppm_stiffness.statics.loading import loaded_state
 
 EQ22_CSV = str(Path(__file__).parents[1] / "src/ppm_stiffness/data/paper_eq22.csv")
 
@@ -89,12 +90,11 @@ def test_analyze_with_wrench_reports_actuators(capsys: pytest.CaptureFixture[str
     code, out, _ = run(capsys, "analyze", "--json", "--wrench", "5,5,20,0,0,0.1")
     assert code == 0
     data = json.loads(out)
-    # paper: K_act = [1.1108, 0.0516, 0.1912]e5 N/m under f = [5,5,20] N, m_z = 0.1 N·m,
-    # to its printed half-unit
-    np.testing.assert_allclose(
-        data["actuator_stiffness"], PAPER_K_ACT_LOADED, rtol=0, atol=PAPER_K_ACT_HALF_UNIT
-    )
-    assert len(data["actuator_forces"]) == 3 and len(data["actuator_displacements"]) == 3
+    # the library's loaded state under f = [5, 5, 20] N, m_z = 0.1 N·m (compared with
+    # the paper's K_act in test_model_paper.py)
+    state = loaded_state(default_design(), PAPER_WRENCH)
+    for key in ("actuator_stiffness", "actuator_forces", "actuator_displacements", "twist"):
+        np.testing.assert_allclose(data[key], getattr(state, key), rtol=1e-12, err_msg=key)
     code, out, _ = run(capsys, "analyze", "--wrench", "5,5,20,0,0,0.1")
     assert "actuator forces" in out
 
@@ -129,7 +129,11 @@ def test_calibrate_writes_a_design(capsys: pytest.CaptureFixture[str], tmp_path:
     code, out, _ = run(capsys, "analyze", "--design", str(out_file), "--json")
     assert code == 0
     k = np.array(json.loads(out)["stiffness_matrix"])
-    assert abs(k[3, 3] - EQ22[3, 3]) < 10  # K_xx of (22), printing half-unit 5 plus slack
+    # the fit reproduces (22) to its printing: every entry within the half-unit 5
+    # (measured at most 4.37, on K_phiz_phiz, which the statics fix at 75.6)
+    assert np.all(np.abs(k - EQ22) <= 5.0)
+    # K_xx, which leg 3's two free offsets set: measured 0.091 N/m from (22)
+    assert abs(k[3, 3] - EQ22[3, 3]) < 0.3
 
 
 def test_calibrate_flags_flat_direction(capsys: pytest.CaptureFixture[str]) -> None:

@@ -24,6 +24,7 @@ from ppm_stiffness.fit.identify import (
     predict_twists,
 )
 from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.poses import home_pose
 from ppm_stiffness.statics.deflection import deflection_path
 from ppm_stiffness.statics.measurements import read_measurements
 
@@ -219,7 +220,7 @@ def test_rows_from_files(tmp_path: Path) -> None:
     np.testing.assert_allclose(rows.sigmas[0, 3:5], [1e-6, 2e-6])
     with pytest.raises(InputDataError, match="given twice"):
         measurement_rows(PPR, meas, {3: 2e-6, 4: 2e-6})
-    np.testing.assert_allclose(rows.poses[0], workspace_centre(PPR))
+    np.testing.assert_allclose(rows.poses[0], home_pose(PPR))
     p.write_text("fx_N,fy_N,x_mm\n0,0,0.01\n")
     with pytest.raises(InputDataError, match="zero wrench"):
         measurement_rows(PPR, read_measurements(p), {3: 1e-6})

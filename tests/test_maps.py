@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from paper import PAPER_K_ACT_HALF_UNIT, PAPER_K_ACT_LOADED
+from helpers import colour_count, half_unit
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import (
@@ -137,13 +137,13 @@ def test_wrench_map_is_the_loaded_state_at_each_pose() -> None:
             )
 
 
-def test_wrench_map_reproduces_the_paper_actuator_stiffness_at_phi_0() -> None:
-    """Paper (33): K_act = 1.1108e5, 0.0516e5, 0.1912e5 N/m at the centre; at phi = 0 the
-    in-plane statics do not depend on (x, y), so over the whole map."""
+def test_wrench_map_actuator_stiffness_at_phi_0_is_the_centre_one() -> None:
+    """At phi = 0 the in-plane statics of the 3-PPR do not depend on (x, y): the
+    smallest and largest K_act over the map are the loaded state's at the centre (which
+    test_model_paper.py compares with the paper's). Measured 4.8e-15 relative."""
     smap = stiffness_map(DESIGN, actuators="wrench", wrench=PAPER_WRENCH, grid=4)
-    np.testing.assert_allclose(
-        smap.actuator_stiffness, [PAPER_K_ACT_LOADED] * 2, rtol=0, atol=PAPER_K_ACT_HALF_UNIT
-    )
+    centre = loaded_state(DESIGN, PAPER_WRENCH).actuator_stiffness
+    np.testing.assert_allclose(smap.actuator_stiffness, [centre] * 2, rtol=2e-14)
 
 
 def test_min_state_is_eq21_under_the_reference_force(maps: dict) -> None:
@@ -282,7 +282,7 @@ def test_cli_writes_figure_and_data(tmp_path: Path, capsys: pytest.CaptureFixtur
     assert png_size(fig) == expected_pixels(smap)
     img = matplotlib.image.imread(fig)
     assert img.std() > 0.1  # not a blank page
-    assert len(np.unique(img.reshape(-1, img.shape[-1]), axis=0)) > 50  # contours drawn
+    assert colour_count(img) > 50  # contours drawn
 
 
 @pytest.mark.parametrize("suffix", [".svg", ".pdf"])
@@ -323,9 +323,12 @@ def test_cli_wrench_map(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     assert rc == 0
     out = capsys.readouterr().out
     header = next(line for line in out.splitlines() if "actuator stiffness" in line)
-    shown = [float(v) for v in re.findall(r"([0-9.]+(?:e[+-]?\d+)?) N/m", header)]
+    shown = re.findall(r"([0-9.]+(?:e[+-]?\d+)?) N/m", header)
     assert "wrench" in header and len(shown) == 3
-    np.testing.assert_allclose(shown, PAPER_K_ACT_LOADED, rtol=0, atol=PAPER_K_ACT_HALF_UNIT)
+    # the loaded state's K_act at the centre (uniform at phi = 0), to the printed digits
+    centre = loaded_state(DESIGN, PAPER_WRENCH).actuator_stiffness
+    for text, value in zip(shown, centre, strict=True):
+        assert abs(float(text) - value) <= half_unit(text), (text, value)
 
 
 @pytest.mark.parametrize(

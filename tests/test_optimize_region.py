@@ -96,7 +96,7 @@ def test_worst_deflection_matches_the_loaded_state_pose_by_pose() -> None:
         pps.loaded_state(design, wrench, p).twist for p in region_poses(region).reshape(-1, 3)
     ]
     t = np.array(twists)
-    # the summary uses the batched equilibrium (maps.batch.loaded_poses), equal to
+    # the summary uses the batched equilibrium (maps.loaded.loaded_poses), equal to
     # loaded_state to 4e-14 measured (tests/test_loaded_batch.py); 1e-11 as there
     assert summary["max_displacement"] == pytest.approx(
         np.max(np.hypot(t[:, 3], t[:, 4])), rel=1e-11

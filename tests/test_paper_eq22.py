@@ -21,8 +21,9 @@ def test_eigenvalues_eq23() -> None:
 
 
 def test_printed_lambda3_needs_the_rounding_box() -> None:
-    # NOTES.md: the printed matrix itself gives lambda_3 ~ 2482, not 2368.1; only the
-    # rounding of K_rr(3,3) = 0.0008e5 (75..85) reconciles them.
+    # The printed matrix itself gives lambda_3 ~ 2482, not 2368.1; only the rounding of
+    # K_rr(3,3) = 0.0008e5 (75..85) reconciles them (docs/model.md, "Where the paper
+    # and the physics disagree").
     assert eigenscrews(EQ22).eigenvalues[2] == pytest.approx(2482.3, abs=0.1)
 
 
@@ -32,7 +33,7 @@ def test_eigenforces_eq25() -> None:
 
 
 def test_pitches_eq26() -> None:
-    # printed in "rad/m"; a pitch is m/rad (NOTES.md)
+    # printed in "rad/m"; a pitch is m/rad (eq. 11: eta . xi / |eta|^2; docs/model.md)
     printed = [0.1315, 0.1332, 0.0177, -0.1315, -0.1332, -0.0177]
     assert_in_rounding_range(lambda k: eigenscrews(k).pitches, printed, 0.00005)
 
@@ -53,7 +54,8 @@ def test_table4_axes_and_positions() -> None:
             [-0.0223, -0.0385, 0.9990],
         ]
     )
-    # Table 4 prints p_z of s4 as -0.0008; the mirror of s1 is +0.0008 (NOTES.md misprint).
+    # Table 4 prints p_z of s4 as -0.0008; the mirror of s1 is +0.0008 (a misprint:
+    # docs/model.md, "Where the paper and the physics disagree").
     positions = np.array(
         [
             [0.0479, -0.0044, -0.0008],
@@ -68,13 +70,47 @@ def test_table4_axes_and_positions() -> None:
     assert_in_rounding_range(lambda k: eigenscrews(k).positions.ravel(), positions.ravel(), 0.00005)
 
 
-def test_normalised_screws_eq27_are_eigenvectors_over_eta_norm() -> None:
-    # S in (27) is Lambda in (24) divided by ||eta|| (NOTES.md): check the printed pair.
-    lam1 = np.array([0.0812, 0.9317, -0.3258, 0.0128, 0.1381, 0.0022])
-    s1 = np.array([0.0820, 0.9408, -0.3290, 0.0130, 0.1394, 0.0022])
-    np.testing.assert_allclose(lam1 / np.linalg.norm(lam1[:3]), s1, atol=2e-4)
-    screws = eigenscrews(EQ22).screws
-    np.testing.assert_allclose(screws[:3], eigenscrews(EQ22).axes.T, atol=1e-12)
+#: (24): the eigenvectors zeta_i = (eta, xi) of K zeta = lambda Gamma zeta, unit 2-norm
+#: (columns Lambda_1 then Lambda_2), printed to 4 decimals.
+LAMBDA_24 = np.array(
+    [
+        [0.0812, 0.9671, 0.0222, 0.0812, 0.9671, -0.0222],
+        [0.9317, -0.1638, 0.0385, 0.9317, -0.1638, -0.0385],
+        [-0.3258, -0.1424, 0.9984, 0.3258, 0.1424, 0.9984],
+        [0.0128, 0.1288, 0.0315, -0.0128, -0.1288, 0.0315],
+        [0.1381, -0.0109, -0.0051, -0.1381, 0.0109, -0.0051],
+        [0.0022, -0.0313, 0.0172, 0.0022, -0.0313, -0.0172],
+    ]
+)
+#: (27): the normalised screws S_i = zeta_i / |eta_i| = (e_i, p_i x e_i + h_i e_i).
+S_27 = np.array(
+    [
+        [0.0820, 0.9757, 0.0223, 0.0820, 0.9757, -0.0223],
+        [0.9408, -0.1653, 0.0385, 0.9408, -0.1653, -0.0385],
+        [-0.3290, -0.1437, 0.9990, 0.3290, 0.1437, 0.9990],
+        [0.0130, 0.1300, 0.0315, -0.0130, -0.1300, 0.0315],
+        [0.1394, -0.0110, -0.0051, -0.1394, 0.0110, -0.0051],
+        [0.0022, -0.0316, 0.0172, 0.0022, -0.0316, -0.0172],
+    ]
+)
+
+
+def _signed_like(columns: np.ndarray, printed: np.ndarray) -> np.ndarray:
+    """Each column with the sign of the printed one (an eigenvector's sign is free)."""
+    return columns * np.sign(np.einsum("ij,ij->j", columns, printed))
+
+
+def test_eigenvectors_eq24_and_normalised_screws_eq27() -> None:
+    # The library's eigenvectors (unit 2-norm, as (24) is printed) and normalised
+    # screws, over the rounding of (22), against the printed (24) and (27)
+    assert_in_rounding_range(
+        lambda k: _signed_like(eigenscrews(k).eigenvectors, LAMBDA_24).ravel(),
+        LAMBDA_24.ravel(),
+        0.00005,
+    )
+    assert_in_rounding_range(
+        lambda k: _signed_like(eigenscrews(k).screws, S_27).ravel(), S_27.ravel(), 0.00005
+    )
 
 
 def test_M_eq28_and_d_eq29() -> None:
@@ -113,8 +149,9 @@ def test_principal_stiffnesses_eq32() -> None:
 
 
 def test_paper_decoupling_leaves_coupling_larger_than_K_rt() -> None:
-    # NOTES.md: with eq. (19) as printed the residual K_rt + D K_tt of (22) is about
-    # [[0,0,6665],[0,0,-6993],[-1875,1827,0]] N, larger than K_rt itself.
+    # With eq. (19) as printed the residual K_rt + D K_tt of (22) is about
+    # [[0,0,6665],[0,0,-6993],[-1875,1827,0]] N, larger than K_rt itself (docs/model.md,
+    # "Where the paper and the physics disagree": the sign of (19) contradicts (18b)).
     dec = decouple(EQ22, "paper")
     expected = np.array([[0, 0, 6665], [0, 0, -6993], [-1875, 1827, 0]], dtype=float)
     np.testing.assert_allclose(dec.K_rt, expected, atol=1.0)

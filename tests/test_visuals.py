@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
+from helpers import colour_count, lines_by_gid  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import default_design  # noqa: E402
@@ -40,17 +41,6 @@ def _cross2(a: np.ndarray, b: np.ndarray) -> float:
     return float(a[0] * b[1] - a[1] * b[0])
 
 
-def _lines_by_gid(fig, prefix: str) -> dict[int, np.ndarray]:
-    """Plotted 3D lines whose gid starts with ``prefix``: index -> (n, 3) [mm]."""
-    out = {}
-    for ax in fig.axes:
-        for line in ax.get_lines():
-            gid = line.get_gid() or ""
-            if gid.startswith(prefix):
-                out[int(gid[len(prefix) :])] = np.array(line.get_data_3d()).T
-    return out
-
-
 @pytest.mark.parametrize("loaded", [False, True], ids=["unloaded", "paper-wrench"])
 def test_spring_axes_pass_through_positions(loaded: bool) -> None:
     """Each drawn axis is the line through p_i along e_i (eq. 9-10), within 1e-12 m."""
@@ -58,7 +48,7 @@ def test_spring_axes_pass_through_positions(loaded: bool) -> None:
     k = loaded_state(design, PAPER_WRENCH).stiffness_matrix if loaded else stiffness_at_pose(design)
     springs = eigenscrews(k)
     fig = plot_screw_springs(springs, design)
-    axes = _lines_by_gid(fig, AXIS_GID)
+    axes = lines_by_gid(fig, AXIS_GID)
     plt.close(fig)
     assert sorted(axes) == [1, 2, 3, 4, 5, 6]
     for i in range(6):
@@ -80,7 +70,7 @@ def test_helix_handedness_follows_pitch_sign() -> None:
     design = default_design()
     springs = eigenscrews(stiffness_at_pose(design))
     fig = plot_screw_springs(springs, design)
-    helices = _lines_by_gid(fig, HELIX_GID)
+    helices = lines_by_gid(fig, HELIX_GID)
     plt.close(fig)
     hands = []
     for i in range(6):
@@ -158,7 +148,7 @@ def test_figure_commands_write_requested_format(tmp_path: Path, command: str, su
     if suffix == ".png":
         img = mpimg.imread(out)
         assert img.shape[0] > 400 and img.shape[1] > 400
-        assert len(np.unique(img.reshape(-1, img.shape[2]), axis=0)) > 10
+        assert colour_count(img) > 10
 
 
 def test_springs_command_with_wrench_and_pose(tmp_path: Path, capsys) -> None:

@@ -18,6 +18,7 @@ from ppm_stiffness.core.conventions import twist_b_from_twist_a, wrench_b_from_w
 from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
@@ -46,7 +47,8 @@ def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
 
 
 def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
-    """The decoupling as plain data: method, M, d, K_rr, K_tt, residual_coupling (SI)."""
+    """The decoupling as plain data: method, M, d, K_rr, K_tt, residual_coupling and
+    already_decoupled (K_rt is round-off: d = 0, residual_coupling = 0) (SI)."""
     return {
         "method": dec.method,
         "M": dec.M.tolist(),
@@ -54,6 +56,7 @@ def decoupling_dict(dec: Decoupling) -> dict[str, Any]:
         "K_rr": dec.K_rr.tolist(),
         "K_tt": dec.K_tt.tolist(),
         "residual_coupling": dec.residual_coupling,
+        "already_decoupled": dec.already_decoupled,
     }
 
 
@@ -78,17 +81,21 @@ def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, 
     The keys keep their meaning whatever ``method``: ``decoupling``/``principal`` are
     the paper's eq. (19), ``decoupling_least_squares``/``principal_least_squares`` the
     shift that minimises the coupling; ``method`` records which one was asked for (and
-    is shown first).
+    is shown first). ``eigenscrews_repeated`` lists the groups of springs (0-based
+    indices into ``eigenscrews``) that share a repeated eigenvalue: inside a group the
+    springs are one valid choice among many (:mod:`ppm_stiffness.core.eigenscrews`).
     """
     if method not in ("paper", "least-squares"):
         raise InputDataError(f"unknown decoupling method {method!r}")
-    k = np.asarray(stiffness, dtype=float)
+    k = as_float_array(stiffness, "stiffness matrix")
+    springs = eigenscrews(k)  # checks k (InputDataError)
     dec = decouple(k, "paper")
     best = decouple(k, "least-squares")
     return {
         "method": method,
         "stiffness_matrix": k.tolist(),
-        "eigenscrews": eigenscrews_dict(eigenscrews(k)),
+        "eigenscrews": eigenscrews_dict(springs),
+        "eigenscrews_repeated": [list(g) for g in springs.repeated],
         "decoupling": decoupling_dict(dec),
         "principal": principal_dict(dec),
         "decoupling_least_squares": decoupling_dict(best),

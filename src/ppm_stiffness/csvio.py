@@ -1,32 +1,67 @@
-"""Reading the small CSV files the CLI takes: ``#`` comment lines, then rows."""
+"""Reading the small CSV files the CLI takes: ``#`` comment lines, then rows.
+
+Each comment and row keeps its line number in the file (1-based, as a text editor
+shows it, comment and blank lines counted), so that an error can name the line.
+"""
 
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass
 from pathlib import Path
 
 from ppm_stiffness.core.errors import InputDataError
 
 
-def read_commented_csv(path: str | Path) -> tuple[list[str], list[list[str]]]:
-    """Comment lines (text after ``#``, stripped) and the other non-blank rows, as
-    strings. Raises :class:`InputDataError` for a missing file, a directory or a file
-    that is not UTF-8 text."""
+@dataclass(frozen=True)
+class CommentedCsv:
+    """A CSV file's comment lines and rows, with their line numbers.
+
+    Attributes
+    ----------
+    comments : list of str
+        Text after ``#``, stripped.
+    comment_lines : list of int
+        Line number (1-based) of each comment.
+    rows : list of list of str
+        The other non-blank lines, split into fields (the header is the first).
+    row_lines : list of int
+        Line number (1-based) of each row.
+    """
+
+    comments: list[str]
+    comment_lines: list[int]
+    rows: list[list[str]]
+    row_lines: list[int]
+
+
+def read_numbered_csv(path: str | Path) -> CommentedCsv:
+    """Comment lines and the other non-blank rows (as strings) with their line numbers.
+    Raises :class:`InputDataError` for a missing file, a directory or a file that is
+    not UTF-8 text."""
     p = Path(path)
     if p.is_dir():
         raise InputDataError(f"{p}: is a directory")
     if not p.is_file():
         raise InputDataError(f"file not found: {p}")
-    comments: list[str] = []
-    rows: list[list[str]] = []
+    out = CommentedCsv([], [], [], [])
     try:
         with p.open(newline="", encoding="utf-8") as fh:
-            for line in fh:
+            for number, line in enumerate(fh, start=1):
                 s = line.strip()
                 if s.startswith("#"):
-                    comments.append(s[1:].strip())
+                    out.comments.append(s[1:].strip())
+                    out.comment_lines.append(number)
                 elif s:
-                    rows.append(next(csv.reader([s])))
+                    out.rows.append(next(csv.reader([s])))
+                    out.row_lines.append(number)
     except (OSError, UnicodeDecodeError) as exc:
         raise InputDataError(f"cannot read {p}: {exc}") from None
-    return comments, rows
+    return out
+
+
+def read_commented_csv(path: str | Path) -> tuple[list[str], list[list[str]]]:
+    """Comment lines (text after ``#``, stripped) and the other non-blank rows, as
+    strings (:func:`read_numbered_csv` without the line numbers)."""
+    data = read_numbered_csv(path)
+    return data.comments, data.rows

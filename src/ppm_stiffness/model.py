@@ -7,6 +7,14 @@ the engines (:mod:`ppm_stiffness.legs.planar` for planar designs,
 a full pose (x, y, z, rx, ry, rz) [m, rad] (:mod:`ppm_stiffness.poses`): for a planar
 design ``(x, y, phi)`` as ever. Matrices are at P with the axes of F_b (see
 :mod:`ppm_stiffness.core.conventions`) unless a function says "at the tool point".
+
+A pose is refused when a leg cannot reach it (:class:`UnreachablePoseError`) or when it
+is singular (:class:`SingularConfigurationError`): K not finite, or the legs'
+transmitted wrenches nearly failing to span every direction, by the transmission index
+of :mod:`ppm_stiffness.core.singularity` (at or below
+:data:`~ppm_stiffness.core.singularity.SINGULARITY_TOLERANCE` = 1e-6) -- the one test
+the maps and the loaded states use too. It depends on the joints' geometry only, not
+on how stiff the parts are.
 """
 
 from __future__ import annotations
@@ -21,6 +29,15 @@ from ppm_stiffness.core.conventions import (
     stiffness_b_from_stiffness_a,
 )
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.singularity import (
+    SINGULARITY_TOLERANCE,
+    assemble_blocks,
+    basis_projector,
+    block_projector,
+    nonsingular,
+    nonsingular_blocks,
+    transmission_index,
+)
 from ppm_stiffness.core.solver import LegSprings, leg_stiffness
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
@@ -29,10 +46,12 @@ from ppm_stiffness.legs.base import LegPose, as_poses
 from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.poses import full_pose, home_pose, task_values
 
-#: Smallest admissible ratio of the smallest to the largest eigenvalue of the
-#: length-balanced stiffness matrix (conventions.length_balanced): below it the
-#: configuration is called singular (a condition number above 1e6).
-SINGULARITY_TOLERANCE = 1e-6
+#: For a stiffness matrix given without its design (a measured or target K,
+#: ``analyze --matrix``): smallest admissible ratio of the smallest to the largest
+#: eigenvalue of the length-balanced matrix (:func:`check_nonsingular`). Without the
+#: legs' joints only the spread of K can be judged; the model's own poses are judged by
+#: the transmission index instead (module doc).
+MATRIX_RATIO_TOLERANCE = 1e-6
 
 
 def workspace_centre(design: Design) -> FloatArray:
@@ -106,20 +125,51 @@ def eigenvalue_ratio(stiffness: ArrayLike) -> FloatArray:
 
 
 def check_nonsingular(stiffness: FloatArray, where: str = "") -> None:
-    """Raise :class:`SingularConfigurationError` if K is not finite or nearly singular."""
+    """Raise :class:`SingularConfigurationError` if a matrix given without its design
+    (a measured or target K) is not finite, not positive definite, or its
+    length-balanced eigenvalue ratio is at or below :data:`MATRIX_RATIO_TOLERANCE`.
+
+    The model's poses are not judged this way (a very stiff structure spreads K's
+    eigenvalues without losing any stiffness): see :func:`check_transmission`.
+    """
     if not np.all(np.isfinite(stiffness)):
         raise SingularConfigurationError(f"stiffness matrix is not finite{where}")
     eig = np.linalg.eigvalsh(length_balanced(stiffness))
-    if eig[-1] <= 0 or eig[0] < -SINGULARITY_TOLERANCE * eig[-1]:
+    if eig[-1] <= 0 or eig[0] < -MATRIX_RATIO_TOLERANCE * eig[-1]:
         raise SingularConfigurationError(
             f"stiffness matrix is not positive definite{where}: smallest eigenvalue "
             f"{eig[0]:.3g} (length-balanced units)"
         )
-    if eig[0] <= SINGULARITY_TOLERANCE * eig[-1]:
+    if eig[0] <= MATRIX_RATIO_TOLERANCE * eig[-1]:
         raise SingularConfigurationError(
             f"singular configuration{where}: stiffness eigenvalue ratio "
-            f"{eig[0] / eig[-1]:.2e} below {SINGULARITY_TOLERANCE:.0e}"
+            f"{eig[0] / eig[-1]:.2e} below {MATRIX_RATIO_TOLERANCE:.0e}"
         )
+
+
+def singular_message(stiffness: FloatArray, projector: FloatArray, where: str = "") -> str:
+    """Why a pose is singular, for :class:`SingularConfigurationError` (one pose:
+    K (6, 6) and the legs' summed projector ``Pi`` (6, 6))."""
+    if not np.all(np.isfinite(stiffness)):
+        return (
+            f"stiffness matrix is not finite{where}: a leg's passive joints are dependent "
+            "or it is rigid along a wrench it transmits"
+        )
+    tau = float(transmission_index(projector))
+    return (
+        f"singular configuration{where}: the legs' transmitted wrenches leave a direction "
+        f"unresisted (transmission index {tau:.2e}, at or below {SINGULARITY_TOLERANCE:.0e})"
+    )
+
+
+def check_transmission(
+    ok: bool | np.bool_, stiffness: FloatArray, projector: FloatArray, where: str = ""
+) -> None:
+    """Raise :class:`SingularConfigurationError` unless ``ok``, the decision of
+    :func:`ppm_stiffness.core.singularity.nonsingular` (or ``nonsingular_blocks``) and
+    a finite K at this pose, with the message of :func:`singular_message`."""
+    if not ok:
+        raise SingularConfigurationError(singular_message(stiffness, projector, where))
 
 
 def pose_label(pose: ArrayLike) -> str:
@@ -133,26 +183,40 @@ def pose_label(pose: ArrayLike) -> str:
     return f" at pose ({p[0] * 1e3:.2f} mm, {p[1] * 1e3:.2f} mm, {np.degrees(p[5]):.2f} deg)"
 
 
+def transmission_blocks(legs: list[planar.LegBlocks]) -> tuple[planar.Sym3, planar.Sym3]:
+    """``Pi`` by blocks (in-plane, out-of-plane upper triangles): the sum of the legs'
+    projectors onto the wrenches they transmit (:mod:`ppm_stiffness.core.singularity`)."""
+    return planar.sum_blocks(
+        (
+            block_projector(blk.inplane.basis, planar.IN_PLANE),
+            block_projector(blk.outplane.basis, planar.OUT_OF_PLANE),
+        )
+        for blk in legs
+    )
+
+
 def planar_stiffness(
     design: Design, leg_poses: list[LegPose], actuator_stiffness: FloatArray
-) -> FloatArray | None:
-    """K (6, 6) at one pose by the planar engine (:mod:`ppm_stiffness.legs.planar`),
-    from every leg's solved pose; None if a chain is not planar. The same model as
+) -> tuple[FloatArray, FloatArray, bool] | None:
+    """K (6, 6), the legs' summed projector ``Pi`` (6, 6) and the nonsingularity
+    decision at one pose by the planar engine (:mod:`ppm_stiffness.legs.planar`), from
+    every leg's solved pose; None if a chain is not planar. The same model as
     :func:`ppm_stiffness.core.solver.cartesian_stiffness` of the legs' springs, in
     closed form per block (no 22 x 22 matrices, no cross products of arrays)."""
-    legs = []
+    legs, blocks = [], []
     with np.errstate(all="ignore"):
         for leg, lp, k_act in zip(design.legs, leg_poses, actuator_stiffness, strict=True):
-            blocks = planar.leg_blocks(leg.chain(lp))
-            if blocks is None:
+            found = planar.leg_blocks(leg.chain(lp))
+            if found is None:
                 return None
-            legs.append(planar.leg_stiffness_blocks(blocks, float(k_act)))
+            blocks.append(found)
+            legs.append(planar.leg_stiffness_blocks(found, float(k_act)))
         k_in, k_out = planar.sum_blocks(legs)
-    k = np.zeros((6, 6))
-    for block, idx in ((k_in, planar.IN_PLANE), (k_out, planar.OUT_OF_PLANE)):
-        for value, (i, j) in zip(block, planar.PAIRS, strict=True):
-            k[idx[i], idx[j]] = k[idx[j], idx[i]] = float(value)
-    return k
+        p_in, p_out = transmission_blocks(blocks)
+        ok = bool(nonsingular_blocks(p_in, p_out, ()))
+    k = assemble_blocks(k_in, k_out, ())
+    ok = ok and bool(np.all(np.isfinite(k)))
+    return k, assemble_blocks(p_in, p_out, ()), ok
 
 
 def stiffness_at_pose(
@@ -180,18 +244,45 @@ def stiffness_at_pose(
     """
     p = full_pose(design, pose)
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
-    leg_poses = solve_legs(design, p)
-    k = planar_stiffness(design, leg_poses, k_act) if design.planar else None
-    if k is None:  # chains out of the plane: the batched engine on one pose
-        k = engine.platform_stiffness(
-            [
-                engine.reduce_chain(leg.chain(lp), 1)
-                for leg, lp in zip(design.legs, leg_poses, strict=True)
-            ],
-            k_act,
-        )[0]
-    check_nonsingular(k, pose_label(p))
+    k, pi, ok = _stiffness_and_transmission(design, solve_legs(design, p), k_act)
+    check_transmission(ok, k, pi, pose_label(p))
     return k
+
+
+def _stiffness_and_transmission(
+    design: Design, leg_poses: list[LegPose], actuator_stiffness: FloatArray
+) -> tuple[FloatArray, FloatArray, bool]:
+    """K (6, 6), the legs' summed projector ``Pi`` (6, 6) and the nonsingularity
+    decision at one solved pose: the planar engine for a planar design, the batched
+    engine (:mod:`ppm_stiffness.legs.engine`) on one pose for any other."""
+    if design.planar:
+        found = planar_stiffness(design, leg_poses, actuator_stiffness)
+        if found is not None:
+            return found
+    reductions = [
+        engine.reduce_chain(leg.chain(lp), 1)
+        for leg, lp in zip(design.legs, leg_poses, strict=True)
+    ]
+    k = engine.platform_stiffness(reductions, actuator_stiffness)[0]
+    pi = np.sum([basis_projector(r.basis[0]) for r in reductions], axis=0)
+    ok = bool(nonsingular(transmission_index(pi))) and bool(np.all(np.isfinite(k)))
+    return k, pi, ok
+
+
+def transmission_at_pose(design: Design, pose: ArrayLike | None = None) -> float:
+    """The transmission index at one pose (:mod:`ppm_stiffness.core.singularity`): in
+    [0, 1], 0 at a singular pose; the pose is refused as singular at or below
+    :data:`SINGULARITY_TOLERANCE`. It depends on the joints' geometry only.
+
+    Raises
+    ------
+    UnreachablePoseError
+    """
+    p = full_pose(design, pose)
+    _, pi, _ = _stiffness_and_transmission(
+        design, solve_legs(design, p), locked_actuator_stiffness(design)
+    )
+    return float(transmission_index(pi))
 
 
 def leg_stiffnesses_at_pose(

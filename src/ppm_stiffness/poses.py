@@ -103,6 +103,11 @@ def full_poses(design: Design, poses: ArrayLike) -> tuple[FloatArray, BoolArray]
     if not np.all(np.isfinite(p)):
         raise InputDataError("pose coordinates must be finite")
     dependent = dependent_indices(design)
+    if design.planar and width == 3:
+        # planar legs' residuals (z, n_x, n_y) vanish exactly at z = rx = ry = 0
+        full = np.zeros(p.shape[:-1] + (6,))
+        full[..., list(task)] = p
+        return full, np.ones(p.shape[:-1], dtype=bool)
     if width == 6 and len(task) < 6:
         full = p.copy()
         given = p[..., list(dependent)]

@@ -15,7 +15,7 @@ import importlib
 import sys
 import warnings
 from collections.abc import Iterable, Sequence
-from typing import TextIO
+from typing import NoReturn, TextIO
 
 from ppm_stiffness.core.errors import PPMStiffnessError
 
@@ -80,7 +80,28 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
-def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
+class OneLineErrorParser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line on stderr, like every other
+    error of the CLI (no usage block): ``ppm-stiffness: error: MESSAGE; see
+    `ppm-stiffness COMMAND --help```, exit code 2. Subparsers are of the same class.
+
+    Attributes
+    ----------
+    help_hint : str or None
+        The program whose ``--help`` the hint names (default: this parser's ``prog``);
+        :func:`main` sets the command's on the top-level parser, which reports the
+        command's unrecognised arguments.
+    """
+
+    help_hint: str | None = None
+
+    def error(self, message: str) -> NoReturn:
+        hint = self.help_hint or self.prog
+        print(f"ppm-stiffness: error: {message}; see `{hint} --help`", file=sys.stderr)
+        sys.exit(2)
+
+
+def build_parser(commands: Iterable[str] | None = None) -> OneLineErrorParser:
     """The argument parser.
 
     Parameters
@@ -89,7 +110,7 @@ def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentPars
         The commands whose options are added (their modules are imported); every
         command is listed with its help either way. None: all of them.
     """
-    parser = argparse.ArgumentParser(
+    parser = OneLineErrorParser(
         prog="ppm-stiffness",
         description="Stiffness of compliant planar parallel manipulators "
         "(virtual-spring model, eigenscrews, decoupling, actuation compliance).",
@@ -162,6 +183,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     raw = join_negative_values(sys.argv[1:] if argv is None else argv)
     command = _command_in(raw)
     parser = build_parser([] if command is None else [command])
+    if command is not None:
+        parser.help_hint = f"{parser.prog} {command}"
     try:
         args = parser.parse_args(raw)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)

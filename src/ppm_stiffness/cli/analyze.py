@@ -32,7 +32,7 @@ from ppm_stiffness.cli.tolerances import (
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.fit.calibration import validate_stiffness_matrix
+from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.model import check_nonsingular
 
 
@@ -70,7 +70,9 @@ def run(args: argparse.Namespace) -> int:
                 "--matrix cannot be combined with --design, a pose, --wrench, --tool-point "
                 "or --tolerances"
             )
-        k = validate_stiffness_matrix(read_matrix_csv(args.matrix), args.matrix)
+        k = validate_stiffness_matrix(
+            read_matrix_csv(args.matrix), args.matrix, PRINTED_SYMMETRY_TOLERANCE
+        )
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
         result.update(analyze_matrix(k, args.method))
@@ -153,11 +155,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             for v, u in zip(result["actuator_displacements"], units, strict=True)
         )
         c.print(f"actuator forces: {forces}; displacements: {disp}")
-        t = result["twist"]
+        t = result["twist"]  # deg and mm, as every CLI table (docs/conventions.md)
         c.print(
-            "deflection: rotation ({:.4g}, {:.4g}, {:.4g}) mrad, displacement "
-            "({:.4g}, {:.4g}, {:.4g}) µm".format(
-                *(1e3 * np.asarray(t[:3])), *(1e6 * np.asarray(t[3:]))
+            "deflection: rotation ({:.4g}, {:.4g}, {:.4g}) deg, displacement "
+            "({:.4g}, {:.4g}, {:.4g}) mm".format(
+                *np.degrees(np.asarray(t[:3]) + 0.0), *(1e3 * np.asarray(t[3:]) + 0.0)
             )
         )
     k = np.asarray(result["stiffness_matrix"])
@@ -193,6 +195,13 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     for i, sc in enumerate(springs, start=1):
         g.add_row(f"s{i}", _vec(sc["axis"]), _vec(1e3 * np.asarray(sc["position"]), 2))
     c.print(g)
+    groups = result.get("eigenscrews_repeated") or []
+    if groups:
+        names = "; ".join(", ".join(f"s{i + 1}" for i in grp) for grp in groups)
+        c.print(
+            f"note: repeated eigenvalues ({escape(names)}): inside each group the screw "
+            "springs are not unique; shown: those whose axes are closest to x, y, z"
+        )
 
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":
@@ -202,7 +211,12 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
         c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
         c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
-        c.print(f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}")
+        if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
+            c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
+        else:
+            c.print(
+                f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}"
+            )
         c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
         c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
         pt = Table(title="Principal stiffnesses and directions", title_justify="left")

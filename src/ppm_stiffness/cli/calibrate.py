@@ -13,6 +13,7 @@ from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
+    add_seed_argument,
     check_output_path,
     console,
     eng,
@@ -22,6 +23,7 @@ from ppm_stiffness.cli.common import (
     progress,
     read_matrix_csv,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
@@ -69,9 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=1,
         help="number of starting points (first = the design's values)",
     )
-    parser.add_argument(
-        "--seed", type=int, default=0, help="seed of the random starting points (default 0)"
-    )
+    add_seed_argument(parser, "the random starting points")
     parser.add_argument("--out", metavar="FILE.toml", help="write the calibrated design here")
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
@@ -122,14 +122,15 @@ def run(args: argparse.Namespace) -> int:
             seed=args.seed,
             progress=advance,
         )
+    if args.out:
+        with output_files(args.overwrite) as out:
+            save_design(result.design, out.temp(args.out, "--out"))
     if args.json:
         print(json_document("calibrate", _json(result, args.out), _JSON_UNITS))
-    else:
-        _print(result)
+        return 0
+    _print(result)
     if args.out:
-        save_design(result.design, args.out)
-        if not args.json:
-            console.print(f"calibrated design written to {escape(args.out)}")
+        console.print(f"calibrated design written to {escape(args.out)}")
     return 0
 
 

@@ -120,6 +120,30 @@ def check_input_path(path: str, option: str) -> Path:
     return p
 
 
+def seed_value(text: str) -> int:
+    """The argparse type of every ``--seed``: an integer >= 0 (numpy's
+    ``SeedSequence``, behind every seeded random choice, refuses negative seeds), or
+    an ``argparse.ArgumentTypeError`` (one line, exit 2) naming the valid range."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"a seed is an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"a seed is an integer >= 0, got {value}")
+    return value
+
+
+def add_seed_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--seed N`` (default 0), an integer >= 0; ``what`` says what it seeds."""
+    parser.add_argument(
+        "--seed",
+        type=seed_value,
+        default=0,
+        metavar="N",
+        help=f"seed of {what}, an integer >= 0 (default 0)",
+    )
+
+
 def add_design_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--design", metavar="FILE", help="TOML design file (default: the built-in 3-PPR)"

@@ -22,6 +22,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     progress,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     MAP_GRID,
     add_execution_arguments,
@@ -104,6 +105,14 @@ def run(args: argparse.Namespace) -> int:
             raise KeyboardInterrupt from None
     wall = time.perf_counter() - start
 
+    if args.out:
+        from ppm_stiffness.visuals.comparison import plot_maps_side_by_side
+        from ppm_stiffness.visuals.maps import save_map_figure
+
+        maps = region_maps(designs, region, args.map_grid)
+        fig = plot_maps_side_by_side(maps, labels, region_box(region))
+        with output_files(args.overwrite) as out:
+            save_map_figure(fig, out.temp(args.out, "--out"))
     names = [n for n in FIGURE_UNITS if wrench is not None or not n.startswith("max_")]
     if args.json:
         payload = {
@@ -155,12 +164,6 @@ def run(args: argparse.Namespace) -> int:
                     "(worst deflection unbounded: inf)"
                 )
         err_console.print(f"{len(designs)} designs in {wall:.3g} s ({executor_label(args)})")
-    if args.out:
-        from ppm_stiffness.visuals.comparison import plot_maps_side_by_side
-        from ppm_stiffness.visuals.maps import save_map_figure
-
-        maps = region_maps(designs, region, args.map_grid)
-        save_map_figure(plot_maps_side_by_side(maps, labels, region_box(region)), args.out)
-        if not args.json:
-            console.print(f"maps written to {escape(args.out)}")
+    if args.out and not args.json:
+        console.print(f"maps written to {escape(args.out)}")
     return 0

@@ -28,6 +28,7 @@ from ppm_stiffness.cli.common import (
     pose_from_args,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import (
     add_tolerance_arguments,
     curve_uncertainty,
@@ -45,7 +46,12 @@ from ppm_stiffness.statics.deflection import (
     deflection_curve,
     deflection_path,
 )
-from ppm_stiffness.statics.measurements import Measurements, read_measurements, rms_differences
+from ppm_stiffness.statics.measurements import (
+    Measurements,
+    check_mode,
+    read_measurements,
+    rms_differences,
+)
 
 #: Default largest load of each mode [N or N·m].
 DEFAULT_MAX = {"planar-force": 10.0, "moment": 0.5, "vertical-force": 20.0, "wrench": 1.0}
@@ -170,6 +176,8 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         raise InputDataError("--wrench goes with --mode wrench (and only with it)")
     if not math.isfinite(args.alpha):
         raise InputDataError("--alpha must be finite")
+    if meas is not None:  # the file's mode and direction, before any load is computed
+        check_mode(meas, mode, math.radians(args.alpha))
     top = DEFAULT_MAX[mode] if args.max is None else args.max
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
@@ -316,14 +324,16 @@ def run(args: argparse.Namespace) -> int:
     curve, meas = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
     bands, unc = curve_uncertainty(args, design, variables, curve)
-    if args.csv:
-        write_csv(curve, args.csv)
-    if args.plot:
-        from ppm_stiffness.visuals import save_figure, use_headless_backend
-        from ppm_stiffness.visuals.deflection import plot_deflection_curves
+    with output_files(args.overwrite) as out:
+        if args.csv:
+            write_csv(curve, out.temp(args.csv, "--csv"))
+        if args.plot:
+            from ppm_stiffness.visuals import save_figure, use_headless_backend
+            from ppm_stiffness.visuals.deflection import plot_deflection_curves
 
-        use_headless_backend()
-        save_figure(plot_deflection_curves([curve], meas, bands=[bands]), args.plot)
+            use_headless_backend()
+            fig = plot_deflection_curves([curve], meas, bands=[bands])
+            save_figure(fig, out.temp(args.plot, "--plot"))
     if args.json:
         doc = _json(curve, rms) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("deflect", doc, _JSON_UNITS))

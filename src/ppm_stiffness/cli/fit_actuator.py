@@ -16,6 +16,7 @@ from ppm_stiffness.cli.common import (
     json_document,
     load_design_arg,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import save_design
 from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
@@ -61,25 +62,26 @@ def run(args: argparse.Namespace) -> int:
         )
     use_design = args.design is not None or args.write_design is not None
     design = load_design_arg(args) if use_design else None
-    if args.write_design:
-        assert design is not None
-        new = design.with_parameters({"actuator.k_a": fit.k_a, "actuator.q": fit.q})
-        save_design(new, args.write_design)
-    if args.plot:
-        from ppm_stiffness.visuals import save_figure, use_headless_backend
-        from ppm_stiffness.visuals.actuator import plot_actuator_fit
+    with output_files(args.overwrite) as files:
+        if args.write_design:
+            assert design is not None
+            new = design.with_parameters({"actuator.k_a": fit.k_a, "actuator.q": fit.q})
+            save_design(new, files.temp(args.write_design, "--write-design"))
+        if args.plot:
+            from ppm_stiffness.visuals import save_figure, use_headless_backend
+            from ppm_stiffness.visuals.actuator import plot_actuator_fit
 
-        use_headless_backend()
-        ref = (design.actuator.k_a, design.actuator.q) if design is not None else None
-        fig = plot_actuator_fit(
-            data.displacement_m,
-            data.force_n,
-            fit,
-            ref,
-            title=f"actuator fit: {args.data}",
-            reference_label="design law",
-        )
-        save_figure(fig, args.plot)
+            use_headless_backend()
+            ref = (design.actuator.k_a, design.actuator.q) if design is not None else None
+            fig = plot_actuator_fit(
+                data.displacement_m,
+                data.force_n,
+                fit,
+                ref,
+                title=f"actuator fit: {args.data}",
+                reference_label="design law",
+            )
+            save_figure(fig, files.temp(args.plot, "--plot"))
     if args.json:
         out = dict(fit.as_dict(), source=args.data, displacement_unit=data.displacement_unit)
         units = {

@@ -16,6 +16,7 @@ from ppm_stiffness.cli.common import (
     json_document,
     load_design_arg,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
 
 #: Factor from SI to the unit in each measurement column name, and back.
@@ -215,7 +216,8 @@ def run(args: argparse.Namespace) -> int:
     rows = measurement_rows(design, meas, sigma)
     result = identify(design, rows, free, fix_unidentifiable=args.fix_unidentifiable)
     if args.out:
-        save_design(result.design, args.out)
+        with output_files(args.overwrite) as out:
+            save_design(result.design, out.temp(args.out, "--out"))
     if args.json:
         print(json_document("identify", _payload(result, args.out), _UNITS))
     else:

@@ -26,6 +26,7 @@ from ppm_stiffness.cli.common import (
     progress,
     tool_point_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import (
     add_tolerance_arguments,
     map_uncertainty,
@@ -184,25 +185,28 @@ def run(args: argparse.Namespace) -> int:
     if not np.any(smap.reachable):
         raise UnreachablePoseError(
             f"no grid point of the map is in the workspace at phi = "
-            f"{math.degrees(smap.phi):.4g} deg (joint limits, singular poses or --bounds)"
+            f"{math.degrees(smap.phi):.4g} deg: {smap.masked_text()}"
+            + (" (check --bounds)" if args.bounds else "")
         )
     bands, unc = map_uncertainty(args, design, variables, smap, wrench)
-    if args.data:
-        path = Path(args.data)
-        if path.suffix.lower() == ".npz":
-            smap.to_npz(path)
-        else:
-            with progress("writing " + path.name, smap.reachable.size, enabled=show) as advance:
-                smap.to_csv(path, advance)
-    if args.out:
-        from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
+    with output_files(args.overwrite) as out:
+        if args.data:
+            path = Path(args.data)
+            if path.suffix.lower() == ".npz":
+                smap.to_npz(out.temp(path, "--data"))
+            else:
+                with progress("writing " + path.name, smap.reachable.size, enabled=show) as advance:
+                    smap.to_csv(out.temp(path, "--data"), advance)
+        if args.out:
+            from ppm_stiffness.visuals.maps import plot_stiffness_maps, save_map_figure
 
-        if bands is None:
-            save_map_figure(plot_stiffness_maps(smap), args.out)
-        else:
-            from ppm_stiffness.visuals.bands import plot_map_bands
+            if bands is None:
+                fig = plot_stiffness_maps(smap)
+            else:
+                from ppm_stiffness.visuals.bands import plot_map_bands
 
-            save_map_figure(plot_map_bands(smap, bands), args.out)
+                fig = plot_map_bands(smap, bands)
+            save_map_figure(fig, out.temp(args.out, "--out"))
     if args.json:
         doc = _json(smap, design, args) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("map", doc, _JSON_UNITS))
@@ -246,6 +250,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
             "y_range": [float(smap.y[0]), float(smap.y[-1])],
         },
         "reachable_fraction": float(np.mean(smap.reachable)),
+        "masked": smap.refusal_counts(),
         "summary": smap.summary(),
         "data": args.data,
         "figure": args.out,
@@ -259,9 +264,13 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
     def _values(k: np.ndarray) -> str:
         return ", ".join(f"{v:.6g} {u}" for v, u in zip(k, units, strict=True))
 
+    load_units = sorted({leg.actuator_units()[0] for leg in design.legs})
+    reference = f"{args.reference_force:g} {' or '.join(load_units)}" + (
+        " (each leg in its actuator's unit)" if len(load_units) > 1 else ""
+    )
     console.print(
         f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
-        + (f" (reference load {args.reference_force:g})" if state == "min" else "")
+        + (f" (reference load {reference})" if state == "min" else "")
     )
     console.print(
         f"actuator stiffness ({state}): "
@@ -273,4 +282,6 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
         f"grid {x.size} x {y.size}: x in [{x[0]:.3f}, {x[-1]:.3f}] mm, y in "
         f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
     )
+    if not np.all(smap.reachable):
+        console.print(escape(smap.masked_text()))
     console.print(_summary_table(smap))

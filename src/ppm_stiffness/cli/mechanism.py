@@ -13,6 +13,7 @@ from ppm_stiffness.cli.common import (
     load_design_arg,
     pose_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,6 +39,8 @@ def run(args: argparse.Namespace) -> int:
     use_headless_backend()
     from ppm_stiffness.visuals.mechanism import plot_mechanism
 
-    path = save_figure(plot_mechanism(design, pose), out)
-    console.print(f"wrote {path}")
+    fig = plot_mechanism(design, pose)
+    with output_files(args.overwrite) as files:
+        save_figure(fig, files.temp(out, "--out"))
+    console.print(f"wrote {out}")
     return 0

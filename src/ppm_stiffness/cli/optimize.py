@@ -14,6 +14,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     add_wrench_argument,
     check_output_path,
     console,
@@ -23,6 +24,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     progress,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     MAP_GRID,
     add_execution_arguments,
@@ -81,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="most design evaluations, the start design's included (default 300)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    add_seed_argument(parser, "the initial population and the evolution")
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_execution_arguments(parser)
@@ -145,7 +147,7 @@ def _payload(
 
 def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.core.errors import InputDataError
-    from ppm_stiffness.design.io import save_design
+    from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor
     from ppm_stiffness.optimize.objectives import OBJECTIVES, parse_constraint
     from ppm_stiffness.optimize.optimizer import optimize_design, population_plan
@@ -193,20 +195,27 @@ def run(args: argparse.Namespace) -> int:
         )
     wall = time.perf_counter() - start
 
-    save_design(result.best_design, args.out)
-    if args.convergence:
-        from ppm_stiffness.visuals.maps import save_map_figure
-        from ppm_stiffness.visuals.optimization import plot_convergence
+    with output_files(args.overwrite) as out:
+        note = result.partial_note()  # an interrupted run's file says so
+        text = dump_design(result.best_design)
+        out.temp(args.out, "--out").write_text(
+            text if note is None else f"# {note}\n{text}", encoding="utf-8"
+        )
+        if args.convergence:
+            from ppm_stiffness.visuals.maps import save_map_figure
+            from ppm_stiffness.visuals.optimization import plot_convergence
 
-        fig = plot_convergence(result.history, objective.name, objective.unit, objective.maximise)
-        save_map_figure(fig, args.convergence)
-    if args.maps:
-        from ppm_stiffness.visuals.comparison import plot_maps_side_by_side
-        from ppm_stiffness.visuals.maps import save_map_figure
+            fig = plot_convergence(
+                result.history, objective.name, objective.unit, objective.maximise
+            )
+            save_map_figure(fig, out.temp(args.convergence, "--convergence"))
+        if args.maps:
+            from ppm_stiffness.visuals.comparison import plot_maps_side_by_side
+            from ppm_stiffness.visuals.maps import save_map_figure
 
-        maps = region_maps([design, result.best_design], region, args.map_grid)
-        fig = plot_maps_side_by_side(maps, ["start", "best"], region_box(region))
-        save_map_figure(fig, args.maps)
+            maps = region_maps([design, result.best_design], region, args.map_grid)
+            fig = plot_maps_side_by_side(maps, ["start", "best"], region_box(region))
+            save_map_figure(fig, out.temp(args.maps, "--maps"))
 
     code = 130 if result.interrupted else 0
     if args.json:

@@ -18,6 +18,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     pose_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import (
     add_tolerance_arguments,
     read_tolerance_args,
@@ -50,7 +51,13 @@ def run(args: argparse.Namespace) -> int:
     if not 2 <= args.grid <= 2000:
         raise InputDataError(f"--grid must be between 2 and 2000, got {args.grid}")
     out_dir = Path(args.out)
-    if out_dir.is_dir():  # write_report creates a new one (its parent must exist)
+    if not args.out.strip():
+        raise InputDataError("--out: empty path")
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputDataError(f"--out {out_dir}: exists and is not a directory")
+    if not out_dir.parent.is_dir():
+        raise InputDataError(f"--out {out_dir}: directory {out_dir.parent} does not exist")
+    if out_dir.is_dir():  # a new one is created (its parent must exist)
         check_output_path(str(out_dir / "report.html"), "--out", overwrite=args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)  # refuses an unreachable pose
@@ -62,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.visuals import use_headless_backend
 
     use_headless_backend()
-    from ppm_stiffness.visuals.report import write_report
+    from ppm_stiffness.visuals.report import build_report
 
     start = time.perf_counter()
     show = not args.quiet and err_console.is_terminal
@@ -81,7 +88,11 @@ def run(args: argparse.Namespace) -> int:
             bar.update(task, description=description, completed=fraction)
 
         extra = report_sections(args, design, variables, pose, progress)
-        path = write_report(design, args.out, pose, wrench, args.grid, progress, args.design, extra)
+        page = build_report(design, pose, wrench, args.grid, progress, args.design, extra)
+    out_dir.mkdir(exist_ok=True)
+    path = out_dir / "report.html"
+    with output_files(args.overwrite) as out:
+        out.temp(path, "--out").write_text(page, encoding="utf-8")
     console.print(
         f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, {time.perf_counter() - start:.1f} s)"
     )

@@ -17,6 +17,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     pose_from_args,
 )
+from ppm_stiffness.cli.output_files import output_files
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -53,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
         f"Screw springs of K at x = {pose[0] * 1e3:.1f} mm, y = {pose[1] * 1e3:.1f} mm, "
         f"phi = {np.degrees(pose[2]):.1f} deg ({state})"
     )
-    path = save_figure(plot_screw_springs(springs, design, pose, title=title), out)
-    console.print(f"wrote {path}")
+    fig = plot_screw_springs(springs, design, pose, title=title)
+    with output_files(args.overwrite) as files:
+        save_figure(fig, files.temp(out, "--out"))
+    console.print(f"wrote {out}")
     return 0

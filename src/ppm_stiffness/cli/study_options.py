@@ -48,24 +48,88 @@ def add_execution_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+#: Smallest nonzero extent of --region along x or y [mm]: below it, metres are likely.
+MIN_REGION_SPAN_MM = 0.1
+#: Largest |x|, |y| of --region within which every value hints at metres [mm].
+METRE_LIKE_MM = 1.0
+
+
+def _check_region_ranges(values: list[float], counts: list[int]) -> None:
+    """The --region ranges in the option's units (mm, deg), each error naming them so:
+    out of range, inverted, inconsistent with its grid count, or so small that the
+    numbers are likely metres (an error below :data:`MIN_REGION_SPAN_MM` across, a
+    warning when every x and y lies within +-:data:`METRE_LIKE_MM`)."""
+    import warnings
+
+    from ppm_stiffness.design.schema import (
+        MAX_REGION_ANGLE,
+        MAX_REGION_AXIS,
+        MAX_REGION_LENGTH,
+    )
+
+    if not all(1 <= c <= MAX_REGION_AXIS for c in counts):
+        raise InputDataError(
+            f"--region: NX, NY, NPHI must be between 1 and {MAX_REGION_AXIS}, got {counts}"
+        )
+    axes = (
+        ("X0,X1", "NX", "mm", 1e3 * MAX_REGION_LENGTH),
+        ("Y0,Y1", "NY", "mm", 1e3 * MAX_REGION_LENGTH),
+        ("PHI0,PHI1", "NPHI", "deg", math.degrees(MAX_REGION_ANGLE)),
+    )
+    for k, (names, count, unit, limit) in enumerate(axes):
+        lo, hi = values[2 * k], values[2 * k + 1]
+        text = f"--region {names} = {lo:g},{hi:g} {unit}"
+        if max(abs(lo), abs(hi)) > limit:
+            raise InputDataError(f"{text}: beyond +-{limit:g} {unit}, the option's limit")
+        if lo > hi:
+            first, second = names.split(",")
+            raise InputDataError(f"{text}: inverted range ({first} > {second})")
+        if (counts[k] == 1) != (lo == hi):
+            raise InputDataError(
+                f"{text} with {count} = {counts[k]}: one grid value goes with equal ends, "
+                "and equal ends with one grid value"
+            )
+        if unit == "mm" and 0 < hi - lo < MIN_REGION_SPAN_MM:
+            raise InputDataError(
+                f"{text}: {hi - lo:.3g} mm across, less than {MIN_REGION_SPAN_MM:g} mm; "
+                f"the option takes mm: were these metres ({1e3 * lo:g},{1e3 * hi:g} mm)?"
+            )
+    lengths = [abs(v) for v in values[:4]]
+    if any(lengths) and max(lengths) <= METRE_LIKE_MM:
+        warnings.warn(
+            f"--region: x and y within +-{METRE_LIKE_MM:g} mm; the option takes mm (if "
+            f"these are metres, write {','.join(f'{1e3 * v:g}' for v in values[:4])})",
+            UserWarning,
+            stacklevel=2,
+        )
+
+
 def region_from_text(text: str) -> RequiredRegionModel:
-    """``X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI`` [mm, mm, deg, counts] as a region (SI)."""
+    """``X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI`` [mm, mm, deg, counts] as a region (SI).
+
+    Raises
+    ------
+    InputDataError
+        A malformed list, or a range refused in the option's units (mm, deg; see
+        :func:`_check_region_ranges`).
+    """
     from ppm_stiffness.optimize.region import make_region
 
     v = parse_floats(text, 9, "--region", "X0,X1,Y0,Y1,PHI0,PHI1,NX,NY,NPHI [mm, deg]")
-    counts = v[6:]
-    if any(c != int(c) for c in counts):
-        raise InputDataError(f"--region: NX, NY, NPHI must be integers, got {counts}")
+    if any(c != int(c) for c in v[6:]):
+        raise InputDataError(f"--region: NX, NY, NPHI must be integers, got {v[6:]}")
+    counts = [int(c) for c in v[6:]]
+    _check_region_ranges(v[:6], counts)
     try:
         return make_region(
             (v[0] * 1e-3, v[1] * 1e-3),
             (v[2] * 1e-3, v[3] * 1e-3),
             (math.radians(v[4]), math.radians(v[5])),
-            (int(counts[0]), int(counts[1]), int(counts[2])),
+            (counts[0], counts[1], counts[2]),
         )
-    except DesignError as exc:  # from the region model: name the option
+    except DesignError as exc:  # from the region model (the grid's size): name the option
         message = str(exc).removeprefix("region: ")
-        raise InputDataError(f"--region: {message} (the option takes mm and deg)") from None
+        raise InputDataError(f"--region: {message}") from None
 
 
 def region_from_args(args: argparse.Namespace, designs: Sequence[Design]) -> RequiredRegionModel:

@@ -16,6 +16,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     add_wrench_argument,
     check_output_path,
     console,
@@ -25,6 +26,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     progress,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     add_execution_arguments,
     add_region_argument,
@@ -58,7 +60,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="every combination of the --vary values (default), or N scrambled Sobol "
         "points (N a power of 2)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="scrambles the Sobol sample")
+    add_seed_argument(parser, "the Sobol sample's scrambling")
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_execution_arguments(parser)
@@ -99,6 +101,19 @@ def _rows(result: Any, names: list[str]) -> list[dict[str, Any]]:
         row.update({n: s.figures()[n] for n in names})
         rows.append(row)
     return rows
+
+
+def _write_csv(
+    path: Path, fields: list[str], rows: list[dict[str, Any]], partial: str | None
+) -> None:
+    """One row per design done; an interrupted sweep's file starts with a ``#`` line
+    saying so (``partial: interrupted after 37 of 100 designs; ...``)."""
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        if partial is not None:
+            fh.write(f"# {partial}\n")
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -144,34 +159,33 @@ def run(args: argparse.Namespace) -> int:
     rows = _rows(result, names)
     values = [q.value(s) for s in result.summaries]
 
-    if args.csv:
-        with Path(args.csv).open("w", newline="", encoding="utf-8") as fh:
-            writer = csv.DictWriter(fh, fieldnames=[v.name for v in variables] + ["covers", *names])
-            writer.writeheader()
-            writer.writerows(rows)
-    if args.out and rows:
-        import numpy as np
+    with output_files(args.overwrite) as out:
+        if args.csv:
+            fields = [v.name for v in variables] + ["covers", *names]
+            _write_csv(out.temp(args.csv, "--csv"), fields, rows, result.partial_note())
+        if args.out and rows:
+            import numpy as np
 
-        from ppm_stiffness.visuals.maps import save_map_figure
-        from ppm_stiffness.visuals.optimization import plot_sweep
+            from ppm_stiffness.visuals.maps import save_map_figure
+            from ppm_stiffness.visuals.optimization import plot_sweep
 
-        done = len(result.summaries)
-        shape = (
-            tuple(v.count for v in variables)
-            if sample == "grid" and len(variables) == 2 and not result.interrupted
-            else None
-        )
-        fig = plot_sweep(
-            result.points[:done],
-            np.array(values, dtype=float),
-            [s.covers for s in result.summaries],
-            [v.name for v in variables],
-            [v.unit for v in variables],
-            q.name,
-            q.unit,
-            shape=shape,  # type: ignore[arg-type]
-        )
-        save_map_figure(fig, args.out)
+            done = len(result.summaries)
+            shape = (
+                tuple(v.count for v in variables)
+                if sample == "grid" and len(variables) == 2 and not result.interrupted
+                else None
+            )
+            fig = plot_sweep(
+                result.points[:done],
+                np.array(values, dtype=float),
+                [s.covers for s in result.summaries],
+                [v.name for v in variables],
+                [v.unit for v in variables],
+                q.name,
+                q.unit,
+                shape=shape,  # type: ignore[arg-type]
+            )
+            save_map_figure(fig, out.temp(args.out, "--out"))
     if args.json:
         payload = {
             "region": region_json(region),

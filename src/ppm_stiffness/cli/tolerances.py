@@ -69,7 +69,9 @@ def compute_bands(
     failed_value: Any = None,
 ) -> Any:
     """Bands of ``output`` with the command's method and samples (a progress bar);
-    ``failed_value`` as :func:`~ppm_stiffness.fit.uncertainty.propagate`'s."""
+    ``failed_value`` as :func:`~ppm_stiffness.fit.uncertainty.propagate`'s, and also
+    the outputs' lower limit (a stiffness: 0), below which a first-order band is
+    warned about."""
     from ppm_stiffness.fit.uncertainty import propagate
 
     n = 2 * len(variables) + (args.samples if args.tolerance_method == "qmc" else 0)
@@ -83,6 +85,7 @@ def compute_bands(
             0,
             advance,
             failed_value=failed_value,
+            lower_limit=failed_value,
         )
 
 

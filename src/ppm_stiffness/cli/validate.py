@@ -21,6 +21,7 @@ from rich.table import Table
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
+    add_seed_argument,
     check_output_path,
     console,
     eng,
@@ -28,6 +29,7 @@ from ppm_stiffness.cli.common import (
     load_design_arg,
     progress,
 )
+from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.validation.compare import (
@@ -54,7 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="seeded reachable poses besides the workspace centre (default 5)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    add_seed_argument(parser, "the poses")
     parser.add_argument(
         "--radius",
         type=float,
@@ -133,15 +135,16 @@ def _table(results: list[PoseComparison]) -> Table:
     return table
 
 
-def _write_csv(path: str, results: list[PoseComparison]) -> None:
+def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
+    """Write the rows to ``path`` (a temporary file for ``--csv name``)."""
     rows = csv_rows(results)
     try:
-        with Path(path).open("w", newline="", encoding="utf-8") as fh:
+        with path.open("w", newline="", encoding="utf-8") as fh:
             writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
             writer.writeheader()
             writer.writerows(rows)
     except OSError as exc:
-        raise InputDataError(f"cannot write {path}: {exc.strerror}") from None
+        raise InputDataError(f"cannot write {name}: {exc.strerror}") from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -156,7 +159,8 @@ def run(args: argparse.Namespace) -> int:
     worst = {name: max(r.differences[name] for r in results) for name in BLOCKS}
     ok = all(worst[name] <= TOLERANCES[name] for name in BLOCKS)
     if args.csv:
-        _write_csv(args.csv, results)
+        with output_files(args.overwrite) as out:
+            _write_csv(out.temp(args.csv, "--csv"), args.csv, results)
     if args.json:
         payload = {
             "design": design.name,

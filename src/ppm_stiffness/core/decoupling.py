@@ -18,13 +18,27 @@ Two methods:
     minimum reported: the best decoupling a shift can give.
 
 ``residual_coupling = ||K_rt + D K_tt||_F / ||K_rt||_F`` (0 when decoupled exactly).
+
+Already decoupled
+    A symmetric design at its symmetric pose has ``K_rt = 0`` up to round-off (~1e-12
+    N against ~1e3 N); the ratio above then divides round-off by round-off and says
+    nothing. When ``||K_rt||_F <= DECOUPLED_TOLERANCE * sqrt(||K_rr||_F ||K_tt||_F)``
+    (:func:`coupling_ratio`; N against N, whatever the unit of length) K is taken as
+    decoupled already: no shift (``d = 0``), ``residual_coupling = 0`` and
+    ``already_decoupled = True``.
+
 Principal stiffnesses and directions are the eigen-pairs of K'_rr and K'_tt, ordered
 as the paper (directions closest to x, y, z), so that ``k_phi = f_rr[2]``,
-``k_x = f_tt[0]``, ``k_y = f_tt[1]`` for a planar design.
+``k_x = f_tt[0]``, ``k_y = f_tt[1]`` for a planar design. Equal principal stiffnesses
+(closer than :data:`~ppm_stiffness.core.eigenscrews.REPEATED_EIGENVALUE_TOLERANCE`,
+e.g. k_x = k_y of a 3- or 4-fold symmetric design) have no unique directions: inside
+such a group the directions closest to the coordinate axes are returned
+(:func:`~ppm_stiffness.core.eigenscrews.basis_closest_to_axes`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -32,9 +46,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, hat, vect
+from ppm_stiffness.core.eigenscrews import REPEATED_EIGENVALUE_TOLERANCE, basis_closest_to_axes
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.inputs import validate_stiffness_matrix
 
 Method = Literal["paper", "least-squares"]
+
+#: K is decoupled already when its coupling block is round-off against its diagonal
+#: blocks: ``coupling_ratio(K) <= DECOUPLED_TOLERANCE`` (module doc). The symmetric
+#: shipped designs at their home pose have ratios of 1e-17 to 3e-10 (their joint
+#: coordinates are printed to 10 digits); a design with any real coupling (the
+#: paper's, 0.33) lies orders of magnitude above.
+DECOUPLED_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -54,11 +77,13 @@ class Decoupling:
     K_rt : ndarray (3, 3) [N]
         The coupling left at the new point, ``K_rt + D K_tt``.
     residual_coupling : float
-        ``||K'_rt||_F / ||K_rt||_F`` (0 if K_rt is 0).
+        ``||K'_rt||_F / ||K_rt||_F``; 0 when K is decoupled already.
     rotational_values, translational_values : ndarray (3,)
         Principal stiffnesses f_rr [N·m/rad], f_tt [N/m].
     rotational_directions, translational_directions : ndarray (3, 3)
         Unit eigenvectors as columns (Lambda_rr, Lambda_tt).
+    already_decoupled : bool
+        K_rt is round-off (:data:`DECOUPLED_TOLERANCE`): no shift was made, ``d = 0``.
     """
 
     method: str
@@ -73,6 +98,15 @@ class Decoupling:
     rotational_directions: FloatArray
     translational_values: FloatArray
     translational_directions: FloatArray
+    already_decoupled: bool = False
+
+
+def coupling_ratio(stiffness: ArrayLike) -> float:
+    """``||K_rt||_F / sqrt(||K_rr||_F ||K_tt||_F)`` of a 6x6 K (dimensionless: N against
+    N, the same for any unit of length); 0 for a decoupled K."""
+    k = np.asarray(stiffness, dtype=float)
+    scale = math.sqrt(float(np.linalg.norm(k[:3, :3]) * np.linalg.norm(k[3:, 3:])))
+    return float(np.linalg.norm(k[:3, 3:])) / scale if scale > 0 else math.inf
 
 
 def shift_blocks(stiffness: ArrayLike, d: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -87,10 +121,13 @@ def shift_blocks(stiffness: ArrayLike, d: ArrayLike) -> tuple[FloatArray, FloatA
 def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Eigen-pairs of a symmetric 3x3 block, ordered as the paper.
 
-    Each eigenvector is assigned to the coordinate axis it is closest to (x, y, z),
-    and signed so that its largest component is... as a generic solver leaves it, made
-    deterministic: the component along its own axis is non-negative for x and z and
-    the first nonzero component is negative for in-plane pairs (the paper's (32)).
+    Each eigenvector is assigned to the coordinate axis it is closest to (x, y, z) and
+    signed so that its component along that axis is non-negative. Eigenvalues closer
+    than :data:`~ppm_stiffness.core.eigenscrews.REPEATED_EIGENVALUE_TOLERANCE` of the
+    largest |value| form a group whose eigenvectors are not unique: its basis is the
+    one closest to the coordinate axes
+    (:func:`~ppm_stiffness.core.eigenscrews.basis_closest_to_axes`), its values the
+    block's ``v^T B v`` along those directions.
 
     Returns
     -------
@@ -99,6 +136,14 @@ def principal_axes(block: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """
     b = np.asarray(block, dtype=float)
     vals, vecs = np.linalg.eigh(0.5 * (b + b.T))
+    v = vals.tolist()
+    gap = REPEATED_EIGENVALUE_TOLERANCE * max(abs(v[0]), abs(v[2]))
+    first = 0 if v[1] - v[0] <= gap else 1
+    end = 3 if v[2] - v[1] <= gap else 2
+    if end - first > 1:  # a repeated eigenvalue (ascending values: a run)
+        q = basis_closest_to_axes(vecs[:, first:end])[0]
+        vecs[:, first:end] = vecs[:, first:end] @ q
+        vals[first:end] = (q * q).T @ vals[first:end]
     # assign eigenvectors to axes greedily by the largest |component| (the first
     # largest in row-major order, as numpy's argmax), in plain Python: 3 x 3 entries
     weights = np.abs(vecs).tolist()
@@ -128,30 +173,37 @@ def decouple(stiffness: ArrayLike, method: Method = "paper") -> Decoupling:
     Parameters
     ----------
     stiffness : array_like, shape (6, 6)
-        SI, order of ``conventions``.
+        SI, order of ``conventions``: symmetric positive definite (checked by
+        :func:`~ppm_stiffness.core.inputs.validate_stiffness_matrix`).
     method : {"paper", "least-squares"}
 
     Returns
     -------
     Decoupling
+
+    Raises
+    ------
+    InputDataError
+        If the matrix is not 6x6, finite, symmetric and positive definite, or the
+        method is unknown.
     """
-    k = np.asarray(stiffness, dtype=float)
+    if method not in ("paper", "least-squares"):
+        raise InputDataError(f"unknown decoupling method {method!r}")
+    k = validate_stiffness_matrix(stiffness)
     krt, ktt = k[:3, 3:], k[3:, 3:]
     m = 0.5 * (np.trace(ktt) * np.eye(3) - ktt)
-    if method == "paper":
-        try:  # M is positive definite when K_tt is: a plain solve
-            d = np.linalg.solve(m, vect(krt))
-        except np.linalg.LinAlgError:
-            d = np.linalg.lstsq(m, vect(krt), rcond=None)[0]
-    elif method == "least-squares":
+    already = coupling_ratio(k) <= DECOUPLED_TOLERANCE
+    d: FloatArray
+    if already:
+        d = np.zeros(3)
+    elif method == "paper":  # M is positive definite as K_tt is: a plain solve
+        d = np.linalg.solve(m, vect(krt))
+    else:
         # K_rt + hat(d) K_tt is linear in d: stack the three columns of hat(e_k) K_tt
         basis = np.stack([(hat(e) @ ktt).ravel() for e in np.eye(3)], axis=1)
-        d = np.linalg.lstsq(basis, -krt.ravel(), rcond=None)[0]
-    else:
-        raise InputDataError(f"unknown decoupling method {method!r}")
+        d = np.asarray(np.linalg.lstsq(basis, -krt.ravel(), rcond=None)[0], dtype=float)
     new_rr, new_rt, new_tt = shift_blocks(k, d)
-    base = np.linalg.norm(krt)
-    residual = float(np.linalg.norm(new_rt) / base) if base > 0 else 0.0
+    residual = 0.0 if already else float(np.linalg.norm(new_rt) / np.linalg.norm(krt))
     f_rr, l_rr = principal_axes(new_rr)
     f_tt, l_tt = principal_axes(new_tt)
     return Decoupling(
@@ -167,4 +219,5 @@ def decouple(stiffness: ArrayLike, method: Method = "paper") -> Decoupling:
         rotational_directions=l_rr,
         translational_values=f_tt,
         translational_directions=l_tt,
+        already_decoupled=already,
     )

@@ -95,6 +95,7 @@ def pose_output(
 #: :func:`~ppm_stiffness.fit.uncertainty.propagate`'s ``failed_value`` of
 #: :func:`pose_output`: k_phi, k_x, k_y are 0 in a sample that is singular (or cannot
 #: reach the pose); K's entries and the twist have no such limit and are left out.
+#: It is also their ``lower_limit``: a stiffness is never negative.
 POSE_FAILED_VALUE = np.concatenate([np.zeros(3), np.full(42, np.nan)])
 #: ... of :func:`map_output`: every field is a principal stiffness.
 MAP_FAILED_VALUE = 0.0

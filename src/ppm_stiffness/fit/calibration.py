@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
+from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import check_nonsingular, stiffness_at_pose
 
@@ -126,19 +127,6 @@ def evaluations_per_start(n_free: int) -> int:
     return 200 * n_free * (n_free + 1)
 
 
-def validate_stiffness_matrix(matrix: ArrayLike, what: str = "matrix") -> FloatArray:
-    """Return ``matrix`` as a (6, 6) float array, or raise :class:`InputDataError` if it
-    is not 6x6, not finite or not symmetric (to 1e-6 of its largest entry)."""
-    k = np.asarray(matrix, dtype=float)
-    if k.shape != (6, 6):
-        raise InputDataError(f"{what} must be 6x6, got shape {k.shape}")
-    if not np.all(np.isfinite(k)):
-        raise InputDataError(f"{what} has entries that are not finite")
-    if np.max(np.abs(k - k.T)) > 1e-6 * max(np.max(np.abs(k)), 1e-300):
-        raise InputDataError(f"{what} is not symmetric")
-    return 0.5 * (k + k.T)
-
-
 def calibrate(
     design: Design,
     target: ArrayLike,
@@ -183,7 +171,7 @@ def calibrate(
     -------
     CalibrationResult
     """
-    t = validate_stiffness_matrix(target, "target")
+    t = validate_stiffness_matrix(target, "target", PRINTED_SYMMETRY_TOLERANCE)
     try:
         check_nonsingular(t, " (target)")
     except PPMStiffnessError as exc:

@@ -58,14 +58,15 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.statics.measurements import COMPONENT_COLUMNS, Measurements
@@ -110,12 +111,15 @@ class MeasurementRows:
     wrenches : ndarray (n, 6) (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N]
     twists : ndarray (n, 6) [rad, m], NaN where not measured
     sigmas : ndarray (n, 6) [rad, m], 1-sigma noise; NaN where not measured
+    labels : tuple of str
+        Where each row comes from (``"FILE, line N"``), for errors; may be empty.
     """
 
     poses: FloatArray
     wrenches: FloatArray
     twists: FloatArray
     sigmas: FloatArray
+    labels: tuple[str, ...] = ()
 
     @property
     def measured(self) -> np.ndarray:
@@ -133,14 +137,15 @@ class MeasurementRows:
 
     def repeated(self, times: int) -> MeasurementRows:
         """The same rows ``times`` times over (as if each were measured again)."""
-        return MeasurementRows(
-            *(np.tile(a, (times, 1)) for a in (self.poses, self.wrenches, self.twists, self.sigmas))
+        poses, wrenches, twists, sigmas = (
+            np.tile(a, (times, 1)) for a in (self.poses, self.wrenches, self.twists, self.sigmas)
         )
+        return MeasurementRows(poses, wrenches, twists, sigmas, self.labels * times)
 
     def with_twists(self, twists: ArrayLike) -> MeasurementRows:
         """The same rows with other measured values (NaN kept where not measured)."""
         t = np.where(self.measured, np.asarray(twists, dtype=float), np.nan)
-        return MeasurementRows(self.poses, self.wrenches, t, self.sigmas)
+        return MeasurementRows(self.poses, self.wrenches, t, self.sigmas, self.labels)
 
 
 def measurement_rows(
@@ -161,13 +166,15 @@ def measurement_rows(
     Raises
     ------
     InputDataError
-        A load column without a mode; a row with a zero wrench; a measured component
-        with no sigma (or a sigma given both ways); a sigma that is not > 0.
+        A load column without a mode; a row with a zero wrench or a malformed pose (the
+        file and the row's line named); a measured component with no sigma (or a sigma
+        given both ways); a sigma that is not > 0.
     """
     from ppm_stiffness.statics.deflection import mode_wrench
 
     src = measurements.source
     n = measurements.n
+    labels = tuple(measurements.row_label(k) for k in range(n))
     if measurements.wrenches is not None:
         wrenches = np.asarray(measurements.wrenches, dtype=float)
     else:
@@ -182,11 +189,16 @@ def measurement_rows(
     zero = np.flatnonzero(~np.any(wrenches != 0, axis=1))
     if zero.size:
         raise InputDataError(
-            f"{src}: data row {zero[0] + 1} has a zero wrench: a displacement without a "
-            "wrench says nothing about stiffness"
+            f"{labels[zero[0]]}: a zero wrench: a displacement without a wrench says "
+            "nothing about stiffness"
         )
     if measurements.poses is not None:
-        poses = np.array([validate_pose(design, p) for p in measurements.poses])
+        poses = np.array(
+            [
+                _row(labels[k], lambda q: validate_pose(design, q), p)
+                for k, p in enumerate(measurements.poses)
+            ]
+        )
     else:
         poses = np.tile(validate_pose(design, None), (n, 1))
     sig = (
@@ -212,14 +224,34 @@ def measurement_rows(
                 f"{COMPONENT_COLUMNS[i]}=VALUE)"
             )
     sig[~np.isfinite(twists)] = np.nan
-    return MeasurementRows(poses, wrenches, twists, sig)
+    return MeasurementRows(poses, wrenches, twists, sig, labels)
 
 
-def predict_twists(design: Design, poses: ArrayLike, wrenches: ArrayLike) -> FloatArray:
+_T = TypeVar("_T")
+
+
+def _row(label: str | None, fn: Callable[..., _T], *args: Any) -> _T:
+    """``fn(*args)``, a library error raised again (same class) with the row's label
+    in front, so that it names the file and the line it comes from."""
+    try:
+        return fn(*args)
+    except PPMStiffnessError as exc:
+        if label is None:
+            raise
+        raise type(exc)(f"{label}: {exc}") from None
+
+
+def predict_twists(
+    design: Design,
+    poses: ArrayLike,
+    wrenches: ArrayLike,
+    labels: Sequence[str] = (),
+) -> FloatArray:
     """Twist of P (n, 6) [rad, m] under each wrench at each pose: the loaded
     equilibrium with the nonlinear actuator law (what ``deflect`` computes).
 
-    Rows at the same pose share one set of springs.
+    Rows at the same pose share one set of springs. ``labels`` (one per row, e.g.
+    ``"FILE, line N"``) prefix the errors of a row's pose or load.
     """
     from ppm_stiffness.statics.equilibrium import LegStructures, equilibrium
 
@@ -227,10 +259,12 @@ def predict_twists(design: Design, poses: ArrayLike, wrenches: ArrayLike) -> Flo
     w = np.asarray(wrenches, dtype=float)
     out = np.zeros((p.shape[0], 6))
     keys, inverse = np.unique(p, axis=0, return_inverse=True)
+    names = list(labels) if len(labels) else [None] * p.shape[0]
     for k, pose in enumerate(keys):
-        st = LegStructures(design, pose)
-        for r in np.flatnonzero(inverse.ravel() == k):
-            out[r] = equilibrium(design, w[r], pose, st).twist
+        rows = [int(r) for r in np.flatnonzero(inverse.ravel() == k)]
+        st = _row(names[rows[0]], LegStructures, design, pose)
+        for r in rows:
+            out[r] = _row(names[r], equilibrium, design, w[r], pose, st).twist
     return out
 
 
@@ -374,7 +408,9 @@ class _Problem:
         key = np.asarray(p, dtype=float).tobytes()
         if key not in self._cache:
             design = self.design_at(p)
-            self._cache[key] = predict_twists(design, self.rows.poses, self.rows.wrenches)
+            self._cache[key] = predict_twists(
+                design, self.rows.poses, self.rows.wrenches, self.rows.labels
+            )
         return self._cache[key]
 
     def weighted(self, predicted: FloatArray) -> FloatArray:

@@ -23,6 +23,11 @@ Methods:
 
 Sensitivity (both methods, from the first-order derivatives): the share of each
 variable in the first-order variance, ``(dy/dz_j)^2 var(z_j) / sigma_y^2``.
+
+A first-order band that reaches below an output's physical lower limit (a stiffness
+below 0, ``lower_limit``) comes with a :class:`LinearisationWarning`: the tolerances
+are then too wide for linear propagation and the band means nothing there; the QMC
+method gives the band.
 """
 
 from __future__ import annotations
@@ -53,6 +58,11 @@ PERCENTILES = (5.0, 95.0)
 DEFAULT_SAMPLES = 64
 
 OutputFunction = Callable[[Design], FloatArray]
+
+
+class LinearisationWarning(UserWarning):
+    """A first-order band reaches past an output's physical limit (a negative
+    stiffness): the tolerances are too wide for linear propagation."""
 
 
 @dataclass(frozen=True)
@@ -147,6 +157,7 @@ def propagate(
     seed: int = 0,
     progress: Callable[[float], None] | None = None,
     failed_value: ArrayLike | None = None,
+    lower_limit: ArrayLike | None = None,
 ) -> Bands:
     """Bands of ``output`` under the tolerances (module doc).
 
@@ -169,6 +180,10 @@ def propagate(
         (a singular design has no stiffness in some direction). NaN entries, or None,
         leave such samples out of that output's percentiles; the band's label then
         says that they cover the successful samples only.
+    lower_limit : array_like, optional
+        Broadcastable to the output's shape: the smallest physical value of each output
+        (0 for a stiffness; NaN: none). A first-order band below it gives a
+        :class:`LinearisationWarning`.
 
     Raises
     ------
@@ -190,6 +205,8 @@ def propagate(
     if method == "first-order":
         std = np.sqrt(np.einsum("j,j...->...", var, deriv**2))
         failed_out = np.sum(~np.isfinite(deriv), axis=0)
+        if lower_limit is not None:
+            _warn_below_limit(nominal - 2 * std, nominal, lower_limit)
         return Bands(
             "first-order",
             "±2σ, first order",
@@ -250,4 +267,34 @@ def propagate(
     )
 
 
-__all__ = ["DEFAULT_SAMPLES", "METHODS", "Bands", "OutputFunction", "derivatives", "propagate"]
+def _warn_below_limit(lower: FloatArray, nominal: FloatArray, limit: ArrayLike) -> None:
+    """A :class:`LinearisationWarning` if a first-order lower bound is below the
+    output's physical limit (where the nominal value is above it)."""
+    import warnings
+
+    floor = np.broadcast_to(np.asarray(limit, dtype=float), nominal.shape)
+    with np.errstate(invalid="ignore"):
+        below = np.isfinite(floor) & (nominal >= floor) & (lower < floor)
+    if not np.any(below):
+        return
+    worst = np.unravel_index(np.argmin(np.where(below, lower - floor, np.inf)), below.shape)
+    warnings.warn(
+        f"the first-order band of {int(np.sum(below))} of {below.size} outputs reaches "
+        f"below its physical limit (a negative stiffness, down to {lower[worst]:.4g} for a "
+        f"nominal {nominal[worst]:.4g}): the tolerances are too wide for linear "
+        "propagation and the band means nothing there; use the QMC method "
+        "(--tolerance-method qmc)",
+        LinearisationWarning,
+        stacklevel=3,
+    )
+
+
+__all__ = [
+    "DEFAULT_SAMPLES",
+    "METHODS",
+    "Bands",
+    "LinearisationWarning",
+    "OutputFunction",
+    "derivatives",
+    "propagate",
+]

@@ -207,13 +207,20 @@ def twist(kind: str, point: Vec, axis: Vec, balance: float = 1.0) -> Vec:
 class Frame:
     """An element's point, axis e1 and (computed when asked) e2 and e3.
 
-    ``orthonormal``: built from e1 alone (:func:`frame_from_unit`), orthonormal by
-    construction; not so for a U joint's two given axes.
+    ``orthonormal``: built from e1 alone (:func:`frame_from_unit`) or from e1 and the
+    part of a given second axis normal to it, orthonormal by construction; not so for a
+    U joint's two given axes.
     """
 
-    def __init__(self, point: Vec, e1: Vec, rest: tuple[Vec, Vec] | None = None) -> None:
+    def __init__(
+        self,
+        point: Vec,
+        e1: Vec,
+        rest: tuple[Vec, Vec] | None = None,
+        orthonormal: bool | None = None,
+    ) -> None:
         self.point, self.e1, self._rest = point, e1, rest
-        self.orthonormal = rest is None
+        self.orthonormal = rest is None if orthonormal is None else orthonormal
 
     def axes(self) -> list[Vec]:
         if self._rest is None:
@@ -253,10 +260,14 @@ class Geometry:
             return Frame(end, e1), length
         point = self.vector(element.point)
         e1, norm = self.unit(element.axis)
-        if element.kind != "U":
-            return Frame(point, e1), norm
         if element.axis2 is None:
-            element.frame()  # the error naming the joint
+            if element.kind == "U":
+                element.frame()  # the error naming the joint
+            return Frame(point, e1), norm
+        if element.kind != "U":  # e2 along the part of axis2 normal to e1
+            given = self.vector(element.axis2)
+            e2, _ = unit(axpy(given, dot(given, e1), e1))
+            return Frame(point, e1, (e2, cross(e1, e2)), orthonormal=True), norm
         e2, _ = self.unit(np.asarray(element.axis2))
         return Frame(point, e1, (e2, cross(e1, e2))), norm
 

@@ -133,7 +133,10 @@ class Joint:
                 raise DesignError(f"universal joint {self.name or ''}: its second axis is missing")
             return frame_from_axis(self.axis)
         e1, e2 = np.broadcast_arrays(unit(self.axis), np.asarray(self.axis2, dtype=float))
-        e2 = unit(e2 - np.einsum("...i,...i->...", e2, e1)[..., None] * e1)
+        if self.kind == "U":  # the two axes as given
+            e2 = unit(e2)
+        else:  # e2 along the part of axis2 normal to e1
+            e2 = unit(e2 - np.einsum("...i,...i->...", e2, e1)[..., None] * e1)
         return e1, e2, np.cross(e1, e2)
 
 

@@ -7,8 +7,9 @@ Three paths give the same numbers as the single-pose API (:mod:`ppm_stiffness.mo
 shipped leg type, redundant designs): the general model in closed form per in-plane and
 out-of-plane block over arrays of poses (:mod:`ppm_stiffness.legs.planar`), about 10x
 the general path; ``"auto"`` takes it when a design has no reduced form. The batched
-loaded state under a wrench, :func:`loaded_poses`, builds on it
-(:mod:`ppm_stiffness.maps.loaded`).
+loaded state under a wrench (:func:`ppm_stiffness.maps.loaded.loaded_poses`, which
+imports this module, never the reverse) runs the same engine through
+:mod:`ppm_stiffness.statics.structures`.
 
 **The general path** (the reference; :func:`general_stiffness`, any architecture). Per
 chunk of poses and per leg: the batched inverse kinematics ``leg.solve(poses)``, the
@@ -49,10 +50,17 @@ axis its eigenvector is closest to (as
 1e-12 (length-balanced) is decoupled pose by pose with
 :func:`~ppm_stiffness.core.decoupling.decouple`.
 
-**Singularity mask** (both paths): the criterion of
-:func:`ppm_stiffness.model.check_nonsingular`, the eigenvalues of the length-balanced
-K (:func:`ppm_stiffness.core.conventions.length_balanced`), valid iff finite,
-``lambda_max > 0`` and ``lambda_min > SINGULARITY_TOLERANCE * lambda_max``.
+**Singularity mask** (every path): the test of the single-pose API, K finite and the
+transmission index of :mod:`ppm_stiffness.core.singularity` above
+``SINGULARITY_TOLERANCE`` (the legs' transmitted wrenches span every direction; the
+joints' geometry decides, not the parts' stiffness). Each path builds the legs'
+summed projector ``Pi``: by blocks from the reduced legs' wrenches (P-P-R; at constant
+phi it is the same at every position) or from the planar engine's wrench bases, in
+6-D from the passive twists on the general path; the decision is
+:func:`~ppm_stiffness.core.singularity.nonsingular` of
+:func:`~ppm_stiffness.core.singularity.transmission_index` (by blocks:
+:func:`~ppm_stiffness.core.singularity.nonsingular_blocks`, which clears most poses
+with a cheap bound).
 
 Poses are arrays (..., 3) = (x [m], y [m], phi [rad]); matrices are at P with the axes
 of F_b in the order of :mod:`ppm_stiffness.core.conventions`.
@@ -67,7 +75,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import (
-    LENGTH_SCALE,
     BoolArray,
     FloatArray,
     hat,
@@ -78,9 +85,16 @@ from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import (
     DesignError,
     InputDataError,
-    SingularConfigurationError,
 )
-from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
+from ppm_stiffness.core.singularity import (
+    Vec3,
+    block_projector,
+    leg_projector,
+    nonsingular,
+    nonsingular_blocks,
+    transmission_index,
+)
+from ppm_stiffness.core.solver import leg_compliance_at_platform
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs import planar as engine
 from ppm_stiffness.legs.base import LegPose
@@ -93,17 +107,16 @@ from ppm_stiffness.maps.reduced_leg import (
     reduce_leg,
     reduced_design,
 )
-from ppm_stiffness.model import SINGULARITY_TOLERANCE, actuator_stiffness_vector
+from ppm_stiffness.model import actuator_stiffness_vector, transmission_blocks
+from ppm_stiffness.statics.structures import bordered_or_nan, take
 
 __all__ = [
     "IN_PLANE",
-    "LoadedBatch",
     "OUT_OF_PLANE",
     "ReducedLeg",
     "reduce_design",
     "reduce_leg",
     "reduced_design",
-    "loaded_poses",
 ]
 
 #: Poses per chunk of the general path (about 6 kB per pose and leg of temporaries).
@@ -182,9 +195,7 @@ def planar_entries(
     for i, leg in enumerate(legs):
         dx, dy, rho, rod = leg.kinematics(x, y, ph)
         reachable = reachable & leg.within_limits(rho, rod)
-        # in-plane: one transmitted force; its wrench moved from D to P
-        mz, fx, fy = leg.in_basis
-        q = (mz + dx * fy - dy * fx, fx, fy)
+        q, cols = _wrenches_at_p(leg, dx, dy)
         s_in = _horner(leg.in_poly, rod) + leg.in_actuator**2 / k_act[..., i]
         g = 1.0 / s_in
         for n, (a, b) in enumerate(_PAIRS):
@@ -195,8 +206,6 @@ def planar_entries(
         s11 = _horner(leg.out_poly[:, 2], rod)
         det = s00 * s11 - s01 * s01
         inv = (s11 / det, -s01 / det, s00 / det)
-        wb = leg.out_basis
-        cols = [(wb[0, j] + dy * wb[2, j], wb[1, j] - dx * wb[2, j], wb[2, j]) for j in range(2)]
         for n, (a, b) in enumerate(_PAIRS, start=6):
             acc[n] = acc[n] + (
                 inv[0] * (cols[0][a] * cols[0][b])
@@ -206,6 +215,43 @@ def planar_entries(
     shape = np.broadcast_shapes(np.shape(x), np.shape(y), ph.shape, k_act.shape[:-1])
     entries = PlanarEntries(*(np.broadcast_to(np.asarray(a, dtype=float), shape) for a in acc))
     return entries, np.broadcast_to(np.asarray(reachable, dtype=bool), shape)
+
+
+def _wrenches_at_p(leg: ReducedLeg, dx: FloatArray, dy: FloatArray) -> tuple[Vec3, list[Vec3]]:
+    """The wrenches a reduced leg transmits, moved from D to P (``d = D - P`` = (dx,
+    dy)): the in-plane one (m_z, f_x, f_y) and the two out-of-plane ones (m_x, m_y,
+    f_z)."""
+    mz, fx, fy = (float(v) for v in leg.in_basis)
+    q: Vec3 = (np.asarray(mz + dx * fy - dy * fx), fx, fy)
+    wb = leg.out_basis
+    cols: list[Vec3] = [
+        (
+            np.asarray(wb[0, j] + dy * wb[2, j]),
+            np.asarray(wb[1, j] - dx * wb[2, j]),
+            float(wb[2, j]),
+        )
+        for j in range(2)
+    ]
+    return q, cols
+
+
+def reduced_projector(legs: tuple[ReducedLeg, ...], phi: ArrayLike) -> PlanarEntries:
+    """The legs' summed projector ``Pi`` (:mod:`ppm_stiffness.core.singularity`) of the
+    reduced P-P-R legs, entries of the shape of ``phi`` [rad]: the wrenches a P-P-R leg
+    transmits at P depend on phi only (``d = D - P``), not on the position."""
+    ph = np.asarray(phi, dtype=float)
+    p_in: list[FloatArray | float] = [0.0] * 6
+    p_out: list[FloatArray | float] = [0.0] * 6
+    for leg in legs:
+        dx, dy, _, _ = leg.kinematics(0.0, 0.0, ph)
+        q, cols = _wrenches_at_p(leg, dx, dy)
+        leg_in = block_projector([q], IN_PLANE)
+        leg_out = block_projector(cols, OUT_OF_PLANE)
+        p_in = [a + b for a, b in zip(p_in, leg_in, strict=True)]
+        p_out = [a + b for a, b in zip(p_out, leg_out, strict=True)]
+    return PlanarEntries(
+        *(np.broadcast_to(np.asarray(a, dtype=float), ph.shape) for a in p_in + p_out)
+    )
 
 
 def assemble(entries: PlanarEntries) -> FloatArray:
@@ -274,138 +320,38 @@ def principal_from_entries(e: PlanarEntries) -> Principal:
     return Principal(d_x, d_y, np.asarray(k_phi), k_x, k_y, np.asarray(e.k55))
 
 
-def _block_lower_bound(
-    a: FloatArray, b: FloatArray, c: FloatArray, d: FloatArray, f: FloatArray, g: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """For symmetric [[a, b, c], [b, d, f], [c, f, g]]: a lower bound of its smallest
-    eigenvalue valid when positive (-inf when not positive definite), and its trace (an
-    upper bound of its largest eigenvalue when positive definite)."""
-    minor2 = a * d - b * b
-    det = a * (d * g - f * f) - b * (b * g - f * c) + c * (b * f - d * c)
-    trace = a + d + g
-    pd = (a > 0) & (minor2 > 0) & (det > 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        bound = np.where(pd, det / (trace * trace), -np.inf)
-    return bound, trace
-
-
-def nonsingular_from_entries(e: PlanarEntries) -> BoolArray:
-    """Boolean array: False where :func:`ppm_stiffness.model.check_nonsingular` raises.
-
-    A cheap sufficient test (``lambda_min >= det / tr^2`` per positive definite 3x3 block,
-    ``lambda_max <= max trace``) accepts most poses; the others get the exact test
-    (eigenvalues of the length-balanced 6x6 matrix, same tolerance).
-    """
-    s1 = LENGTH_SCALE  # length balancing (conventions): K_rr / L^2, K_rt / L
-    s2 = s1 * s1
-    lb_in, tr_in = _block_lower_bound(e.k22 / s2, e.k23 / s1, e.k24 / s1, e.k33, e.k34, e.k44)
-    lb_out, tr_out = _block_lower_bound(
-        e.k00 / s2, e.k01 / s2, e.k05 / s1, e.k11 / s2, e.k15 / s1, e.k55
-    )
+def _finite(e: PlanarEntries) -> BoolArray:
     finite = np.isfinite(e.k22)
     for value in e[1:]:
-        finite &= np.isfinite(value)
-    with np.errstate(invalid="ignore"):
-        sure = finite & (
-            np.minimum(lb_in, lb_out) > SINGULARITY_TOLERANCE * np.maximum(tr_in, tr_out)
-        )
-    result = np.array(sure, dtype=bool, copy=True)
-    unsure = finite & ~sure
-    if np.any(unsure):
-        k = assemble(PlanarEntries(*(np.asarray(v)[unsure] for v in e)))
-        result[unsure] = _eigen_test(k)
-    return result
+        finite = finite & np.isfinite(value)
+    return np.asarray(finite)
 
 
-def _eigen_test(stiffness: FloatArray) -> BoolArray:
-    """The test of :func:`ppm_stiffness.model.check_nonsingular` on finite K (n, 6, 6)."""
-    eig = np.linalg.eigvalsh(length_balanced(stiffness))
-    return np.asarray((eig[..., -1] > 0) & (eig[..., 0] > SINGULARITY_TOLERANCE * eig[..., -1]))
+def nonsingular_from_entries(stiffness: PlanarEntries, projector: PlanarEntries) -> BoolArray:
+    """Boolean array: False exactly where the single-pose API refuses the pose as singular
+    (:func:`ppm_stiffness.model.stiffness_at_pose`): K not finite, or the transmission
+    index of ``Pi`` at or below the tolerance (:mod:`ppm_stiffness.core.singularity`).
+
+    Parameters
+    ----------
+    stiffness : PlanarEntries
+        K's entries; their shape is the batch shape.
+    projector : PlanarEntries
+        ``Pi``'s entries (broadcastable to it): :func:`reduced_projector` or the planar
+        engine's (:func:`planar_engine_entries`).
+    """
+    shape = np.shape(stiffness.k22)
+    pi = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in projector]
+    return np.asarray(_finite(stiffness) & nonsingular_blocks(list(pi[:6]), list(pi[6:]), shape))
 
 
-def nonsingular_from_matrices(stiffness: ArrayLike) -> BoolArray:
-    """Boolean array (...): False exactly where :func:`ppm_stiffness.model.check_nonsingular`
-    raises (non-finite K, or the length-balanced eigenvalue ratio at or below
-    ``SINGULARITY_TOLERANCE``); any K (..., 6, 6), planar or not."""
+def nonsingular_from_matrices(stiffness: ArrayLike, projector: ArrayLike) -> BoolArray:
+    """Boolean array (...): False exactly where the single-pose API refuses the pose as
+    singular, from K (..., 6, 6) and the legs' summed projector ``Pi`` (..., 6, 6) (any
+    K, planar or not)."""
     k = np.asarray(stiffness, dtype=float)
     finite = np.all(np.isfinite(k), axis=(-2, -1))
-    result = np.zeros(finite.shape, dtype=bool)
-    if np.any(finite):
-        result[finite] = _eigen_test(k[finite])
-    return result
-
-
-def actuator_forces_batch(
-    legs: tuple[ReducedLeg, ...],
-    x: ArrayLike,
-    y: ArrayLike,
-    phi: ArrayLike,
-    wrench: ArrayLike,
-    locked_stiffness: ArrayLike,
-) -> FloatArray:
-    """Actuator forces [N] under ``wrench`` (m_x..f_z at P, F_b), shape (..., n_legs).
-
-    :func:`ppm_stiffness.statics.loading.actuator_forces` batched: the wrench is shared in
-    proportion to the locked leg stiffnesses, ``w_i = K_i K^{-1} w``; the actuator
-    carries ``u_i . f_i``. Only the in-plane part of each leg's wrench has a force
-    along u, so a 3x3 in-plane solve per pose suffices.
-
-    ``locked_stiffness`` is a scalar or one value per leg (n_legs,) [N/m]. The split is
-    the statics of the locked manipulator: right for a non-redundant design (3 legs,
-    each transmitting one in-plane force: the split is determinate and does not depend
-    on the stiffness values); a redundant design needs the loaded statics of
-    :func:`ppm_stiffness.statics.loading.loaded_state`.
-    """
-    w = np.asarray(wrench, dtype=float)
-    n = len(legs)
-    k_lock = np.broadcast_to(np.asarray(locked_stiffness, dtype=float), (n,))
-    e, _ = planar_entries(legs, x, y, phi, k_lock)
-    a, b, c, d_, f, g = e.k22, e.k23, e.k24, e.k33, e.k34, e.k44
-    rhs = (w[2], w[3], w[4])
-    # adjugate solve of the symmetric in-plane block [[a,b,c],[b,d,f],[c,f,g]] t = rhs
-    c00, c01, c02 = d_ * g - f * f, c * f - b * g, b * f - c * d_
-    c11, c12, c22 = a * g - c * c, b * c - a * f, a * d_ - b * b
-    det = a * c00 + b * c01 + c * c02
-    t = (
-        (c00 * rhs[0] + c01 * rhs[1] + c02 * rhs[2]) / det,
-        (c01 * rhs[0] + c11 * rhs[1] + c12 * rhs[2]) / det,
-        (c02 * rhs[0] + c12 * rhs[1] + c22 * rhs[2]) / det,
-    )
-    forces = []
-    for i, leg in enumerate(legs):
-        dx, dy, _, rod = leg.kinematics(x, y, phi)
-        mz, fx, fy = leg.in_basis
-        q = (mz + dx * fy - dy * fx, fx, fy)
-        s_in = _horner(leg.in_poly, rod) + leg.in_actuator**2 / k_lock[i]
-        lam = (q[0] * t[0] + q[1] * t[1] + q[2] * t[2]) / s_in
-        forces.append(lam * (fx * leg.u[0] + fy * leg.u[1]))
-    shape = np.broadcast_shapes(np.shape(x), np.shape(y), np.shape(phi))
-    return np.stack([np.broadcast_to(fv, shape) for fv in forces], axis=-1)
-
-
-def _take(leg_pose: LegPose, index: np.ndarray) -> LegPose:
-    """The poses ``index`` of a leg pose with one batch axis."""
-    return LegPose(
-        poses=leg_pose.poses[index],
-        points={k: v[index] for k, v in leg_pose.points.items()},
-        coordinates={k: v[index] for k, v in leg_pose.coordinates.items()},
-        solvable=np.broadcast_to(leg_pose.solvable, leg_pose.poses.shape[:-1])[index],
-    )
-
-
-def _leg_stiffness_or_nan(compliance6: FloatArray, passive: FloatArray) -> FloatArray:
-    """:func:`bordered_stiffness` of a batch (n, ...); NaN for the poses whose bordered
-    matrix is singular (redone pose by pose when the batched inverse fails)."""
-    try:
-        return bordered_stiffness(compliance6, passive)
-    except SingularConfigurationError:
-        out = np.full(compliance6.shape[:-2] + (6, 6), np.nan)
-        for n in range(compliance6.shape[0]):
-            try:
-                out[n] = bordered_stiffness(compliance6[n], passive[n])
-            except SingularConfigurationError:
-                continue
-        return out
+    return np.asarray(finite & nonsingular(transmission_index(projector)))
 
 
 def _solve_chunk(
@@ -425,7 +371,7 @@ def _solve_chunk(
 
 def general_stiffness(
     design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
-) -> tuple[FloatArray, BoolArray]:
+) -> tuple[FloatArray, FloatArray, BoolArray]:
     """Stiffness at poses by the general model (any leg type), one chunk.
 
     Parameters
@@ -441,34 +387,42 @@ def general_stiffness(
     stiffness : ndarray (n, 6, 6)
         K at P, axes of F_b (SI); zero where not reachable, NaN where a leg's bordered
         matrix is singular.
+    projector : ndarray (n, 6, 6)
+        The legs' summed projector ``Pi`` (:mod:`ppm_stiffness.core.singularity`);
+        zero where not reachable.
     reachable : ndarray of bool (n,)
         Every leg's IK solvable and its joint coordinates within limits.
     """
     k_act, leg_poses, reach = _solve_chunk(design, poses, actuator_stiffness)
     n = reach.size
     total = np.zeros((n, 6, 6))
+    pi = np.zeros((n, 6, 6))
     index = np.flatnonzero(reach)
     if index.size == 0:
-        return total, reach
+        return total, pi, reach
     sub = np.zeros((index.size, 6, 6))
+    sub_pi = np.zeros((index.size, 6, 6))
     for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
-        springs = leg_springs(leg.chain(_take(lp, index)), k_act[index, i])
+        springs = leg_springs(leg.chain(take(lp, index)), k_act[index, i])
         c6 = leg_compliance_at_platform(springs.screws, springs.compliance)
-        sub += _leg_stiffness_or_nan(c6, springs.passive)
+        sub += bordered_or_nan(c6, springs.passive)
+        sub_pi += leg_projector(springs.passive)
     total[index] = sub
-    return total, reach
+    pi[index] = sub_pi
+    return total, pi, reach
 
 
 def planar_engine_entries(
     design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike
-) -> tuple[PlanarEntries, BoolArray] | None:
+) -> tuple[PlanarEntries, PlanarEntries, BoolArray] | None:
     """Stiffness entries at poses by the planar engine (:mod:`ppm_stiffness.legs.planar`),
     one chunk.
 
     Same inputs as :func:`general_stiffness`. Returns the planar entries of K (n,)
-    (meaningless where not reachable) and the reachability mask, or None when a leg's
-    chain is not planar at these poses (use :func:`general_stiffness`). Poses where a
-    leg's reduced compliance is singular give non-finite entries (masked by
+    (meaningless where not reachable), those of the legs' summed projector ``Pi``
+    (:mod:`ppm_stiffness.core.singularity`) and the reachability mask, or None when a
+    leg's chain is not planar at these poses (use :func:`general_stiffness`). Poses
+    where a leg's reduced compliance is singular give non-finite entries (masked by
     :func:`nonsingular_from_entries`).
     """
     k_act, leg_poses, reach = _solve_chunk(design, poses, actuator_stiffness)
@@ -476,29 +430,35 @@ def planar_engine_entries(
     index: np.ndarray | None = None
     if not reach.all():
         index = np.flatnonzero(reach)
-        leg_poses = [_take(lp, index) for lp in leg_poses]
+        leg_poses = [take(lp, index) for lp in leg_poses]
         k_act = k_act[index]
-    legs = []
+    legs, found = [], []
     with np.errstate(all="ignore"):
         for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):
             blocks = engine.leg_blocks(leg.chain(lp))
             if blocks is None:
                 return None
+            found.append(blocks)
             k_leg: engine.Scalar = k_act[:, i]
             if k_act.shape[0] and np.all(k_act[:, i] == k_act[0, i]):
                 k_leg = float(k_act[0, i])  # one value for every pose: a constant
             legs.append(engine.leg_stiffness_blocks(blocks, k_leg))
         total_in, total_out = engine.sum_blocks(legs)
+        pi_in, pi_out = transmission_blocks(found)
     m = n if index is None else index.size
-    values = [np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in total_in + total_out]
-    if index is not None:
-        full = []
-        for v in values:
-            f = np.zeros(n)
-            f[index] = v
-            full.append(f)
-        values = full
-    return PlanarEntries(*values), reach
+
+    def spread(entries: list[engine.Scalar]) -> PlanarEntries:
+        values = [np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in entries]
+        if index is not None:
+            full = []
+            for v in values:
+                f = np.zeros(n)
+                f[index] = v
+                full.append(f)
+            values = full
+        return PlanarEntries(*values)
+
+    return spread(total_in + total_out), spread(pi_in + pi_out), reach
 
 
 def is_planar(stiffness: ArrayLike) -> BoolArray:
@@ -556,7 +516,9 @@ class BatchResult:
     Attributes
     ----------
     valid : ndarray of bool
-        Reachable (joint limits) and nonsingular (model.check_nonsingular).
+        Reachable (joint limits) and not singular (the transmission index of
+        :mod:`ppm_stiffness.core.singularity`, K finite): where
+        :func:`ppm_stiffness.model.stiffness_at_pose` returns.
     reachable : ndarray of bool
         Every leg's IK solvable and its joint coordinates within limits.
     k_phi, k_x, k_y : numpy.ma.MaskedArray
@@ -625,24 +587,25 @@ def chunk_result(
     path : {"reduced", "planar", "general"}
         The path used.
     """
-    found: tuple[PlanarEntries, BoolArray] | None = None
+    found: tuple[PlanarEntries, PlanarEntries, BoolArray] | None = None
     used = "general"
     if legs is not None:
         x, y, ph = poses[:, 0], poses[:, 1], poses[:, 2]
         with np.errstate(all="ignore"):
-            found = planar_entries(legs, x, y, ph, actuator_stiffness)
+            e, reach = planar_entries(legs, x, y, ph, actuator_stiffness)
+            found = e, reduced_projector(legs, ph), reach
         used = "reduced"
     elif planar:
         found = planar_engine_entries(design, poses, actuator_stiffness)
         used = "planar" if found is not None else "general"
     if found is not None:
-        e, reach = found
+        e, pi, reach = found
         with np.errstate(all="ignore"):
             pr = principal_from_entries(e)
-            valid = reach & nonsingular_from_entries(e)
+            valid = reach & nonsingular_from_entries(e, pi)
         return (assemble(e) if matrices else None), reach, valid, pr, used
-    k, reach = general_stiffness(design, poses, actuator_stiffness)
-    valid = reach & nonsingular_from_matrices(k)
+    k, pi_m, reach = general_stiffness(design, poses, actuator_stiffness)
+    valid = reach & nonsingular_from_matrices(k, pi_m)
     safe = np.where(valid[:, None, None], k, np.eye(6))  # no NaN into the closed forms
     pr = principal_from_matrices(safe)
     return k, reach, valid, pr, used
@@ -765,8 +728,3 @@ def decouple_batch(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray, FloatA
     krt_t = np.swapaxes(krt, -1, -2)
     new_rr = krr - krt @ dd + dd @ (krt_t - ktt @ dd)
     return d, new_rr, ktt.copy()
-
-
-# The batched loaded state lives in its own module (it builds on this one); it is
-# re-exported here so that ``maps.batch.loaded_poses`` is the batch API's one place.
-from ppm_stiffness.maps.loaded import LoadedBatch, loaded_poses  # noqa: E402

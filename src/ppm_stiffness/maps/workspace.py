@@ -3,9 +3,9 @@
 The workspace at orientation phi is the set of platform positions (x, y) where every
 leg's inverse kinematics has a solution with its joint coordinates inside their limits
 (:meth:`ppm_stiffness.legs.base.LegModel.reachable`: strokes, rod ranges, actuator
-angles), and whose stiffness matrix is not (nearly) singular by the criterion of
-:func:`ppm_stiffness.model.check_nonsingular`. The map grid spans the bounding box of
-the joint-limit workspace (:func:`workspace_bounds`) and masks what lies outside.
+angles), and that are not (nearly) singular (the transmission index of
+:mod:`ppm_stiffness.core.singularity`). The map grid spans the bounding box of the
+joint-limit workspace (:func:`workspace_bounds`) and masks what lies outside.
 
 Workspace bounds, two methods:
 
@@ -43,13 +43,21 @@ Actuator states of a map (``actuators``), each leg with its own actuator law
     minimum; see docs/maps.md.
 ``"wrench"``
     the loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z, axes of F_b, at
-    the tool point: P by default) at each
-    pose, as :func:`ppm_stiffness.statics.loading.loaded_state`: actuator forces from the
-    statics, then eq. (20)-(21). For a 3-leg design whose legs offer the reduced form
-    (3-PPR) the locked statics are batched (the split is determinate); for any other
-    design (more than 3 legs, or not on the reduced path) the loaded state of every
-    reachable pose is batched by :func:`ppm_stiffness.maps.loaded.loaded_poses` (the
-    same equilibrium, Newton's method run on all poses at once).
+    the tool point: P by default) at each pose, as
+    :func:`ppm_stiffness.statics.loading.loaded_state` computes it and by the same code
+    (:func:`ppm_stiffness.maps.loaded.loaded_poses`: the equilibrium of the nonlinear
+    actuator law, Newton's method run on all poses at once, for every design); the
+    principal stiffnesses are those of the loaded tangent K. The legs' linear parts come
+    from the planar engine (or the general springs for chains out of the plane),
+    whatever ``path``.
+
+Masks. A grid pose is masked exactly where the single-pose API raises
+(:func:`ppm_stiffness.model.stiffness_at_pose`, and ``loaded_state`` under a wrench),
+and :attr:`StiffnessMap.refusal` says why (:class:`ppm_stiffness.core.refusals.Refusal`:
+outside the joint limits, singular, no equilibrium, a load beyond the
+small-displacement model: an actuator beyond its whole stroke or a rotation beyond
+:data:`~ppm_stiffness.statics.equilibrium.MAX_ROTATION`, a loaded K not positive
+definite). A map never raises for a pose: a load too large for some poses masks them.
 """
 
 from __future__ import annotations
@@ -58,6 +66,7 @@ import csv
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,12 +74,13 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
 from ppm_stiffness.core.errors import (
     DesignError,
-    EquilibriumError,
     InputDataError,
     UnreachablePoseError,
 )
+from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal, refusal_counts
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
+from ppm_stiffness.maps.loaded import loaded_poses
 from ppm_stiffness.model import locked_actuator_stiffness, tool_offset
 from ppm_stiffness.statics import actuator as act
 
@@ -323,8 +333,10 @@ class StiffnessMap:
     k_x, k_y : numpy.ma.MaskedArray (ny, nx) [N/m]
         ``f_tt[0]``, ``f_tt[1]``.
     reachable : ndarray (ny, nx) of bool
-        True inside the workspace: strokes, rod ranges and non-singularity respected.
-        The k arrays are masked exactly where this is False (``mask == ~reachable``).
+        True where the map has values: inside the workspace (strokes, rod ranges,
+        not singular) and, under a wrench, where the loaded state exists within the
+        small-displacement model. The k arrays are masked exactly where this is False
+        (``mask == ~reachable``): where the single-pose API raises.
     actuators : str
         "max", "min" or "wrench".
     actuator_stiffness : ndarray (2, n_legs) [N/m, or N·m/rad for a rotary actuator]
@@ -335,6 +347,9 @@ class StiffnessMap:
     reference_force : float or None
         [N] for "min".
     design_name : str
+    refusal : ndarray (ny, nx) of int8, optional
+        Why each masked point is masked (:class:`ppm_stiffness.core.refusals.Refusal`;
+        0 where ``reachable``); None for a map read from an older file.
     """
 
     x: FloatArray
@@ -349,11 +364,27 @@ class StiffnessMap:
     wrench: FloatArray | None = None
     reference_force: float | None = None
     design_name: str = ""
+    refusal: RefusalArray | None = None
 
     @property
     def mask(self) -> BoolArray:
         """True where the maps are masked (outside the workspace), numpy convention."""
         return np.asarray(~self.reachable)
+
+    def refusal_counts(self) -> dict[str, int]:
+        """Masked points by reason (:func:`ppm_stiffness.core.refusals.refusal_counts`);
+        ``{"masked": n}`` for a map read from an older file."""
+        if self.refusal is None:
+            masked = int(np.count_nonzero(~self.reachable))
+            return {"masked": masked} if masked else {}
+        return refusal_counts(self.refusal)
+
+    def masked_text(self) -> str:
+        """``"12 of 25 poses masked (12 outside the joint limits)"``, for messages."""
+        counts = self.refusal_counts()
+        parts = "; ".join(f"{n} {reason}" for reason, n in counts.items())
+        total = sum(counts.values())
+        return f"{total} of {self.reachable.size} poses masked" + (f" ({parts})" if parts else "")
 
     def fields(self) -> dict[str, np.ma.MaskedArray]:
         """The three maps by name."""
@@ -382,26 +413,29 @@ class StiffnessMap:
 
     def to_npz(self, path: str | Path) -> Path:
         """Write the map as NPZ: x, y, phi, k_phi, k_x, k_y (NaN outside the workspace),
-        reachable, actuators, actuator_stiffness, wrench, reference_force (SI)."""
+        reachable, actuators, actuator_stiffness, wrench, reference_force (SI), and
+        refusal (why each masked point is masked, :class:`~ppm_stiffness.core.refusals.Refusal`)."""
+        arrays: dict[str, Any] = {
+            "x": self.x,
+            "y": self.y,
+            "phi": np.float64(self.phi),
+            "k_phi": self.k_phi.filled(np.nan),
+            "k_x": self.k_x.filled(np.nan),
+            "k_y": self.k_y.filled(np.nan),
+            "reachable": self.reachable,
+            "actuators": np.str_(self.actuators),
+            "actuator_stiffness": self.actuator_stiffness,
+            "wrench": np.full(6, np.nan) if self.wrench is None else self.wrench,
+            "reference_force": np.float64(
+                np.nan if self.reference_force is None else self.reference_force
+            ),
+            "design_name": np.str_(self.design_name),
+        }
+        if self.refusal is not None:
+            arrays["refusal"] = self.refusal
         p = Path(path)
         with p.open("wb") as fh:
-            np.savez(
-                fh,
-                x=self.x,
-                y=self.y,
-                phi=np.float64(self.phi),
-                k_phi=self.k_phi.filled(np.nan),
-                k_x=self.k_x.filled(np.nan),
-                k_y=self.k_y.filled(np.nan),
-                reachable=self.reachable,
-                actuators=np.str_(self.actuators),
-                actuator_stiffness=self.actuator_stiffness,
-                wrench=np.full(6, np.nan) if self.wrench is None else self.wrench,
-                reference_force=np.float64(
-                    np.nan if self.reference_force is None else self.reference_force
-                ),
-                design_name=np.str_(self.design_name),
-            )
+            np.savez(fh, **arrays)
         return p
 
     def to_csv(self, path: str | Path, progress: Callable[[int], None] | None = None) -> Path:
@@ -460,48 +494,16 @@ def load_npz(path: str | Path) -> StiffnessMap:
             wrench=None if np.all(np.isnan(wrench)) else wrench,
             reference_force=None if np.isnan(ref) else ref,
             design_name=str(data["design_name"]),
+            refusal=data["refusal"].astype(np.int8) if "refusal" in data.files else None,
         )
 
 
-def _wrench_actuator_stiffness(
-    design: Design, wrench: FloatArray, poses: FloatArray, reachable: BoolArray
-) -> tuple[FloatArray, BoolArray]:
-    """Actuator stiffness (n, n_legs) under ``wrench`` at poses (n, 3), the loaded state
-    of :func:`~ppm_stiffness.statics.loading.loaded_state` at every reachable pose
-    (batched: :func:`ppm_stiffness.maps.loaded.loaded_poses`); the second array is False
-    where the loaded state is singular. Unreachable poses get the locked values (they
-    are masked anyway).
+class _Fields(NamedTuple):
+    """k_phi, k_x, k_y of one chunk (the part of a Principal the map uses)."""
 
-    Raises
-    ------
-    InputDataError
-        Where ``loaded_state`` would (an actuator beyond its stroke, a rotation beyond
-        the small-displacement model).
-    EquilibriumError
-        Where Newton's method does not converge.
-    """
-    from ppm_stiffness.maps.loaded import loaded_poses
-    from ppm_stiffness.model import pose_label
-    from ppm_stiffness.statics.loading import check_actuator_travel, check_small_rotation
-
-    k_act = np.tile(locked_actuator_stiffness(design), (poses.shape[0], 1))
-    ok = np.zeros(poses.shape[0], dtype=bool)
-    index = np.flatnonzero(reachable)
-    if index.size == 0:
-        return k_act, ok
-    res = loaded_poses(design, poses[index], wrench)
-    failed = res.reachable & ~res.singular & ~res.solved
-    if np.any(failed):
-        raise EquilibriumError(
-            "no equilibrium found after Newton iterations"
-            + pose_label(poses[index[int(np.argmax(failed))]])
-        )
-    solved = res.solved
-    check_actuator_travel(design, res.actuator_displacements.data[solved])
-    check_small_rotation(res.twist.data[solved])
-    k_act[index[solved]] = res.actuator_stiffness.data[solved]
-    ok[index] = res.valid
-    return k_act, ok
+    k_phi: FloatArray
+    k_x: FloatArray
+    k_y: FloatArray
 
 
 def stiffness_map(
@@ -531,9 +533,8 @@ def stiffness_map(
         Grid points along x and y.
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N], axes of F_b, acting at the tool point
-        (P by default); for "wrench" only.
-        Except for 3-leg designs on the reduced path, the loaded state of every
-        reachable grid pose comes from :func:`ppm_stiffness.maps.loaded.loaded_poses`.
+        (P by default); for "wrench" only. The loaded state of every grid pose comes
+        from :func:`ppm_stiffness.maps.loaded.loaded_poses`.
     progress : callable(done, total), optional
         Called after each chunk with the number of poses done and the total.
     bounds : array_like (4,), optional
@@ -560,12 +561,12 @@ def stiffness_map(
     Raises
     ------
     InputDataError
-        Unknown actuator state, wrench missing or given for another state, bad grid,
-        a load that moves an actuator beyond its stroke.
+        Unknown actuator state, wrench missing or given for another state, bad grid.
+        (A load too large at some poses masks them: :attr:`StiffnessMap.refusal`.)
     UnreachablePoseError
         No reachable position at this orientation (and no ``bounds`` given).
     """
-    from ppm_stiffness.statics.loading import check_actuator_travel, validate_wrench
+    from ppm_stiffness.statics.loading import validate_wrench
 
     if actuators not in ACTUATOR_STATES:
         raise InputDataError(f"actuators must be one of {ACTUATOR_STATES}, got {actuators!r}")
@@ -585,7 +586,6 @@ def stiffness_map(
     shift[:3, 3:] = hat(-tool_offset(np.array([0.0, 0.0, phi]), tool))
     x, y = workspace_grid(design, phi, grid, bounds)
     n_legs = len(design.legs)
-    laws = [leg.actuator for leg in design.legs]
     k_locked = locked_actuator_stiffness(design)
     w = (
         None
@@ -600,8 +600,6 @@ def stiffness_map(
         k_const = minimum_actuator_stiffness(design, ref)
     else:
         k_const = None
-    # the batched locked statics split the load right only for a non-redundant design
-    batched_wrench = legs is not None and n_legs == 3
     planar = path != "general"
     if chunk_size is None:
         chunk_size = batch.default_chunk(legs, planar)
@@ -609,6 +607,7 @@ def stiffness_map(
     rows = max(1, int(chunk_size) // nx)
     k_phi, k_x, k_y = (np.empty((ny, nx)) for _ in range(3))
     valid = np.zeros((ny, nx), dtype=bool)
+    refusal = np.zeros((ny, nx), dtype=np.int8)
     k_lo = np.full(n_legs, np.inf)
     k_hi = np.full(n_legs, -np.inf)
     xr = x[None, :]
@@ -620,43 +619,39 @@ def stiffness_map(
             [np.broadcast_to(xr, shape), np.broadcast_to(yc, shape), np.full(shape, phi)],
             axis=-1,
         ).reshape(-1, 3)
-        loaded_ok: BoolArray | None = None
-        if k_const is not None:
-            k_act: FloatArray = np.broadcast_to(k_const, (poses.shape[0], n_legs))
-        elif batched_wrench:
-            assert w is not None and legs is not None
-            with np.errstate(all="ignore"):
-                forces = batch.actuator_forces_batch(legs, xr, yc, phi, w, k_locked)
-            forces = np.broadcast_to(forces, shape + (n_legs,)).reshape(-1, n_legs)
-            delta = np.stack(
-                [act.displacement_from_force(law, forces[:, i]) for i, law in enumerate(laws)],
-                axis=-1,
-            )
-            check_actuator_travel(design, delta)
-            k_act = np.stack(
-                [act.stiffness_from_displacement(law, delta[:, i]) for i, law in enumerate(laws)],
-                axis=-1,
-            )
-        else:
+        k_act: FloatArray
+        pr: _Fields | batch.Principal
+        if k_const is None:  # the loaded state under the wrench: as loaded_state
             assert w is not None
-            reach = reachable_positions(design, poses[:, 0], poses[:, 1], phi)
-            k_act, loaded_ok = _wrench_actuator_stiffness(design, w, poses, reach)
-        if legs is not None and k_const is not None and not at_tool:
+            res = loaded_poses(design, poses, w, matrices=at_tool)
+            codes, ok = res.refusal, res.valid
+            k_act = np.ma.getdata(res.actuator_stiffness)
+            pr = _Fields(res.k_phi.filled(np.nan), res.k_x.filled(np.nan), res.k_y.filled(np.nan))
+            if at_tool:
+                assert res.stiffness is not None
+                k_t = shift @ np.where(ok[:, None, None], res.stiffness, np.eye(6)) @ shift.T
+                pr = batch.principal_from_matrices(k_t)
+        elif legs is not None and not at_tool:
             # the reduced form broadcasts over the grid axes (no per-pose copies)
+            k_act = np.broadcast_to(k_const, (poses.shape[0], n_legs))
             with np.errstate(all="ignore"):
                 entries, reach_g = batch.planar_entries(legs, xr, yc, phi, k_const)
                 pr = batch.principal_from_entries(entries)
-            ok = (reach_g & batch.nonsingular_from_entries(entries)).reshape(-1)
+                pi = batch.reduced_projector(legs, phi)
+            reach = reach_g.reshape(-1)
+            ok = (reach_g & batch.nonsingular_from_entries(entries, pi)).reshape(-1)
+            codes = first_refusal(ok.shape, [(Refusal.UNREACHABLE, reach), (Refusal.SINGULAR, ok)])
         else:
-            k_p, _, ok, pr, _ = batch.chunk_result(
+            k_act = np.broadcast_to(k_const, (poses.shape[0], n_legs))
+            k_p, reach, ok, pr, _ = batch.chunk_result(
                 design, legs, poses, k_act, planar, matrices=at_tool
             )
+            codes = first_refusal(ok.shape, [(Refusal.UNREACHABLE, reach), (Refusal.SINGULAR, ok)])
             if at_tool:
                 assert k_p is not None
                 k_t = shift @ np.where(ok[:, None, None], k_p, np.eye(6)) @ shift.T
                 pr = batch.principal_from_matrices(k_t)
-        if loaded_ok is not None:
-            ok = ok & loaded_ok
+        refusal[j0:j1] = codes.reshape(shape)
         valid[j0:j1] = ok.reshape(shape)
         k_phi[j0:j1] = np.reshape(pr.k_phi, shape)
         k_x[j0:j1] = np.reshape(pr.k_x, shape)
@@ -689,4 +684,5 @@ def stiffness_map(
         wrench=None if wrench is None else validate_wrench(wrench),
         reference_force=ref,
         design_name=design.name,
+        refusal=refusal,
     )

@@ -1,7 +1,7 @@
 """The loaded state over many poses, for the region summary.
 
 :func:`loaded_twists` is the only place the region summary asks for loaded states: the
-batched equilibrium :func:`ppm_stiffness.maps.batch.loaded_poses`, which equals
+batched equilibrium :func:`ppm_stiffness.maps.loaded.loaded_poses`, which equals
 :func:`ppm_stiffness.statics.loading.loaded_state` pose by pose (tests/test_loaded_batch.py)
 and is valid exactly where that returns.
 """
@@ -50,7 +50,7 @@ def loaded_twists(
     solved : ndarray of bool (n,)
         False where the loaded state cannot be computed (:data:`LOADED_STATE_ERRORS`).
     """
-    from ppm_stiffness.maps.batch import loaded_poses
+    from ppm_stiffness.maps.loaded import loaded_poses
 
     p = np.asarray(poses, dtype=float).reshape(-1, 3)
     result = loaded_poses(design, p, np.asarray(wrench, dtype=float))

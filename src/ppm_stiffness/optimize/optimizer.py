@@ -88,6 +88,8 @@ class OptimizationResult:
         Population size and generations run.
     interrupted : bool
         Stopped by Ctrl-C: the best so far.
+    budget : int
+        The evaluations asked for.
     """
 
     objective: Quantity
@@ -105,6 +107,17 @@ class OptimizationResult:
     generations: int
     interrupted: bool = False
     constraints: list[Constraint] = field(default_factory=list)
+    budget: int = 0
+
+    def partial_note(self) -> str | None:
+        """One line saying that the result is partial (None when it is not): for a
+        comment in the files written from it."""
+        if not self.interrupted:
+            return None
+        return (
+            f"partial: interrupted after {self.evaluations} of {self.budget} evaluations; "
+            "the best design so far"
+        )
 
     @property
     def improvement(self) -> float:
@@ -339,6 +352,7 @@ def optimize_design(
         generations=max(evaluator.generations, 0),
         interrupted=interrupted,
         constraints=list(constraints),
+        budget=budget,
     )
 
 

@@ -5,8 +5,8 @@ file's ``[workspace.required]`` table, or the commands' ``--region`` override): 
 of x, y [m] and phi [rad] and the number of grid values along each, ends included.
 A design *covers* the region when every grid pose is reachable (every leg's inverse
 kinematics solvable, joint coordinates within limits) and not singular (the
-length-balanced K's eigenvalue ratio above
-:data:`ppm_stiffness.model.SINGULARITY_TOLERANCE`, a condition number below 1e6).
+transmission index of :mod:`ppm_stiffness.core.singularity` above its
+``SINGULARITY_TOLERANCE``).
 Only the grid poses are tested: a singularity or a workspace hole between grid points
 can be missed.
 """

@@ -54,6 +54,16 @@ class SweepResult:
     sample: str
     interrupted: bool = False
 
+    def partial_note(self) -> str | None:
+        """One line saying that the sweep is partial (None when it is not): for a
+        comment in the files written from it."""
+        if not self.interrupted:
+            return None
+        return (
+            f"partial: interrupted after {len(self.summaries)} of {len(self.points)} "
+            "designs; the rows are the designs done, in order"
+        )
+
     def figure(self, name: str) -> FloatArray:
         """One figure of every design done (n_done,) [SI]; NaN where it has none."""
         return np.array([s[name] for s in self.summaries], dtype=float)

@@ -18,11 +18,16 @@ columns with their unit, then one row per measurement::
     ...
 
 The displacement column is ``displacement_mm`` or ``displacement_m``; the force
-column is ``force_N``. Other columns are ignored.
+column is ``force_N``. Other columns are ignored. Displacements beyond
+:data:`MAX_PLAUSIBLE_DISPLACEMENT` (10 mm) in the header's unit give an
+:class:`ImplausibleDataWarning`: an actuator's compliant displacement under load is far
+smaller, so millimetres under a ``displacement_m`` header are the likely mistake (the
+fit would be off by a factor 1000^q in k_a).
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,11 +36,18 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.csvio import read_commented_csv
+from ppm_stiffness.csvio import read_numbered_csv
 
 #: Displacement column names and their factor to metres.
 DISPLACEMENT_COLUMNS = {"displacement_mm": 1e-3, "displacement_m": 1.0}
 FORCE_COLUMN = "force_N"
+#: Largest plausible compliant displacement of an actuator under load [m]: the paper's
+#: Fig. 4(b) reaches 1 mm; beyond 10 mm the values are likely in another unit.
+MAX_PLAUSIBLE_DISPLACEMENT = 0.01
+
+
+class ImplausibleDataWarning(UserWarning):
+    """Data whose values are physically implausible in the unit their header states."""
 
 
 @dataclass(frozen=True)
@@ -205,7 +217,8 @@ class ForceDisplacementData:
 def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     """Read an actuator force-displacement CSV (format in the module docstring)."""
     p = Path(path)
-    comments, rows = read_commented_csv(p)
+    data = read_numbered_csv(p)
+    comments, rows = data.comments, data.rows
     if not rows:
         raise InputDataError(f"{p}: no header row and no data")
     header = [c.strip() for c in rows[0]]
@@ -219,20 +232,45 @@ def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     i_d, i_f = header.index(disp_cols[0]), header.index(FORCE_COLUMN)
     d: list[float] = []
     f: list[float] = []
-    for lineno, row in enumerate(rows[1:], start=2):
+    for lineno, row in zip(data.row_lines[1:], rows[1:], strict=True):
         if len(row) != len(header):
             raise InputDataError(
-                f"{p}: data row {lineno} has {len(row)} fields, the header has {len(header)}"
+                f"{p}, line {lineno}: {len(row)} fields, the header has {len(header)}"
             )
         try:
             d.append(float(row[i_d]))
             f.append(float(row[i_f]))
         except ValueError:
-            raise InputDataError(f"{p}: data row {lineno} is not numeric: {row}") from None
+            raise InputDataError(f"{p}, line {lineno}: not numeric: {row}") from None
     factor = DISPLACEMENT_COLUMNS[disp_cols[0]]
     d_m = np.array(d) * factor
     f_n = np.array(f)
     if not (np.all(np.isfinite(d_m)) and np.all(np.isfinite(f_n))):
         raise InputDataError(f"{p}: displacements and forces must be finite")
     unit = disp_cols[0].removeprefix("displacement_")
+    _check_plausible(p, d_m, unit)
     return ForceDisplacementData(d_m, f_n, comments, unit)
+
+
+def _check_plausible(path: Path, displacement_m: FloatArray, unit: str) -> None:
+    """An :class:`ImplausibleDataWarning` for displacements beyond
+    :data:`MAX_PLAUSIBLE_DISPLACEMENT` (module doc)."""
+    if displacement_m.size == 0:
+        return
+    big = float(np.max(np.abs(displacement_m)))
+    if big <= MAX_PLAUSIBLE_DISPLACEMENT:
+        return
+    limit_mm = 1e3 * MAX_PLAUSIBLE_DISPLACEMENT
+    hint = (
+        "if the values are in mm, name the column displacement_mm"
+        if unit == "m"
+        else "check the column's unit"
+    )
+    warnings.warn(
+        f"{path}: displacements up to {big / (1.0 if unit == 'm' else 1e-3):.4g} {unit} "
+        f"under a 'displacement_{unit}' header, where an actuator's compliant "
+        f"displacement under load stays well below {limit_mm:g} mm: {hint} (the fit "
+        "takes the header's unit)",
+        ImplausibleDataWarning,
+        stacklevel=3,
+    )

@@ -29,6 +29,25 @@ tangent stiffness ``K_act(G)`` (eq. 21), the secant stiffness ``G/delta(G)``, th
 platform twist t and the tangent Cartesian stiffness
 ``sum_i bordered(S_i + a_i a_i^T / K_act,i, J_i)`` (the matrix the paper reports under
 load, eq. 33). Poses are (x, y, phi) [m, m, rad]; twists and wrenches at P, axes of F_b.
+
+One implementation for one pose and for many: :func:`loaded_states` solves these
+equations at k poses at once (the legs' linear parts from
+:mod:`ppm_stiffness.statics.structures`; Newton's method on every pose together) and
+gives each pose a refusal code (:class:`ppm_stiffness.core.refusals.Refusal`), in this
+order: unreachable, singular with the actuators rigid (the transmission index of
+:mod:`ppm_stiffness.core.singularity`, or ``K^S`` not finite), no equilibrium, an
+actuator beyond its whole stroke, a platform rotation beyond :data:`MAX_ROTATION`, a
+loaded K that is not positive definite. :func:`equilibrium` is the batch of one pose
+that raises the code's error; the maps and :func:`ppm_stiffness.maps.loaded.loaded_poses`
+mask the poses with a nonzero code. So the maps mask exactly where the single-pose
+API raises, by construction.
+
+Newton's method stops when every |F_i| is at most :data:`FORCE_TOLERANCE` times the
+size of the terms F is computed from: ``max(|g0|, |G|, |M| (|delta| + |G| / K_act),
+1 N)`` (N·m for a rotary actuator). Round-off in F is a few ulps of that size: where
+the actuators are driven far (``|M| delta`` of 10^5 N and more) a scale of ``|g0|``
+alone asked for less than round-off allows, and whether Newton "converged" depended on
+the order of the floating-point sums.
 """
 
 from __future__ import annotations
@@ -38,142 +57,59 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray, length_balanced
+from ppm_stiffness.core.conventions import BoolArray, FloatArray
 from ppm_stiffness.core.errors import (
     EquilibriumError,
-    InputDataError,
     SingularConfigurationError,
+    UnreachablePoseError,
 )
-from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
+from ppm_stiffness.core.inputs import validate_wrench
+from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.base import LegModel
 from ppm_stiffness.model import (
-    actuator_stiffness_vector,
-    check_nonsingular,
-    leg_springs_at_pose,
+    locked_actuator_stiffness,
     pose_label,
+    singular_message,
+    solve_legs,
+    validate_pose,
 )
+from ppm_stiffness.poses import full_poses
 from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.limits import (
+    MAX_ROTATION,
+    check_actuator_travel,
+    check_small_rotation,
+    positive_definite,
+    small_rotation,
+    within_stroke,
+)
+from ppm_stiffness.statics.structures import LegStructures, LegTerms, reachable_terms
 
-#: Newton stops when every |F_i| is below this fraction of the force scale
-#: max(|g0|, 1 N) (or 1 N·m), and fails after ``MAX_ITERATIONS``.
+__all__ = [
+    "FORCE_TOLERANCE",
+    "MAX_ITERATIONS",
+    "MAX_ROTATION",
+    "Equilibrium",
+    "EquilibriumBatch",
+    "LegStructures",
+    "check_actuator_travel",
+    "check_small_rotation",
+    "displacements",
+    "equilibrium",
+    "loaded_states",
+    "positive_definite",
+    "raise_refusal",
+    "small_rotation",
+    "solve_forces",
+    "solve_loaded",
+    "tangent_stiffnesses",
+    "within_stroke",
+]
+
+#: Newton stops when every |F_i| is below this fraction of the size of F's terms
+#: (module doc), and fails after ``MAX_ITERATIONS``.
 FORCE_TOLERANCE = 1e-12
 MAX_ITERATIONS = 100
-
-
-def check_actuator_travel(design: Design, displacements: ArrayLike) -> None:
-    """Refuse loads under which an actuator would travel beyond its stroke.
-
-    The model is one of small displacements about a fixed geometry; an actuator
-    displaced by more than its whole stroke (the span of its leg's actuated coordinate) is
-    far outside it, and its stiffness from eq. (21) is meaningless.
-
-    Parameters
-    ----------
-    displacements : array_like, shape (..., n_legs)
-        Actuator displacement magnitudes [m, or rad for a rotary actuator].
-    """
-    d = np.abs(np.asarray(displacements, dtype=float)).reshape(-1, len(design.legs))
-    spans = np.array([_stroke_span(leg) for leg in design.legs])
-    worst = np.where(np.isfinite(d), d, 0.0).max(axis=0)
-    for i in np.flatnonzero(~(worst <= spans)):
-        leg = design.legs[i]
-        rotary = leg.COORDINATES[leg.ACTUATED_COORDINATE].unit == "rad"
-        scale, unit = (180 / np.pi, "deg") if rotary else (1e3, "mm")
-        raise InputDataError(
-            f"load too large: actuator {i + 1} would move {worst[i] * scale:.4g} {unit}, "
-            f"more than its whole stroke of {spans[i] * scale:.4g} {unit} (the model is "
-            "for small deflections)"
-        )
-
-
-#: Largest platform rotation [rad] a deflection may reach: the model linearises the
-#: geometry about the unloaded pose (small displacements).
-MAX_ROTATION = 0.1
-
-
-def check_small_rotation(twists: ArrayLike) -> None:
-    """Refuse deflections whose rotation exceeds :data:`MAX_ROTATION` (5.7 deg).
-
-    Parameters
-    ----------
-    twists : array_like, shape (..., 6)
-        Platform twists (rotation first) [rad, m].
-    """
-    t = np.asarray(twists, dtype=float).reshape(-1, 6)
-    rotation = float(np.max(np.linalg.norm(t[:, :3], axis=1))) if len(t) else 0.0
-    if not rotation <= MAX_ROTATION:
-        raise InputDataError(
-            f"load too large: the platform would rotate {np.degrees(rotation):.3g} deg, "
-            f"beyond the {np.degrees(MAX_ROTATION):.2g} deg a small-displacement model covers"
-        )
-
-
-def _stroke_span(leg: LegModel) -> float:
-    """The whole travel of a leg's actuated coordinate (its limits' span) [m or rad]."""
-    lo, hi = leg.limits()[leg.ACTUATED_COORDINATE]
-    return float(hi - lo)
-
-
-class LegStructures:
-    """The linear parts of every leg at one pose (springs built once).
-
-    Attributes
-    ----------
-    structure : ndarray (n, 6, 6)
-        ``S_i``: the leg's compliance at P without its actuator.
-    passive : ndarray (n, 6, p)
-        Passive-joint twists (legs must have the same number p; otherwise stored as a
-        list).
-    actuator : ndarray (n, 6)
-        ``a_i``, the actuated joint's unit twist.
-    rigid_actuator_stiffness : ndarray (n, 6, 6)
-        ``K_i^S``.
-    """
-
-    def __init__(self, design: Design, pose: ArrayLike) -> None:
-        self.design = design
-        self.pose = np.asarray(pose, dtype=float)
-        k0 = actuator_stiffness_vector(design, None)
-        legs = leg_springs_at_pose(design, self.pose, k0)
-        self.passive = [leg.passive for leg in legs]
-        self.actuator = np.stack([leg.screws[:, leg.actuator_index] for leg in legs])
-        c6 = np.stack([leg_compliance_at_platform(leg.screws, leg.compliance) for leg in legs])
-        outer = np.einsum("li,lj->lij", self.actuator, self.actuator)
-        self.structure = c6 - outer / k0[:, None, None]
-        self.rigid_actuator_stiffness = np.stack(
-            [bordered_stiffness(s, q) for s, q in zip(self.structure, self.passive, strict=True)]
-        )
-
-    @property
-    def n_legs(self) -> int:
-        return int(self.actuator.shape[0])
-
-    def leg_stiffnesses(self, actuator_stiffness: ArrayLike) -> FloatArray:
-        """Each leg's tangent stiffness (n, 6, 6) with the given actuator stiffnesses."""
-        k = np.asarray(actuator_stiffness, dtype=float)
-        outer = np.einsum("li,lj->lij", self.actuator, self.actuator)
-        c6 = self.structure + outer / k[:, None, None]
-        return np.stack([bordered_stiffness(c, q) for c, q in zip(c6, self.passive, strict=True)])
-
-    def stiffness(self, actuator_stiffness: ArrayLike) -> FloatArray:
-        """Cartesian stiffness (6, 6) at P with the given actuator stiffnesses."""
-        return np.asarray(self.leg_stiffnesses(actuator_stiffness).sum(axis=0))
-
-    def reduced(self) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """``B`` (6, n), ``C^S`` (6, 6) and ``M`` (n, n) of the module doc."""
-        k_s = self.rigid_actuator_stiffness
-        total = k_s.sum(axis=0)
-        if not np.all(np.isfinite(total)):
-            raise SingularConfigurationError(
-                f"a leg is rigid with its actuator locked{pose_label(self.pose)}"
-            )
-        check_nonsingular(total, pose_label(self.pose) + " (actuators rigid)")
-        b = np.einsum("lij,lj->il", k_s, self.actuator)
-        c_s = np.linalg.inv(total)
-        c_s = 0.5 * (c_s + c_s.T)
-        m = np.diag(np.einsum("li,il->l", self.actuator, b)) - b.T @ c_s @ b
-        return b, c_s, 0.5 * (m + m.T)
 
 
 def displacements(design: Design, forces: ArrayLike) -> FloatArray:
@@ -192,6 +128,92 @@ def tangent_stiffnesses(design: Design, forces: ArrayLike) -> FloatArray:
         [act.stiffness_from_force(leg.actuator, g[..., i]) for i, leg in enumerate(design.legs)],
         axis=-1,
     )
+
+
+def solve_forces(
+    design: Design, g0: FloatArray, m: FloatArray, leg_scale: FloatArray
+) -> tuple[FloatArray, BoolArray, np.ndarray, FloatArray]:
+    """Actuator forces (k, n) at equilibrium, ``G - g0 + M delta(G) = 0``, for k poses.
+
+    Newton's method with a backtracking line search (module doc), all poses at once.
+    Where ``max|M| <= 1e-9 max(a_i . b_i)`` (``leg_scale``) the forces are statically
+    determinate: ``G = g0``, 0 iterations.
+
+    Parameters
+    ----------
+    g0 : ndarray (k, n) [N or N·m]
+    m : ndarray (k, n, n) [N/m or N·m/rad]
+    leg_scale : ndarray (k,)
+        ``max_i a_i . b_i``, the legs' stiffness along their actuators.
+
+    Returns
+    -------
+    forces : ndarray (k, n)
+        The last iterate where Newton's method did not converge.
+    converged : ndarray of bool (k,)
+    iterations : ndarray of int (k,)
+        -1 where it did not converge.
+    residual : ndarray (k,)
+        Largest |F_i| at the returned forces.
+    """
+    k, n = g0.shape
+    g = g0.copy()
+    iterations = np.zeros(k, dtype=int)
+    residual = np.zeros(k)
+    determinate = np.max(np.abs(m), axis=(1, 2), initial=0.0) <= 1e-9 * np.maximum(
+        leg_scale, 1e-300
+    )
+    converged = determinate.copy()
+    active = np.flatnonzero(~determinate)
+    if active.size == 0:
+        return g, converged, iterations, residual
+    base = np.maximum(np.max(np.abs(g0), axis=1), 1.0)
+
+    def residual_of(gs: FloatArray, rows: np.ndarray) -> FloatArray:
+        return np.asarray(
+            gs - g0[rows] + np.einsum("kij,kj->ki", m[rows], displacements(design, gs))
+        )
+
+    ga = g[active]
+    f = residual_of(ga, active)
+    eye = np.eye(n)
+    for iteration in range(1, MAX_ITERATIONS + 1):
+        k_tan = tangent_stiffnesses(design, ga)
+        terms = np.abs(displacements(design, ga)) + np.abs(ga) / k_tan
+        scale = np.maximum(
+            np.maximum(base[active], np.max(np.abs(ga), axis=1)),
+            np.max(np.einsum("kij,kj->ki", np.abs(m[active]), terms), axis=1),
+        )
+        done = np.max(np.abs(f), axis=1) <= FORCE_TOLERANCE * scale
+        if np.any(done):
+            rows = active[done]
+            g[rows] = ga[done]
+            converged[rows] = True
+            iterations[rows] = iteration - 1
+            residual[rows] = np.max(np.abs(f[done]), axis=1)
+            keep = ~done
+            active, ga, f, k_tan = active[keep], ga[keep], f[keep], k_tan[keep]
+        if active.size == 0:
+            break
+        jac = eye + m[active] / k_tan[:, None, :]
+        step = np.linalg.solve(jac, -f[..., None])[..., 0]
+        norm0 = np.linalg.norm(f, axis=1)
+        alpha = np.ones(active.size)
+        trial = ga + step
+        f_trial = residual_of(trial, active)
+        while True:
+            ok = (np.linalg.norm(f_trial, axis=1) < (1 - 1e-4 * alpha) * norm0) | (alpha < 1e-6)
+            if np.all(ok):
+                break
+            redo = np.flatnonzero(~ok)
+            alpha[redo] *= 0.5
+            trial[redo] = ga[redo] + alpha[redo, None] * step[redo]
+            f_trial[redo] = residual_of(trial[redo], active[redo])
+        ga, f = trial, f_trial
+    g[active] = ga  # not converged: the last iterate
+    iterations[active] = -1
+    residual[active] = np.max(np.abs(f), axis=1)
+    return g, converged, iterations, residual
 
 
 @dataclass(frozen=True)
@@ -232,50 +254,227 @@ class Equilibrium:
     iterations: int
 
 
-def solve_forces(
-    design: Design, structures: LegStructures, wrench: ArrayLike
-) -> tuple[FloatArray, int]:
-    """Actuator forces (n,) at equilibrium under ``wrench`` and the Newton iterations.
+@dataclass(frozen=True)
+class EquilibriumBatch:
+    """The loaded state at k poses (SI; at P, axes of F_b).
 
-    Raises
-    ------
-    EquilibriumError
-        If Newton's method does not converge.
+    Attributes
+    ----------
+    poses : ndarray (k, 3)
+    wrench : ndarray (6,)
+    refusal : ndarray of int8 (k,)
+        :class:`~ppm_stiffness.core.refusals.Refusal` codes: 0 exactly where
+        :func:`equilibrium` returns.
+    forces, displacements, actuator_stiffness, secant_stiffness : ndarray (k, n)
+        As :class:`Equilibrium`; meaningful where an equilibrium was found (a code of 0
+        or above ``NO_EQUILIBRIUM``), zero where the pose is unreachable or singular.
+    twist : ndarray (k, 6)
+    leg_wrenches : ndarray (k, n, 6)
+    stiffness : ndarray (k, 6, 6)
+        The loaded tangent K.
+    iterations : ndarray of int (k,)
+        -1 where no equilibrium was found (or the pose is unreachable or singular).
+    residual : ndarray (k,)
+        Largest force residual of Newton's method [N or N·m].
+    rigid_finite : ndarray of bool (k,)
+        ``sum K_i^S`` finite (False: a leg is rigid with its actuator locked).
+    projector : ndarray (k, 6, 6)
+        The legs' summed projector ``Pi`` (:mod:`ppm_stiffness.core.singularity`).
     """
+
+    poses: FloatArray
+    wrench: FloatArray
+    refusal: RefusalArray
+    forces: FloatArray
+    displacements: FloatArray
+    actuator_stiffness: FloatArray
+    secant_stiffness: FloatArray
+    twist: FloatArray
+    leg_wrenches: FloatArray
+    stiffness: FloatArray
+    iterations: np.ndarray
+    residual: FloatArray
+    rigid_finite: BoolArray
+    projector: FloatArray
+
+    @property
+    def solved(self) -> BoolArray:
+        """An equilibrium was found (it may still be outside the model)."""
+        return np.asarray((self.refusal == 0) | (self.refusal > Refusal.NO_EQUILIBRIUM))
+
+    def state(self, i: int) -> Equilibrium:
+        """Pose ``i`` as an :class:`Equilibrium`."""
+        return Equilibrium(
+            pose=self.poses[i],
+            wrench=self.wrench,
+            actuator_forces=self.forces[i],
+            actuator_displacements=self.displacements[i],
+            actuator_stiffness=self.actuator_stiffness[i],
+            secant_stiffness=self.secant_stiffness[i],
+            twist=self.twist[i],
+            leg_wrenches=self.leg_wrenches[i],
+            stiffness_matrix=self.stiffness[i],
+            iterations=int(self.iterations[i]),
+        )
+
+
+def solve_loaded(
+    design: Design, terms: LegTerms, wrench: FloatArray, poses: FloatArray
+) -> EquilibriumBatch:
+    """The equations of the module doc at every pose of ``terms`` (all reachable)."""
+    k, n = terms.size, len(design.legs)
     w = np.asarray(wrench, dtype=float)
-    b, c_s, m = structures.reduced()
-    g0 = b.T @ c_s @ w
-    scale = max(float(np.max(np.abs(g0))), 1.0)
-    # M is a difference of terms of the size of a_i . K_i^S a_i (the leg's stiffness
-    # along its actuator): relative to that, M vanishes for determinate forces
-    leg_scale = float(np.max(np.abs(np.einsum("li,il->l", structures.actuator, b))))
-    if float(np.max(np.abs(m))) <= 1e-9 * max(leg_scale, 1e-300):
-        return g0, 0  # statically determinate actuator forces
-
-    def residual(g: FloatArray) -> FloatArray:
-        return np.asarray(g - g0 + m @ displacements(design, g))
-
-    g = g0.copy()
-    f = residual(g)
-    for iteration in range(1, MAX_ITERATIONS + 1):
-        if np.max(np.abs(f)) <= FORCE_TOLERANCE * scale:
-            return g, iteration - 1
-        jac = np.eye(len(g)) + m / tangent_stiffnesses(design, g)[None, :]
-        step = np.linalg.solve(jac, -f)
-        norm0 = float(np.linalg.norm(f))
-        alpha = 1.0
-        while True:
-            trial = g + alpha * step
-            f_trial = residual(trial)
-            if float(np.linalg.norm(f_trial)) < (1 - 1e-4 * alpha) * norm0 or alpha < 1e-6:
-                break
-            alpha *= 0.5
-        g, f = trial, f_trial
-    raise EquilibriumError(
-        f"no equilibrium found after {MAX_ITERATIONS} Newton iterations"
-        f"{pose_label(structures.pose)} (largest force residual "
-        f"{float(np.max(np.abs(f))):.3g})"
+    ks, a = terms.rigid, terms.actuator
+    total = ks.sum(axis=1)
+    rigid_finite = np.all(np.isfinite(total), axis=(1, 2))
+    good = terms.nonsingular & rigid_finite
+    if np.all(good):
+        safe, ks_safe = total, ks
+    else:  # no singular or non-finite matrix into the algebra (those poses are refused)
+        safe = np.where(good[:, None, None], total, np.eye(6))
+        ks_safe = np.where(good[:, None, None, None], ks, 0.0)
+    c_s = np.linalg.inv(safe)
+    c_s = 0.5 * (c_s + np.swapaxes(c_s, 1, 2))
+    b = np.einsum("klij,klj->kli", ks_safe, a)
+    cb = np.einsum("kij,klj->kli", c_s, b)
+    u = c_s @ w
+    g0 = np.einsum("kli,ki->kl", b, u)
+    ab = np.einsum("kli,kli->kl", a, b)
+    m = -np.einsum("kli,kji->klj", b, cb)
+    m[:, np.arange(n), np.arange(n)] += ab
+    m = 0.5 * (m + np.swapaxes(m, 1, 2))
+    forces = np.zeros((k, n))
+    converged = np.zeros(k, dtype=bool)
+    iterations = np.full(k, -1)
+    residual = np.zeros(k)
+    idx = np.flatnonzero(good)
+    if idx.size:
+        forces[idx], converged[idx], iterations[idx], residual[idx] = solve_forces(
+            design, g0[idx], m[idx], np.max(np.abs(ab[idx]), axis=1)
+        )
+    solved = good & converged
+    forces = np.where(solved[:, None], forces, 0.0)
+    delta = displacements(design, forces)
+    k_tan = tangent_stiffnesses(design, forces)
+    locked = locked_actuator_stiffness(design)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        secant = np.where(delta != 0, forces / np.where(delta != 0, delta, 1.0), locked)
+    twist = np.where(solved[:, None], u + np.einsum("kli,kl->ki", cb, delta), 0.0)
+    leg_w = np.einsum("klij,klj->kli", ks_safe, twist[:, None, :] - a * delta[..., None])
+    stiffness = terms.stiffness(k_tan)
+    codes = first_refusal(
+        (k,),
+        [
+            (Refusal.SINGULAR, good),
+            (Refusal.NO_EQUILIBRIUM, converged),
+            (Refusal.BEYOND_STROKE, within_stroke(design, delta)),
+            (Refusal.LARGE_ROTATION, small_rotation(twist)),
+            (Refusal.LOADED_NOT_POSITIVE_DEFINITE, positive_definite(stiffness)),
+        ],
     )
+    return EquilibriumBatch(
+        poses=poses,
+        wrench=w,
+        refusal=codes,
+        forces=forces,
+        displacements=delta,
+        actuator_stiffness=k_tan,
+        secant_stiffness=secant,
+        twist=twist,
+        leg_wrenches=leg_w,
+        stiffness=stiffness,
+        iterations=np.where(solved, iterations, -1),
+        residual=residual,
+        rigid_finite=rigid_finite,
+        projector=terms.projector,
+    )
+
+
+def loaded_states(design: Design, poses: ArrayLike, wrench: ArrayLike) -> EquilibriumBatch:
+    """The loaded state under ``wrench`` at poses (k, n_task) or (k, 6), each with its
+    refusal code
+    (module doc): the one implementation of :func:`equilibrium` and of the maps.
+
+    Parameters
+    ----------
+    design : Design
+    poses : array_like (k, n_task) or (k, 6) [m, rad]
+        Task coordinates or full poses (:mod:`ppm_stiffness.poses`); a pose whose
+        completion fails is unreachable.
+    wrench : array_like (6,) [N·m, N]
+        At P, axes of F_b.
+    """
+    p, completed = full_poses(design, np.asarray(poses, dtype=float))
+    p, completed = p.reshape(-1, 6), completed.reshape(-1)
+    w = np.asarray(wrench, dtype=float)
+    k, n = p.shape[0], len(design.legs)
+    reach, terms = reachable_terms(design, p, completed)
+    out = EquilibriumBatch(
+        poses=p,
+        wrench=w,
+        refusal=np.where(reach, 0, Refusal.UNREACHABLE).astype(np.int8),
+        forces=np.zeros((k, n)),
+        displacements=np.zeros((k, n)),
+        actuator_stiffness=np.tile(locked_actuator_stiffness(design), (k, 1)),
+        secant_stiffness=np.tile(locked_actuator_stiffness(design), (k, 1)),
+        twist=np.zeros((k, 6)),
+        leg_wrenches=np.zeros((k, n, 6)),
+        stiffness=np.zeros((k, 6, 6)),
+        iterations=np.full(k, -1),
+        residual=np.zeros(k),
+        rigid_finite=np.ones(k, dtype=bool),
+        projector=np.zeros((k, 6, 6)),
+    )
+    if terms is None:
+        return out
+    sub = solve_loaded(design, terms, w, p[reach])
+    for name in (
+        "refusal",
+        "forces",
+        "displacements",
+        "actuator_stiffness",
+        "secant_stiffness",
+        "twist",
+        "leg_wrenches",
+        "stiffness",
+        "iterations",
+        "residual",
+        "rigid_finite",
+        "projector",
+    ):
+        getattr(out, name)[reach] = getattr(sub, name)
+    return out
+
+
+def raise_refusal(design: Design, batch: EquilibriumBatch, i: int) -> None:
+    """Raise the error of pose ``i``'s refusal code (nothing for 0), with a message
+    that says why; the checks that word it test what the code tested."""
+    code = Refusal(int(batch.refusal[i]))
+    if code == Refusal.NONE:
+        return
+    where = pose_label(batch.poses[i])
+    if code == Refusal.UNREACHABLE:
+        solve_legs(design, batch.poses[i])  # names the leg and the limit
+        raise UnreachablePoseError(f"pose unreachable{where}")
+    if code == Refusal.SINGULAR:
+        if not batch.rigid_finite[i]:
+            raise SingularConfigurationError(f"a leg is rigid with its actuator locked{where}")
+        k_rigid = np.zeros((6, 6))  # finite: the message is about the transmission index
+        raise SingularConfigurationError(singular_message(k_rigid, batch.projector[i], where))
+    if code == Refusal.NO_EQUILIBRIUM:
+        raise EquilibriumError(
+            f"no equilibrium found after {MAX_ITERATIONS} Newton iterations{where} "
+            f"(largest force residual {float(batch.residual[i]):.3g})"
+        )
+    if code == Refusal.BEYOND_STROKE:
+        check_actuator_travel(design, batch.displacements[i])
+    elif code == Refusal.LARGE_ROTATION:
+        check_small_rotation(batch.twist[i])
+    else:
+        raise SingularConfigurationError(
+            f"the loaded stiffness matrix is not positive definite{where}"
+        )
+    raise code.error(f"{code.reason}{where}")  # the checks above raise first
 
 
 def equilibrium(
@@ -285,6 +484,9 @@ def equilibrium(
     structures: LegStructures | None = None,
 ) -> Equilibrium:
     """The loaded state under ``wrench`` (m_x, m_y, m_z, f_x, f_y, f_z at P, F_b).
+
+    The batch of one pose of :func:`loaded_states`, raising where its refusal code is
+    not 0.
 
     Parameters
     ----------
@@ -300,40 +502,18 @@ def equilibrium(
 
     Raises
     ------
+    InputDataError
+        If the wrench is not 6 finite numbers or the pose not 3.
     UnreachablePoseError, SingularConfigurationError, EquilibriumError
+    InputDataError
+        A load beyond the small-displacement model (an actuator beyond its stroke, a
+        rotation beyond :data:`MAX_ROTATION`).
     """
-    w = np.asarray(wrench, dtype=float)
-    st = LegStructures(design, pose) if structures is None else structures
-    g, iterations = solve_forces(design, st, w)
-    delta = displacements(design, g)
-    k_tan = tangent_stiffnesses(design, g)
-    locked = np.array([leg.actuator.locked_stiffness for leg in design.legs])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        secant = np.where(delta != 0, g / np.where(delta != 0, delta, 1.0), locked)
-    check_actuator_travel(design, delta)
-    b, c_s, _ = st.reduced()
-    twist = c_s @ (w + b @ delta)
-    check_small_rotation(twist)
-    leg_w = np.einsum(
-        "lij,lj->li", st.rigid_actuator_stiffness, twist[None, :] - st.actuator * delta[:, None]
-    )
-    k = st.stiffness(k_tan)
-    # Soft powered actuators can make the loaded K ill-conditioned without any
-    # kinematic singularity (that was checked with the actuators locked): only a K
-    # that is not finite and positive definite is refused here.
-    if not np.all(np.isfinite(k)) or np.linalg.eigvalsh(length_balanced(k))[0] <= 0:
-        raise SingularConfigurationError(
-            f"the loaded stiffness matrix is not positive definite{pose_label(st.pose)}"
-        )
-    return Equilibrium(
-        pose=st.pose,
-        wrench=w,
-        actuator_forces=g,
-        actuator_displacements=delta,
-        actuator_stiffness=k_tan,
-        secant_stiffness=secant,
-        twist=twist,
-        leg_wrenches=leg_w,
-        stiffness_matrix=k,
-        iterations=iterations,
-    )
+    w = validate_wrench(wrench)
+    p = validate_pose(design, pose)
+    if structures is None:
+        batch = loaded_states(design, p.reshape(1, 6), w)
+    else:
+        batch = solve_loaded(design, structures.terms, w, structures.pose.reshape(1, 6))
+    raise_refusal(design, batch, 0)
+    return batch.state(0)

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_screws_at_pose,
@@ -32,18 +32,6 @@ from ppm_stiffness.statics.equilibrium import (
     check_small_rotation,
     equilibrium,
 )
-
-
-def validate_wrench(wrench: ArrayLike) -> FloatArray:
-    """A wrench as a finite (6,) array (m_x, m_y, m_z, f_x, f_y, f_z), or raise."""
-    w = np.asarray(wrench, dtype=float)
-    if w.shape != (6,):
-        raise InputDataError(
-            f"a wrench has 6 components (m_x, m_y, m_z, f_x, f_y, f_z), got shape {w.shape}"
-        )
-    if not np.all(np.isfinite(w)):
-        raise InputDataError("wrench components must be finite")
-    return w
 
 
 def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:

@@ -26,7 +26,10 @@ absent. The columns:
 
 Every row gives every listed column (no empty or NaN cell). A file gives a load column
 or wrench columns, not both: displacements need the load that made them. A ``mode``
-metadata line, when present, must agree with the loading mode it is compared with.
+metadata line, when present, must name a loading mode (``alpha_deg`` a number) and
+agree with the loading mode it is compared with (:func:`check_mode`, before any
+computation). Errors about a row name the file and the row's line number (1-based,
+as a text editor counts, header and comments included).
 
 RMS differences (what :func:`rms_differences` reports). For each load k, the
 orientation error is the Euclidean norm of (model - measured) over the orientation
@@ -51,8 +54,8 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.csvio import read_commented_csv
-from ppm_stiffness.statics.deflection import DeflectionCurve
+from ppm_stiffness.csvio import read_numbered_csv
+from ppm_stiffness.statics.deflection import MODES, DeflectionCurve
 
 #: Column name of each twist component in a measurement file, and its factor to SI.
 COMPONENT_COLUMNS = ("phi_x_deg", "phi_y_deg", "phi_z_deg", "x_mm", "y_mm", "z_mm")
@@ -92,6 +95,8 @@ class Measurements:
         a file with a load column.
     sigmas : ndarray, shape (n, 6)
         1-sigma noise of each component [rad, m]; NaN where not given.
+    lines : tuple of int
+        Line number in the file (1-based) of each row; empty when not read from a file.
     """
 
     loads: FloatArray | None
@@ -102,10 +107,18 @@ class Measurements:
     poses: FloatArray | None = None
     wrenches: FloatArray | None = None
     sigmas: FloatArray | None = None
+    lines: tuple[int, ...] = ()
 
     @property
     def mode(self) -> str | None:
         return self.metadata.get("mode")
+
+    def row_label(self, k: int) -> str:
+        """``"FILE, line N"`` for row ``k`` (from 0) in errors; ``"FILE, data row k+1"``
+        when the line numbers are not known."""
+        if k < len(self.lines):
+            return f"{self.source}, line {self.lines[k]}"
+        return f"{self.source}, data row {k + 1}"
 
     @property
     def n(self) -> int:
@@ -183,40 +196,36 @@ def read_measurements(path: str | Path) -> Measurements:
         a sigma <= 0; no data row.
     """
     p = Path(path)
-    comments, rows = read_commented_csv(p)
-    metadata: dict[str, str] = {}
-    for comment in comments:
-        key, sep, value = comment.partition(":")
-        if sep and key.strip() and " " not in key.strip():
-            metadata[key.strip()] = value.strip()
+    data = read_numbered_csv(p)
+    metadata = _metadata(p, data.comments, data.comment_lines)
+    rows, lines = data.rows, data.row_lines[1:]
     if len(rows) < 2:
         raise InputDataError(f"{p}: needs a header row and at least one data row")
     header = [c.strip() for c in rows[0]]
     _check_header(p, header)
     values = np.full((len(rows) - 1, len(header)), np.nan)
     for k, row in enumerate(rows[1:]):
+        where = f"{p}, line {lines[k]}"
         if len(row) != len(header):
-            raise InputDataError(
-                f"{p}: data row {k + 1} has {len(row)} fields, the header has {len(header)}"
-            )
+            raise InputDataError(f"{where}: {len(row)} fields, the header has {len(header)}")
         for j, v in enumerate(row):
             try:
                 values[k, j] = float(v)
             except ValueError:
                 raise InputDataError(
-                    f"{p}: data row {k + 1}, column {header[j]!r}: "
+                    f"{where}, column {header[j]!r}: "
                     f"{'empty' if not v.strip() else repr(v.strip()) + ' is not numeric'}"
                 ) from None
             if not math.isfinite(values[k, j]):
                 raise InputDataError(
-                    f"{p}: data row {k + 1}, column {header[j]!r}: {v.strip()} (every value "
-                    "must be finite)"
+                    f"{where}, column {header[j]!r}: {v.strip()} (every value must be finite)"
                 )
     col = {c: values[:, j] for j, c in enumerate(header)}
     n = values.shape[0]
     loads = next((col[c] for c in LOAD_COLUMNS if c in col), None)
     if loads is not None and np.any(loads < 0):
-        raise InputDataError(f"{p}: loads must be >= 0")
+        k = int(np.argmax(loads < 0))
+        raise InputDataError(f"{p}, line {lines[k]}: load {loads[k]:g}: loads must be >= 0")
     twists = np.full((n, 6), np.nan)
     sigmas = np.full((n, 6), np.nan)
     comp = []
@@ -226,7 +235,10 @@ def read_measurements(path: str | Path) -> Measurements:
             twists[:, i] = col[c] * COMPONENT_FACTORS[i]
         if s in col:
             if np.any(col[s] <= 0):
-                raise InputDataError(f"{p}: column {s!r}: every sigma must be > 0")
+                k = int(np.argmax(col[s] <= 0))
+                raise InputDataError(
+                    f"{p}, line {lines[k]}, column {s!r}: {col[s][k]:g}: every sigma must be > 0"
+                )
             sigmas[:, i] = col[s] * COMPONENT_FACTORS[i]
     poses = None
     if POSE_COLUMNS[0] in col:
@@ -236,28 +248,69 @@ def read_measurements(path: str | Path) -> Measurements:
     wrenches = None
     if loads is None:
         wrenches = np.column_stack([col.get(c, np.zeros(n)) for c in WRENCH_COLUMNS])
-    return Measurements(loads, twists, tuple(comp), metadata, str(p), poses, wrenches, sigmas)
+    return Measurements(
+        loads, twists, tuple(comp), metadata, str(p), poses, wrenches, sigmas, tuple(lines)
+    )
+
+
+def _metadata(path: Path, comments: list[str], lines: list[int]) -> dict[str, str]:
+    """The ``key: value`` comments; a ``mode`` that names no loading mode or an
+    ``alpha_deg`` that is not a finite number is refused with its line."""
+    metadata: dict[str, str] = {}
+    for comment, line in zip(comments, lines, strict=True):
+        key, sep, value = comment.partition(":")
+        key, value = key.strip(), value.strip()
+        if not (sep and key and " " not in key):
+            continue
+        metadata[key] = value
+        if key == "mode" and value not in MODES:
+            raise InputDataError(
+                f"{path}, line {line}: '# mode: {value}' names no loading mode; expected "
+                f"one of {', '.join(MODES)}"
+            )
+        if key == "alpha_deg":
+            try:
+                finite = math.isfinite(float(value))
+            except ValueError:
+                finite = False
+            if not finite:
+                raise InputDataError(
+                    f"{path}, line {line}: '# alpha_deg: {value}' is not a finite number "
+                    "(the planar force's direction [deg])"
+                )
+    return metadata
+
+
+def check_mode(measurements: Measurements, mode: str, alpha: float) -> None:
+    """Raise if the measurements state a loading mode, or for a planar force a
+    direction, other than ``mode`` and ``alpha`` [rad] (the model's): checked before
+    a curve is computed, so that a wrong file is not read as a wrong load.
+
+    Raises
+    ------
+    InputDataError
+        Naming the file, the mode it states and the one asked for.
+    """
+    stated = measurements.mode
+    if stated is not None and stated != mode:
+        raise InputDataError(
+            f"{measurements.source}: the measurements are for mode {stated!r} (its "
+            f"'# mode:' line), the model curve for {mode!r}"
+        )
+    text = measurements.metadata.get("alpha_deg")
+    if text is not None and mode == "planar-force":
+        a = float(text)
+        if abs(a - math.degrees(alpha)) > 1e-6:
+            raise InputDataError(
+                f"{measurements.source}: the measurements are for alpha = {a:g} deg (its "
+                f"'# alpha_deg:' line), the model curve for {math.degrees(alpha):g} deg"
+            )
 
 
 def check_compatible(curve: DeflectionCurve, measurements: Measurements) -> None:
-    """Raise if the measurements state a mode or alpha other than the curve's."""
-    mode = measurements.mode
-    if mode is not None and mode != curve.mode:
-        raise InputDataError(
-            f"{measurements.source}: measurements are for mode {mode!r}, the model curve "
-            f"is {curve.mode!r}"
-        )
-    alpha = measurements.metadata.get("alpha_deg")
-    if alpha is not None and curve.mode == "planar-force":
-        try:
-            a = float(alpha)
-        except ValueError:
-            raise InputDataError(f"{measurements.source}: alpha_deg is not a number") from None
-        if abs(a - math.degrees(curve.alpha)) > 1e-6:
-            raise InputDataError(
-                f"{measurements.source}: measurements are for alpha = {a:g} deg, the model "
-                f"curve for {math.degrees(curve.alpha):g} deg"
-            )
+    """Raise if the measurements state a mode or alpha other than the curve's
+    (:func:`check_mode`)."""
+    check_mode(measurements, curve.mode, curve.alpha)
 
 
 def model_at_loads(curve: DeflectionCurve, loads: ArrayLike) -> FloatArray:

@@ -70,6 +70,7 @@ from ppm_stiffness.validation.frame import (
     REACTIONS,
     FESettings,
     FrameBuilder,
+    analyze_linear,
     compliance_at_node,
     fe_cantilever_compliance,
     node_vector,
@@ -504,7 +505,7 @@ def fe_leg_stiffness(
     for j in range(6):
         for i, dof in enumerate(DISPLACEMENTS):
             model.def_node_disp(p_node, dof, 1.0 if i == j else 0.0)
-        model.analyze_linear(check_stability=fb.settings.check_stability)
+        analyze_linear(model, fb.settings.check_stability)
         combo = next(iter(model.load_combos))
         cols.append(node_vector(model.nodes[p_node], REACTIONS, combo))
     fb.check_topology()

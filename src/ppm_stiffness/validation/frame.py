@@ -81,6 +81,35 @@ def require_pynite() -> Any:
         ) from exc
 
 
+#: PyNite's messages (it raises a bare ``Exception``) when its solve finds the stiffness
+#: matrix singular: a node with no stiffness in some direction, or a solution that
+#: does not satisfy equilibrium to a relative 1e-6.
+_PYNITE_SINGULAR = ("stiffness matrix is singular", "Unstable node")
+
+
+def analyze_linear(model: Any, check_stability: bool) -> None:
+    """``model.analyze_linear``, PyNite's failure of a singular stiffness matrix turned
+    into :class:`SingularConfigurationError` (any other error passes through).
+
+    The virtual-joint model has found the pose non-singular before the FE model is
+    built, so a singular FE matrix means a solve that double precision cannot carry
+    out: parts many orders of magnitude stiffer than the others (a Young's modulus
+    such as 1e20 Pa, near-rigid joints) make the frame's stiffness matrix too
+    ill-conditioned for PyNite's equilibrium check.
+    """
+    try:
+        model.analyze_linear(check_stability=check_stability)
+    except Exception as exc:
+        if type(exc) is not Exception or not any(m in str(exc) for m in _PYNITE_SINGULAR):
+            raise
+        raise SingularConfigurationError(
+            "FE model: PyNite finds the frame's stiffness matrix singular (no "
+            "equilibrium to 1e-6); the FE solve is ill-conditioned when some parts are "
+            "many orders of magnitude stiffer than others (a Young's modulus such as "
+            "1e20 Pa, near-rigid joints): give them realistic values to validate"
+        ) from None
+
+
 def unit_vector(v: ArrayLike) -> FloatArray:
     a = np.asarray(v, dtype=float)
     return np.asarray(a / np.linalg.norm(a))
@@ -276,7 +305,7 @@ def compliance_at_node(fb: FrameBuilder, node: str) -> FloatArray:
     for case in LOAD_CASES:
         model.add_node_load(node, case, 1.0, case=case)
         model.add_load_combo(case, {case: 1.0})
-    model.analyze_linear(check_stability=fb.settings.check_stability)
+    analyze_linear(model, fb.settings.check_stability)
     fb.check_topology()
     n = model.nodes[node]
     c_model = np.stack([node_vector(n, DISPLACEMENTS, case) for case in LOAD_CASES], axis=1)

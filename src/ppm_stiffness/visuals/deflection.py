@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from ppm_stiffness.core.conventions import BALANCE, FloatArray
+from ppm_stiffness.core.decoupling import DECOUPLED_TOLERANCE
 from ppm_stiffness.statics.deflection import DeflectionCurve
 from ppm_stiffness.statics.measurements import Measurements
 
@@ -35,12 +37,29 @@ def _components(curves: list[DeflectionCurve], meas: list[Measurements]) -> tupl
     return sorted(rot), sorted(pos)
 
 
+def round_off_as_zero(twists: Any) -> FloatArray:
+    """Twists (n, 6) [rad, m] with the components that are round-off set to 0.
+
+    A component is round-off when its largest |value| along the curve, length-balanced
+    (rotations times ``conventions.LENGTH_SCALE``), is at most
+    :data:`~ppm_stiffness.core.decoupling.DECOUPLED_TOLERANCE` of the largest
+    component's: the rotation of a decoupled design under a force, drawn otherwise as
+    noise on a 1e-17 deg axis.
+    """
+    t = np.asarray(twists, dtype=float)
+    big = np.max(np.abs(t) / BALANCE, axis=0)
+    return np.asarray(t * (big > DECOUPLED_TOLERANCE * np.max(big)))
+
+
 def plot_deflection_curves(
     curves: Sequence[DeflectionCurve] | DeflectionCurve,
     measurements: Sequence[Measurements | None] | Measurements | None = None,
     bands: Sequence[Any | None] | None = None,
 ) -> Any:
     """Orientation [deg] and position [mm] of P against the load, one row per mode.
+
+    Components of the model (and of its bands) that are round-off are drawn as 0
+    (:func:`round_off_as_zero`).
 
     Parameters
     ----------
@@ -84,12 +103,15 @@ def plot_deflection_curves(
             for j, k in enumerate(idx):
                 c = cs[k]
                 band = bands[k] if bands is not None and k < len(bands) else None
+                twists = round_off_as_zero(c.twists)
+                if band is not None:
+                    lower, upper = round_off_as_zero(band.lower), round_off_as_zero(band.upper)
                 for n, i in enumerate(comps):
                     if band is not None:
                         ax.fill_between(
                             c.loads,
-                            band.lower[:, i] * factor,
-                            band.upper[:, i] * factor,
+                            lower[:, i] * factor,
+                            upper[:, i] * factor,
                             color=colours[n % 10],
                             alpha=0.2,
                             lw=0,
@@ -97,7 +119,7 @@ def plot_deflection_curves(
                         )
                     ax.plot(
                         c.loads,
-                        c.twists[:, i] * factor,
+                        twists[:, i] * factor,
                         _STYLES[j % len(_STYLES)],
                         color=colours[n % 10],
                         label=f"{_NAMES[i]} model ({c.method})",

@@ -181,7 +181,16 @@ def _springs_table(result: dict[str, Any], key: str, caption: str) -> str:
         "p<sub>y</sub> [mm]",
         "p<sub>z</sub> [mm]",
     ]
-    return _table(head, rows, caption, cls="springs")
+    table = _table(head, rows, caption, cls="springs")
+    groups = result.get("eigenscrews_repeated") or []
+    if not groups:
+        return table
+    names = "; ".join(", ".join(f"s{i + 1}" for i in g) for g in groups)
+    return table + (
+        f'<p class="note">Repeated eigenvalues ({names}): inside each group the screw '
+        "springs are not unique (any reciprocal combination is as valid); shown: those "
+        "whose axes are closest to x, y, z.</p>"
+    )
 
 
 def _principal_cards(result: dict[str, Any], key: str) -> str:
@@ -209,7 +218,11 @@ def _decoupling_section(result: dict[str, Any], key: str) -> str:
         dec, pr = result[dkey], result[pkey]
         base = f"{key}/{dkey}"
         d_cells = _vector_cells(dec["d"], f"{base}/d", scale=1e3, sig=4)
-        res = _cell(dec["residual_coupling"], f"{base}/residual_coupling", sig=4)
+        res = (
+            "<td>n/a (already decoupled: K<sub>rt</sub> is round-off)</td>"
+            if dec["already_decoupled"]
+            else _cell(dec["residual_coupling"], f"{base}/residual_coupling", sig=4)
+        )
         block = [
             f"<h3>Decoupling: {title}</h3>",
             _table(

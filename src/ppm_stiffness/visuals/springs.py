@@ -210,7 +210,9 @@ def plot_screw_springs(
     Returns
     -------
     matplotlib.figure.Figure
-        One 3D axes in mm, origin P; spring axes have gid ``spring-axis-<i>``.
+        One 3D axes in mm, origin P; spring axes have gid ``spring-axis-<i>``. The
+        legend marks the springs of a repeated eigenvalue ("repeated with s2"): inside
+        such a group they are one valid choice (:mod:`ppm_stiffness.core.eigenscrews`).
     """
     import matplotlib.pyplot as plt
     from matplotlib import colors as mcolors
@@ -253,6 +255,10 @@ def plot_screw_springs(
             springs.positions[i] * MM, springs.axes[i], length * MM, radius, springs.pitches[i]
         )
         hand = "right-handed" if springs.pitches[i] >= 0 else "left-handed"
+        # a spring of a repeated eigenvalue is one choice among many (core.eigenscrews)
+        partners = [f"s{j + 1}" for g in springs.repeated if i in g for j in g if j != i]
+        if partners:
+            hand += "; repeated with " + ", ".join(partners)
         k_txt = "inf" if not np.isfinite(k[i]) else f"{k[i] / 1e3:.1f}"
         ax.plot(
             *hel.T,

@@ -18,19 +18,18 @@ registry skips it); the maps reach it only through
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.beam import BeamSection, cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
 from ppm_stiffness.core.errors import DesignError
-from ppm_stiffness.legs.chain import leg_springs
-
-if TYPE_CHECKING:
-    from ppm_stiffness.legs.types.ppr import PPRLeg
+from ppm_stiffness.legs.base import LegPose
+from ppm_stiffness.legs.chain import Element, leg_springs
 
 #: Twist / wrench components of the in-plane motion (phi_z, x, y) and out-of-plane
 #: motion (phi_x, phi_y, z), in the order of :mod:`ppm_stiffness.core.conventions`.
@@ -38,6 +37,35 @@ IN_PLANE = (2, 3, 4)
 OUT_OF_PLANE = (0, 1, 5)
 #: Columns of the distal rod cantilever in the P-P-R chain's springs.
 _ROD = slice(16, 22)
+
+
+class _Section(Protocol):
+    def section(self) -> BeamSection: ...
+
+
+class PPRGeometry(Protocol):
+    """What :func:`reduce_ppr_leg` reads of a P-P-R leg
+    (:class:`ppm_stiffness.legs.types.ppr.PPRLeg`), so that this module need not
+    import the leg type, which imports it (no import cycle)."""
+
+    @property
+    def base_point(self) -> tuple[float, float]: ...
+    @property
+    def psi(self) -> float: ...
+    @property
+    def platform_radius(self) -> float: ...
+    @property
+    def bearing_offset(self) -> float: ...
+    @property
+    def stroke(self) -> tuple[float, float]: ...
+    @property
+    def rod_length_range(self) -> tuple[float, float]: ...
+    @property
+    def distal(self) -> _Section: ...
+
+    def directions(self) -> tuple[FloatArray, FloatArray]: ...
+    def solve(self, poses: ArrayLike) -> LegPose: ...
+    def chain(self, leg_pose: LegPose) -> Sequence[Element]: ...
 
 
 @dataclass(frozen=True)
@@ -126,7 +154,7 @@ def _null_basis(rows: FloatArray, dim: int) -> FloatArray:
     return np.asarray(u[:, rank:])
 
 
-def reduce_ppr_leg(leg: PPRLeg) -> ReducedLeg:
+def reduce_ppr_leg(leg: PPRGeometry) -> ReducedLeg:
     """Reduced form of one P-P-R leg, from the general model.
 
     Raises

@@ -46,6 +46,7 @@ from ppm_stiffness.legs.parts import (
     RevoluteModel,
     SectionModel,
 )
+from ppm_stiffness.legs.types._ppr_reduced import reduce_ppr_leg
 
 
 class PPRLeg(PlanarLegModel):
@@ -152,8 +153,6 @@ class PPRLeg(PlanarLegModel):
     def reduced_form(self) -> Any | None:
         """The exact reduced form of :mod:`._ppr_reduced` (None when the leg does not
         have the structure it assumes, e.g. a compliant platform revolute)."""
-        from ppm_stiffness.legs.types._ppr_reduced import reduce_ppr_leg
-
         try:
             return reduce_ppr_leg(self)
         except DesignError:

@@ -1,0 +1,203 @@
+"""Maps mask exactly where the single-pose API raises, pose by pose, and say why (issue
+19, item 2).
+
+Every shipped architecture, on grids 15 % wider than the workspace (so that joint
+limits refuse), with locked and soft actuators and with loads that trip each refusal:
+the map's code (:class:`ppm_stiffness.core.refusals.Refusal`) at every grid point is
+the one the single-pose call's error names (``stiffness_at_pose`` without a load,
+``loaded_state`` with one). Loads: the asymmetric wrench of test_loaded_batch.py times
+1 to 3000 (an actuator beyond its stroke for the P-P-R designs from 3 times, rotations
+beyond 5.7 deg for the others from 30 to 3000 times, Newton's method still crawling
+after 100 iterations at one pose of the redundant 4-PPR at 3000 times); singular maps:
+the 3-RPR at phi = -60 deg (its base and platform triangles are then similar and
+parallel: the leg lines meet at one point wherever the platform is) and near it.
+Before, the wrench
+map of a 3-leg P-P-R design skipped the rotation check and checked the stroke with the
+bare actuator law: ``map --actuators=0,0,0,0,0,1`` printed 25 of 25 points where
+``analyze --wrench 0,0,0,0,0,1`` refused (52.9 deg).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+from helpers import design_named
+from ppm_stiffness.cli import main
+from ppm_stiffness.core.errors import (
+    EquilibriumError,
+    InputDataError,
+    SingularConfigurationError,
+    UnreachablePoseError,
+)
+from ppm_stiffness.core.refusals import Refusal
+from ppm_stiffness.design import Design
+from ppm_stiffness.maps.loaded import loaded_poses
+from ppm_stiffness.maps.workspace import (
+    StiffnessMap,
+    minimum_actuator_stiffness,
+    stiffness_map,
+    workspace_bounds,
+)
+from ppm_stiffness.model import locked_actuator_stiffness, stiffness_at_pose
+from ppm_stiffness.statics import equilibrium as statics
+from ppm_stiffness.statics.loading import loaded_state
+
+WRENCH = np.array([0.05, -0.03, 0.4, 15.0, -8.0, 10.0])
+GRID = (9, 7)
+
+#: (orientation [deg], load scales) per design, and the codes its maps must show.
+CASES: dict[str, tuple[float, list[float], set[Refusal]]] = {
+    "paper": (0.0, [0.1, 1.0, 3.0], {Refusal.BEYOND_STROKE, Refusal.LARGE_ROTATION}),
+    "symmetric_3ppr": (0.0, [1.0, 3.0], {Refusal.BEYOND_STROKE}),
+    "redundant_4ppr": (0.0, [1.0, 3.0, 3000.0], {Refusal.BEYOND_STROKE, Refusal.NO_EQUILIBRIUM}),
+    "3rpr": (0.0, [1.0, 3000.0], {Refusal.LARGE_ROTATION}),
+    "3prr": (0.0, [1.0, 1000.0], {Refusal.LARGE_ROTATION}),
+    "3rrr": (0.0, [1.0, 300.0], {Refusal.LARGE_ROTATION}),
+}
+
+
+def code_of(call: Callable[[np.ndarray], object], pose: np.ndarray) -> int:
+    """The refusal code the single-pose call's error names at ``pose`` (0 if it
+    returns)."""
+    try:
+        call(pose)
+    except UnreachablePoseError:
+        return Refusal.UNREACHABLE
+    except SingularConfigurationError as exc:
+        loaded = "loaded stiffness" in str(exc)
+        return Refusal.LOADED_NOT_POSITIVE_DEFINITE if loaded else Refusal.SINGULAR
+    except EquilibriumError:
+        return Refusal.NO_EQUILIBRIUM
+    except InputDataError as exc:
+        return Refusal.BEYOND_STROKE if "stroke" in str(exc) else Refusal.LARGE_ROTATION
+    return Refusal.NONE
+
+
+def single_pose_codes(
+    smap: StiffnessMap, design: Design, call: Callable[[np.ndarray], object]
+) -> np.ndarray:
+    return np.array([[code_of(call, np.array([x, y, smap.phi])) for x in smap.x] for y in smap.y])
+
+
+def wide_bounds(design: Design, phi: float) -> np.ndarray:
+    box = workspace_bounds(design, phi)
+    pad = 0.15 * np.array([box[1] - box[0], box[3] - box[2]])
+    return box + np.array([-pad[0], pad[0], -pad[1], pad[1]])
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_maps_mask_exactly_where_the_single_pose_api_raises(name: str) -> None:
+    design = design_named(name)
+    deg, scales, wanted = CASES[name]
+    phi = math.radians(deg)
+    bounds = wide_bounds(design, phi)
+    seen: set[int] = set()
+    k_min = minimum_actuator_stiffness(design, 10.0)
+    states: list[tuple[str, np.ndarray | None, Callable[[np.ndarray], object]]] = [
+        ("max", None, lambda p: stiffness_at_pose(design, p, locked_actuator_stiffness(design))),
+        ("min", None, lambda p: stiffness_at_pose(design, p, k_min)),
+    ]
+    for scale in scales:
+        w = scale * WRENCH
+        states.append(("wrench", w, lambda p, w=w: loaded_state(design, w, p)))
+    for actuators, wrench, call in states:
+        smap = stiffness_map(design, phi, actuators, GRID, wrench, bounds=bounds)
+        assert smap.refusal is not None
+        expected = single_pose_codes(smap, design, call)
+        np.testing.assert_array_equal(smap.refusal, expected, err_msg=f"{actuators} {wrench}")
+        np.testing.assert_array_equal(smap.reachable, expected == 0)
+        seen |= set(np.unique(expected).tolist())
+    assert {Refusal.NONE, Refusal.UNREACHABLE} | wanted <= seen
+
+
+@pytest.mark.parametrize(("offset", "singular"), [(0.0, 10), (0.06, 8), (0.1, 1), (0.2, 0)])
+def test_singular_maps_of_the_3rpr(offset: float, singular: int) -> None:
+    """At -60 deg every reachable position is singular; the index grows as the square
+    of the offset (1.9e-4 per deg^2 at the centre), so the singular band narrows to one
+    grid point 0.1 deg off and none 0.2 deg off (counts measured on this grid)."""
+    design = design_named("3rpr")
+    phi = math.radians(-60.0 + offset)
+    bounds = wide_bounds(design, phi)
+    for actuators, wrench, call in (
+        ("max", None, lambda p: stiffness_at_pose(design, p)),
+        ("wrench", WRENCH, lambda p: loaded_state(design, WRENCH, p)),
+    ):
+        smap = stiffness_map(design, phi, actuators, GRID, wrench, bounds=bounds)
+        assert smap.refusal is not None
+        expected = single_pose_codes(smap, design, call)
+        np.testing.assert_array_equal(smap.refusal, expected)
+        assert np.count_nonzero(expected == Refusal.SINGULAR) == singular
+        if actuators == "max":  # (under the load, near-singular poses rotate too far)
+            assert np.any(expected == Refusal.NONE) == (offset >= 0.1)
+
+
+def test_a_loaded_stiffness_that_is_not_positive_definite_is_masked_like_loaded_state(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The last check cannot fail with positive tangent stiffnesses; made to refuse
+    every loaded K whose K_xx is below a threshold between two of the grid's values
+    (a property of the matrix, so the map and loaded_state see the same), the map and
+    loaded_state agree on it."""
+    design = design_named("3rpr")
+    grid = np.stack(
+        np.meshgrid(np.linspace(-0.02, 0.02, 7), np.linspace(-0.02, 0.02, 5), [0.0]), -1
+    )
+    k_xx = np.sort(
+        loaded_poses(design, grid.reshape(-1, 3), WRENCH, matrices=True).stiffness[:, 3, 3]
+    )  # type: ignore[index]
+    threshold = 0.5 * (k_xx[len(k_xx) // 2] + k_xx[len(k_xx) // 2 + 1])
+    real = statics.positive_definite
+    monkeypatch.setattr(
+        statics,
+        "positive_definite",
+        lambda k: np.asarray(real(k)) & (np.asarray(k)[..., 3, 3] > threshold),
+    )
+    smap = stiffness_map(design, 0.0, "wrench", (7, 5), WRENCH, bounds=[-0.02, 0.02, -0.02, 0.02])
+    assert smap.refusal is not None
+    expected = single_pose_codes(smap, design, lambda p: loaded_state(design, WRENCH, p))
+    np.testing.assert_array_equal(smap.refusal, expected)
+    assert set(np.unique(expected)) == {Refusal.NONE, Refusal.LOADED_NOT_POSITIVE_DEFINITE}
+
+
+def test_the_issue_example_is_refused_by_map_as_by_analyze(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["analyze", "--wrench", "0,0,0,0,0,1"]) == 2
+    assert "rotate 52.9 deg" in capsys.readouterr().err
+    assert main(["map", "--grid", "5", "--actuators=0,0,0,0,0,1"]) == 2
+    err = capsys.readouterr().err
+    assert "25 of 25 poses masked (25 load too large: platform rotation" in err
+
+
+def test_the_map_command_says_how_many_points_are_masked_and_why(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    import json
+
+    argv = ["map", "--design", "examples/3rrr.toml", "--grid", "8", "--actuators=0,0,0,15,0,0"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    line = next(s for s in out.splitlines() if "poses masked" in s)
+    smap = stiffness_map(design_named("3rrr"), 0.0, "wrench", 8, np.array([0.0, 0, 0, 0, 0, 15]))
+    assert smap.refusal is not None
+    n = int(np.count_nonzero(smap.refusal))
+    assert line.startswith(f"{n} of 64 poses masked ({n} outside the joint limits")
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["masked"] == {"outside the joint limits": n}
+
+
+def test_no_equilibrium_is_masked_like_loaded_state(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With the iteration limit lowered to 2, the redundant 4-PPR's Newton iterations
+    (5 at this load) do not converge anywhere: every reachable pose is refused by both."""
+    monkeypatch.setattr(statics, "MAX_ITERATIONS", 2)
+    design = design_named("redundant_4ppr")
+    poses = np.array([[0.015, -0.015, math.radians(-12.0)], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    res = loaded_poses(design, poses, WRENCH)
+    codes = [code_of(lambda p: loaded_state(design, WRENCH, p), p) for p in poses]
+    np.testing.assert_array_equal(res.refusal, codes)
+    assert codes == [Refusal.NO_EQUILIBRIUM, Refusal.NO_EQUILIBRIUM, Refusal.UNREACHABLE]
