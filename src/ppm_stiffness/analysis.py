@@ -20,6 +20,7 @@ from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
+from ppm_stiffness.core.principal import principal_compliance
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
@@ -75,15 +76,36 @@ def principal_dict(dec: Decoupling) -> dict[str, Any]:
     }
 
 
+def principal_compliance_dict(k: ArrayLike) -> dict[str, Any]:
+    """The spatial principal stiffnesses (:mod:`ppm_stiffness.core.principal`) of K, as
+    plain data: ``values[j]`` with its unit direction ``directions[j]``."""
+    pc = principal_compliance(k)
+    return {
+        "rotational": {
+            "values": pc.rotational_values.tolist(),
+            "directions": pc.rotational_directions.T.tolist(),
+        },
+        "translational": {
+            "values": pc.translational_values.tolist(),
+            "directions": pc.translational_directions.T.tolist(),
+        },
+        "worst_rotational": pc.worst_rotational,
+        "worst_translational": pc.worst_translational,
+    }
+
+
 def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, Any]:
     """Eigenscrews and both decouplings of a matrix.
 
     The keys keep their meaning whatever ``method``: ``decoupling``/``principal`` are
     the paper's eq. (19), ``decoupling_least_squares``/``principal_least_squares`` the
     shift that minimises the coupling; ``method`` records which one was asked for (and
-    is shown first). ``eigenscrews_repeated`` lists the groups of springs (0-based
-    indices into ``eigenscrews``) that share a repeated eigenvalue: inside a group the
-    springs are one valid choice among many (:mod:`ppm_stiffness.core.eigenscrews`).
+    is shown first); ``principal_compliance`` the spatial definitions
+    (:mod:`ppm_stiffness.core.principal`: rotational from C_rr, translational from C_tt
+    at the reference point of K, worst directions). ``eigenscrews_repeated`` lists the
+    groups of springs (0-based indices into ``eigenscrews``) that share a repeated
+    eigenvalue: inside a group the springs are one valid choice among many
+    (:mod:`ppm_stiffness.core.eigenscrews`).
     """
     if method not in ("paper", "least-squares"):
         raise InputDataError(f"unknown decoupling method {method!r}")
@@ -100,6 +122,7 @@ def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, 
         "principal": principal_dict(dec),
         "decoupling_least_squares": decoupling_dict(best),
         "principal_least_squares": principal_dict(best),
+        "principal_compliance": principal_compliance_dict(k),
     }
 
 
@@ -212,6 +235,10 @@ ANALYSIS_UNITS = {
     "decoupling.K_tt": "N/m",
     "principal.rotational.values": "N·m/rad",
     "principal.translational.values": "N/m",
+    "principal_compliance.rotational.values": "N·m/rad",
+    "principal_compliance.translational.values": "N/m (at the tool point)",
+    "principal_compliance.worst_rotational": "N·m/rad",
+    "principal_compliance.worst_translational": "N/m (at the tool point)",
     "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z), at the tool point",
     "actuator_forces": "N (N·m for a rotary actuator)",
     "actuator_displacements": "m (rad for a rotary actuator)",

@@ -33,6 +33,7 @@ from ppm_stiffness.cli.tolerances import (
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.model import check_nonsingular
 
 
@@ -112,6 +113,16 @@ def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 4) 
     return t
 
 
+def _coordinates(pose: dict[str, float], names: Any) -> str:
+    """``x = 1.000 mm, rx = 2.000 deg, ...`` of the named pose coordinates."""
+    return ", ".join(
+        f"{n} = {np.degrees(pose[n]):.4f} deg"
+        if n in ANGLE_COORDINATES
+        else f"{n} = {pose[n] * 1e3:.4f} mm"
+        for n in names
+    )
+
+
 def _vec(v: Any, digits: int = 4) -> str:
     return " ".join(f"{x + 0.0:+.{digits}f}" for x in _clean(v))
 
@@ -122,10 +133,17 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     c.print(f"[bold]{escape(title)}[/bold]")
     if result["pose"] is not None:
         p = result["pose"]
-        c.print(
-            f"pose: x = {p['x'] * 1e3:.3f} mm, y = {p['y'] * 1e3:.3f} mm, "
-            f"phi = {np.degrees(p['phi']):.3f} deg (P in F_b)"
-        )
+        task = result.get("task_coordinates", ["x", "y", "rz"])
+        if list(task) == ["x", "y", "rz"]:
+            c.print(
+                f"pose: x = {p['x'] * 1e3:.3f} mm, y = {p['y'] * 1e3:.3f} mm, "
+                f"phi = {np.degrees(p['phi']):.3f} deg (P in F_b)"
+            )
+        else:
+            c.print(f"pose (P in F_b, R = Rz Ry Rx): {_coordinates(p, task)}")
+            others = [n for n in POSE_COORDINATES if n not in task]
+            if others:
+                c.print(f"  completed by the legs (parasitic motion): {_coordinates(p, others)}")
         units = result.get("actuator_units") or [["N", "m", "N/m"]] * len(
             result["actuator_stiffness"]
         )
@@ -201,6 +219,31 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         c.print(
             f"note: repeated eigenvalues ({escape(names)}): inside each group the screw "
             "springs are not unique; shown: those whose axes are closest to x, y, z"
+        )
+
+    pc = result.get("principal_compliance")
+    if pc is not None:
+        at = "T" if any(result.get("tool_point") or []) else "P"
+        pt = Table(
+            title=f"Principal stiffnesses from C = K^-1 (translational at {at})",
+            title_justify="left",
+        )
+        for col in ("", "value", "direction"):
+            pt.add_column(col, justify="right")
+        for name, block, unit in (
+            ("rot", "rotational", "N·m/rad"),
+            ("trans", "translational", "N/m"),
+        ):
+            for j in range(3):
+                pt.add_row(
+                    f"{name} {j + 1}",
+                    f"{eng(pc[block]['values'][j], 5)} {unit}",
+                    _vec(np.asarray(pc[block]["directions"])[j]),
+                )
+        c.print(pt)
+        c.print(
+            f"worst directions: {eng(pc['worst_rotational'], 5)} N·m/rad against a pure "
+            f"moment, {eng(pc['worst_translational'], 5)} N/m against a force at {at}"
         )
 
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
