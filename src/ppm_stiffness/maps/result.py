@@ -182,6 +182,24 @@ class StiffnessMap:
         total = sum(counts.values())
         return f"{total} of {self.reachable.size} poses masked" + (f" ({parts})" if parts else "")
 
+    def grid_arguments(self) -> dict[str, Any]:
+        """Keyword arguments of :func:`ppm_stiffness.maps.workspace.stiffness_map` that
+        give this map's grid, slice, state and quantities again (for another design:
+        tolerance bands, comparisons)."""
+        out: dict[str, Any] = {
+            "axes": self.axes,
+            "fixed": dict(self.fixed),
+            "grid": (self.u.size, self.v.size),
+            "bounds": (float(self.u[0]), float(self.u[-1]), float(self.v[0]), float(self.v[-1])),
+            "actuators": self.actuators,
+            "wrench": self.wrench,
+            "tool_point": np.asarray(self.tool_point, dtype=float),
+            "quantities": list(self.quantities),
+        }
+        if self.reference_force is not None:
+            out["reference_force"] = self.reference_force
+        return out
+
     def fields(self) -> dict[str, np.ma.MaskedArray]:
         """The quantities by name."""
         return dict(self.quantities)
