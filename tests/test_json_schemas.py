@@ -51,6 +51,21 @@ CASES = [
         ],
     ),
     ("map", ["map", "--json", "--grid", "8", "--actuators", "5,5,20,0,0,0.1"]),
+    ("map", ["map", "--json", "--grid", "6", "--design", str(ROOT / "examples/hexapod_6ups.toml")]),
+    (
+        "map",
+        [
+            "map",
+            "--json",
+            "--grid",
+            "6",
+            "--design",
+            str(ROOT / "examples/3prs.toml"),
+            "--axes",
+            "rx,ry",
+        ],
+    ),
+    ("map", ["map", "--json", "--grid", "6", "--quantities", "all"]),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (
         "compare",
