@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.maps.engine_path import GENERAL_CHUNK, general_stiffness
+from ppm_stiffness.maps.engine_path import GENERAL_CHUNK, reachable_stiffness
 from ppm_stiffness.maps.paper_principal import (
     Principal,
     principal_from_entries,
@@ -173,13 +173,30 @@ def chunk_result(
             else:
                 pr, rot, tra = _quantities(safe, offsets, paper, spatial)
         return ChunkResult(k if matrices else None, reach, valid, pr, rot, tra, used)
-    k, pi_m, reach = general_stiffness(design, poses, actuator_stiffness, completed)
-    if reach.all():
-        valid = nonsingular_from_matrices(k, pi_m)
-    else:  # only the reachable poses (the others have Pi = 0: the exact, slow test)
-        valid = reach.copy()
-        valid[reach] = nonsingular_from_matrices(k[reach], pi_m[reach])
-    safe = np.where(valid[:, None, None], k, np.eye(6))  # no NaN into the closed forms
+    index, k_sub, pi_sub, reach = reachable_stiffness(design, poses, actuator_stiffness, completed)
+    n, every = reach.size, index.size == reach.size
+    ok = nonsingular_from_matrices(k_sub, pi_sub)
+    valid = ok if every else _scatter(ok, index, n, False)
+    safe = np.where(ok[:, None, None], k_sub, np.eye(6))  # no NaN into the closed forms
+    sub_offsets = offsets
+    if offsets is not None and np.ndim(offsets) == 2 and not every:
+        sub_offsets = np.take(offsets, index, axis=0)
     with np.errstate(all="ignore"):
-        pr, rot, tra = _quantities(safe, offsets, paper, spatial)
-    return ChunkResult(k if matrices else None, reach, valid, pr, rot, tra, used)
+        pr, rot, tra = _quantities(safe, sub_offsets, paper, spatial)
+    if not every:
+        rot = None if rot is None else _scatter(rot, index, n, np.nan)
+        tra = None if tra is None else _scatter(tra, index, n, np.nan)
+        if pr is not None:
+            pr = Principal(*(_scatter(np.asarray(f), index, n, np.nan) for f in pr))
+    k = None
+    if matrices:
+        k = k_sub if every else _scatter(k_sub, index, n, 0.0)
+    return ChunkResult(k, reach, valid, pr, rot, tra, "general")
+
+
+def _scatter(values: ArrayLike, index: np.ndarray, n: int, fill: float | bool) -> np.ndarray:
+    """``values`` (m, ...) at rows ``index`` of an array (n, ...) filled with ``fill``."""
+    v = np.asarray(values)
+    out = np.full((n,) + v.shape[1:], fill, dtype=v.dtype)
+    out[index] = v
+    return out

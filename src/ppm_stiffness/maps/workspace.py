@@ -166,14 +166,17 @@ def _loaded_chunk(
     spatial: bool,
 ) -> tuple[np.ndarray, FloatArray, dict[str, FloatArray]]:
     """Codes (n,), actuator stiffness (n, n_legs) and quantities of the loaded states
-    at full poses (n, 6), the wrench moved from the tool point to P per orientation."""
+    at full poses (n, 6), the wrench moved from the tool point to P per orientation
+    (``offsets``: T - P, (3,) for every pose or (n, 3))."""
     n = full.shape[0]
     groups = [np.arange(n)]
     moments = np.zeros((1, 3))
-    if offsets is not None:
+    if offsets is not None and np.ndim(offsets) == 1:  # one orientation
+        moments = np.cross(offsets, wrench_tool[3:])[None]  # m_P = m_T + r x f
+    elif offsets is not None:
         unique, inverse = np.unique(offsets, axis=0, return_inverse=True)
         groups = [np.flatnonzero(inverse.reshape(-1) == g) for g in range(unique.shape[0])]
-        moments = np.cross(unique, wrench_tool[3:])  # m_P = m_T + r x f
+        moments = np.cross(unique, wrench_tool[3:])
     codes = np.zeros(n, dtype=np.int8)
     k_act = np.zeros((n, len(design.legs)))
     columns: dict[str, FloatArray] = {}
@@ -323,6 +326,8 @@ def stiffness_map(
             task = sl.task_values(u[None, :], v[j0:j1, None]).reshape(-1, len(sl.task))
             full, completed = full_poses(design, task)
             offsets = tool_offsets(full, tool) if at_tool else None
+            if offsets is not None and np.all(offsets == offsets[0]):
+                offsets = offsets[0]  # one orientation (an x-y slice): one offset
             if k_const is None:
                 assert w is not None
                 codes, k_act, columns = _loaded_chunk(design, full, w, offsets, tool, spatial)
