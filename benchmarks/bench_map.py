@@ -27,8 +27,9 @@ printed before and after:
   poses with random phi) and the general 22-spring model batched with numpy
   (``chain.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
   replaces;
-- the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses)
-  map of the design, and of the same process before the map (imports only);
+- the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses;
+  ``--memory-grid N``: N x N) map of the design, and of the same process before the
+  map (imports only);
 - for context, without ``--design``: ``batch.evaluate_poses`` on random poses over each
   shipped design's workspace box at phi = 0 by the planar engine
   (``planar_<design>_poses_per_s``) and by the general reference path (IK, chain
@@ -248,6 +249,13 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--design", help="design file (default: the built-in 3-PPR)")
     parser.add_argument("--quick", action="store_true", help="smaller grid and loop (< 1 min)")
+    parser.add_argument(
+        "--memory-grid",
+        type=int,
+        default=3163,
+        metavar="N",
+        help="N x N poses of the peak-memory run (default 3163: > 10^7 poses)",
+    )
     args = parser.parse_args(argv)
     grid, n_loop = (300, 200) if args.quick else (1000, 2000)
     design = load_design(args.design) if args.design else default_design()
@@ -296,10 +304,11 @@ def main(argv: list[str] | None = None) -> int:
             f"general_vs_reduced={general_rate / reduced_rate:.3f}"
         )
 
-    mem = peak_memory(3163, args.design)
+    mem = peak_memory(args.memory_grid, args.design)
     peak_mb = mem["peak_kb"] / 1024.0
     print(
-        f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
+        f"memory: {args.memory_grid} x {args.memory_grid} = {mem['poses']} poses map in a "
+        "fresh process: "
         f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
         f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)"
     )

@@ -51,7 +51,6 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.refusals import Refusal, first_refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.bounds import (
@@ -59,19 +58,19 @@ from ppm_stiffness.maps.bounds import (
     reachable_positions,
     workspace_bounds,
 )
-from ppm_stiffness.maps.chunks import chunk_result, default_chunk, select_path, uses_planar_engine
-from ppm_stiffness.maps.loaded import loaded_poses
-from ppm_stiffness.maps.principal_batch import tool_offsets
+from ppm_stiffness.maps.chunks import default_chunk, select_path, uses_planar_engine
+from ppm_stiffness.maps.map_chunks import QUANTITY_SETS, MapPlan, grid_rows, quantity_names
 from ppm_stiffness.maps.result import PAPER, PRINCIPAL, QUANTITIES, StiffnessMap, load_npz
 from ppm_stiffness.maps.slices import MapSlice, map_slice, slice_bounds, slice_grid
 from ppm_stiffness.model import locked_actuator_stiffness
-from ppm_stiffness.poses import dependent_indices, full_poses
+from ppm_stiffness.poses import dependent_indices
 from ppm_stiffness.statics import actuator as act
 
 __all__ = [
     "ACTUATOR_STATES",
     "DEFAULT_REFERENCE_FORCE",
     "QUANTITIES",
+    "QUANTITY_SETS",
     "StiffnessMap",
     "_sampled_bounds",
     "load_npz",
@@ -88,8 +87,6 @@ __all__ = [
 #: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
 DEFAULT_REFERENCE_FORCE = 10.0
 ACTUATOR_STATES = ("max", "min", "wrench")
-#: Names of the quantity sets :func:`quantity_names` accepts.
-QUANTITY_SETS = ("paper", "principal", "all")
 
 
 def workspace_grid(
@@ -114,88 +111,6 @@ def minimum_actuator_stiffness(design: Design, reference_force: float) -> FloatA
     return np.array(
         [float(act.stiffness_from_force(leg.actuator, reference_force)) for leg in design.legs]
     )
-
-
-def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tuple[str, ...]:
-    """The quantities of a map: None, the design's default ("paper" for a planar design,
-    "principal" otherwise); "paper" (k_phi, k_x, k_y: planar designs only), "principal"
-    (the six spatial values), "all" (both, for a planar design); or names of
-    :data:`~ppm_stiffness.maps.result.QUANTITIES`.
-
-    Raises
-    ------
-    InputDataError
-        An unknown name, or the paper's quantities for a design that is not planar.
-    """
-    if quantities is None:
-        quantities = "paper" if design.planar else "principal"
-    if isinstance(quantities, str):
-        if quantities not in QUANTITY_SETS:
-            raise InputDataError(
-                f"quantities must be one of {', '.join(QUANTITY_SETS)} or a list of "
-                f"{', '.join(QUANTITIES)}, got {quantities!r}"
-            )
-        sets = {"paper": PAPER, "principal": PRINCIPAL, "all": PAPER + PRINCIPAL}
-        names = sets[quantities] if design.planar or quantities != "all" else PRINCIPAL
-    else:
-        names = tuple(quantities)
-        unknown = [n for n in names if n not in QUANTITIES]
-        if unknown or not names:
-            raise InputDataError(
-                f"unknown map quantity {', '.join(unknown) or '(none)'}: choose from "
-                f"{', '.join(QUANTITIES)}"
-            )
-    if not design.planar and any(n in PAPER for n in names):
-        raise InputDataError(
-            f"k_phi, k_x, k_y are the paper's planar principal stiffnesses: {design.name!r} "
-            "is not planar; use the principal stiffnesses (quantities 'principal')"
-        )
-    return tuple(dict.fromkeys(names))
-
-
-def _spatial_columns(rot: FloatArray, tra: FloatArray) -> dict[str, FloatArray]:
-    return {name: (rot if k < 3 else tra)[:, k % 3] for k, name in enumerate(PRINCIPAL)}
-
-
-def _loaded_chunk(
-    design: Design,
-    full: FloatArray,
-    wrench_tool: FloatArray,
-    offsets: FloatArray | None,
-    tool: FloatArray,
-    spatial: bool,
-) -> tuple[np.ndarray, FloatArray, dict[str, FloatArray]]:
-    """Codes (n,), actuator stiffness (n, n_legs) and quantities of the loaded states
-    at full poses (n, 6), the wrench moved from the tool point to P per orientation
-    (``offsets``: T - P, (3,) for every pose or (n, 3))."""
-    n = full.shape[0]
-    groups = [np.arange(n)]
-    moments = np.zeros((1, 3))
-    if offsets is not None and np.ndim(offsets) == 1:  # one orientation
-        moments = np.cross(offsets, wrench_tool[3:])[None]  # m_P = m_T + r x f
-    elif offsets is not None:
-        unique, inverse = np.unique(offsets, axis=0, return_inverse=True)
-        groups = [np.flatnonzero(inverse.reshape(-1) == g) for g in range(unique.shape[0])]
-        moments = np.cross(unique, wrench_tool[3:])
-    codes = np.zeros(n, dtype=np.int8)
-    k_act = np.zeros((n, len(design.legs)))
-    columns: dict[str, FloatArray] = {}
-    for rows, extra in zip(groups, moments, strict=True):
-        w_p = wrench_tool.copy()
-        w_p[:3] += extra
-        res = loaded_poses(design, full[rows], w_p, tool_point=tool, principal=spatial)
-        codes[rows] = res.refusal
-        k_act[rows] = np.ma.getdata(res.actuator_stiffness)
-        found: dict[str, FloatArray] = {}
-        if res.paper is not None:
-            found |= {n: getattr(res.paper, n).filled(np.nan) for n in PAPER}
-        if res.rotational is not None and res.translational is not None:
-            found |= _spatial_columns(
-                res.rotational.filled(np.nan), res.translational.filled(np.nan)
-            )
-        for name, values in found.items():
-            columns.setdefault(name, np.full(n, np.nan))[rows] = values
-    return codes, k_act, columns
 
 
 def stiffness_map(
@@ -283,7 +198,6 @@ def stiffness_map(
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
-    at_tool = bool(np.any(tool))
     u, v = slice_grid(design, sl, grid, bounds)
     w = None if wrench is None else validate_wrench(wrench)
     k_locked = locked_actuator_stiffness(design)
@@ -304,59 +218,14 @@ def stiffness_map(
     valid = np.zeros((nv, nu), dtype=bool)
     refusal = np.zeros((nv, nu), dtype=np.int8)
     k_lo, k_hi = np.full(n_legs, np.inf), np.full(n_legs, -np.inf)
-    broadcast = legs is not None and not at_tool and not spatial and sl.axes == ("x", "y")
+    plan = MapPlan(design, sl, legs, planar, tool, k_const, w, paper, spatial)
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)
         shape = (j1 - j0, nu)
-        if broadcast and k_const is not None:
-            # the reduced form broadcasts over the grid axes (no per-pose copies)
-            assert legs is not None
-            phi0 = sl.fixed["rz"]
-            with np.errstate(all="ignore"):
-                e, reach_g = batch.planar_entries(legs, u[None, :], v[j0:j1, None], phi0, k_const)
-                pr = batch.principal_from_entries(e)
-                pi = batch.reduced_projector(legs, phi0)
-            ok = (reach_g & batch.nonsingular_from_entries(e, pi)).reshape(-1)
-            codes = first_refusal(
-                ok.shape, [(Refusal.UNREACHABLE, reach_g.reshape(-1)), (Refusal.SINGULAR, ok)]
-            )
-            columns = {"k_phi": pr.k_phi, "k_x": pr.k_x, "k_y": pr.k_y}
-            full = None
-        else:
-            task = sl.task_values(u[None, :], v[j0:j1, None]).reshape(-1, len(sl.task))
-            full, completed = full_poses(design, task)
-            offsets = tool_offsets(full, tool) if at_tool else None
-            if offsets is not None and np.all(offsets == offsets[0]):
-                offsets = offsets[0]  # one orientation (an x-y slice): one offset
-            if k_const is None:
-                assert w is not None
-                codes, k_act, columns = _loaded_chunk(design, full, w, offsets, tool, spatial)
-                ok = codes == 0
-                if np.any(ok):
-                    k_lo = np.minimum(k_lo, k_act[ok].min(axis=0))
-                    k_hi = np.maximum(k_hi, k_act[ok].max(axis=0))
-            else:
-                res = chunk_result(
-                    design,
-                    legs,
-                    full,
-                    np.broadcast_to(k_const, (full.shape[0], n_legs)),
-                    planar,
-                    matrices=False,
-                    completed=None if np.all(completed) else completed,
-                    offsets=offsets,
-                    paper=paper,
-                    spatial=spatial,
-                )
-                ok = res.valid
-                codes = first_refusal(
-                    ok.shape, [(Refusal.UNREACHABLE, res.reachable), (Refusal.SINGULAR, ok)]
-                )
-                columns = {}
-                if res.paper is not None:
-                    columns = {"k_phi": res.paper.k_phi, "k_x": res.paper.k_x, "k_y": res.paper.k_y}
-                if res.rotational is not None and res.translational is not None:
-                    columns |= _spatial_columns(res.rotational, res.translational)
+        codes, ok, columns, full, k_act = grid_rows(plan, u, v[j0:j1])
+        if k_act is not None and np.any(ok):
+            k_lo = np.minimum(k_lo, k_act[ok].min(axis=0))
+            k_hi = np.maximum(k_hi, k_act[ok].max(axis=0))
         refusal[j0:j1] = codes.reshape(shape)
         valid[j0:j1] = ok.reshape(shape)
         for name in names:
