@@ -160,9 +160,7 @@ def grid_rows(
         return first_refusal(ok.shape, checks), ok, columns, None, None
     task = sl.task_values(u[None, :], v[:, None]).reshape(-1, len(sl.task))
     full, completed = full_poses(design, task)
-    offsets = tool_offsets(full, tool) if at_tool else None
-    if offsets is not None and np.all(offsets == offsets[0]):
-        offsets = offsets[0]  # one orientation (an x-y slice): one offset
+    offsets = tool_offsets(full, tool) if at_tool else None  # (3,) at one orientation
     if k_const is None:
         assert plan.wrench is not None
         codes, k_act, columns = _loaded_chunk(

@@ -155,6 +155,10 @@ def stiffness_at_points(stiffness: ArrayLike, offsets: ArrayLike) -> FloatArray:
 
 
 def tool_offsets(poses: ArrayLike, tool_point: ArrayLike) -> FloatArray:
-    """``T - P = R t`` at full poses (..., 6) [m, axes of F_b] for a tool point t
-    (3,) in the platform frame (:func:`ppm_stiffness.core.pose.platform_offset`)."""
-    return np.asarray(platform_offset(np.asarray(poses, dtype=float), np.asarray(tool_point)))
+    """``T - P = R t`` at full poses (n, 6) [m, axes of F_b] for a tool point t (3,) in
+    the platform frame (:func:`ppm_stiffness.core.pose.platform_offset`): (n, 3), or
+    one offset (3,) when every pose has the same (poses of one orientation)."""
+    offsets = np.asarray(platform_offset(np.asarray(poses, dtype=float), np.asarray(tool_point)))
+    if offsets.ndim == 2 and offsets.shape[0] and np.all(offsets == offsets[0]):
+        return np.asarray(offsets[0])
+    return offsets
