@@ -225,7 +225,8 @@ def actuator_stiffness_per_pose(
 
 
 def check_poses(design: Design, poses: ArrayLike) -> FloatArray:
-    """Poses (..., n_task) or (..., 6), finite; a planar design's full poses in the plane."""
+    """Poses (..., n_task) or (..., 6), finite; a planar design's full poses in the plane
+    (returned as its task coordinates (x, y, phi): they need no completion)."""
     p = np.asarray(poses, dtype=float)
     width = len(design.task_coordinates)
     if p.ndim == 0 or p.shape[-1] not in (width, 6):
@@ -236,8 +237,10 @@ def check_poses(design: Design, poses: ArrayLike) -> FloatArray:
         )
     if not np.all(np.isfinite(p)):
         raise InputDataError("poses must be finite")
-    if design.planar and p.shape[-1] == 6 and np.any(p[..., 2:5] != 0):
-        raise InputDataError("a planar design's poses have z = rx = ry = 0")
+    if design.planar and p.shape[-1] == 6:
+        if np.any(p[..., 2:5] != 0):
+            raise InputDataError("a planar design's poses have z = rx = ry = 0")
+        p = p[..., [0, 1, 5]]  # its task coordinates: nothing to complete
     return p
 
 

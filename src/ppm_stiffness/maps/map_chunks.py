@@ -103,7 +103,8 @@ def _loaded_chunk(
     for rows, extra in zip(groups, moments, strict=True):
         w_p = wrench_tool.copy()
         w_p[:3] += extra
-        res = loaded_poses(design, full[rows], w_p, tool_point=tool, principal=spatial)
+        poses = full if rows.size == n else np.take(full, rows, axis=0)
+        res = loaded_poses(design, poses, w_p, tool_point=tool, principal=spatial)
         codes[rows] = res.refusal
         k_act[rows] = np.ma.getdata(res.actuator_stiffness)
         found: dict[str, FloatArray] = {}

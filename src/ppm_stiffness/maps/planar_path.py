@@ -16,10 +16,9 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import BoolArray
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs import planar as engine
-from ppm_stiffness.maps.engine_path import solve_chunk
+from ppm_stiffness.maps.engine_path import solve_chunk, take
 from ppm_stiffness.maps.reduced_path import PlanarEntries
 from ppm_stiffness.model import transmission_blocks
-from ppm_stiffness.statics.structures import take
 
 #: Poses per chunk of the planar engine (about 2 kB per pose of temporaries).
 PLANAR_CHUNK = 16384
@@ -48,7 +47,7 @@ def planar_engine_entries(
     if not reach.all():
         index = np.flatnonzero(reach)
         leg_poses = [take(lp, index) for lp in leg_poses]
-        k_act = k_act[index]
+        k_act = np.take(k_act, index, axis=0)
     legs, found = [], []
     with np.errstate(all="ignore"):
         for i, (leg, lp) in enumerate(zip(design.legs, leg_poses, strict=True)):

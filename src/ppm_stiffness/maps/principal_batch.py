@@ -141,17 +141,13 @@ def principal_values(stiffness: ArrayLike) -> tuple[FloatArray, FloatArray]:
 
 def stiffness_at_points(stiffness: ArrayLike, offsets: ArrayLike) -> FloatArray:
     """K moved from P to points at ``offsets`` r = T - P (..., 3) or (3,) [m, axes of
-    F_b], axes kept (eq. 16): ``K_T = A K A^T``, ``A = [[1, hat(-r)], [0, 1]]``."""
+    F_b], axes kept (eq. 16): ``K_T = A K A^T``, ``A = [[1, hat(-r)], [0, 1]]`` (two
+    batched 6x6 products: faster than the products of its 3x3 blocks)."""
     k = np.asarray(stiffness, dtype=float)
-    h = hat(-np.asarray(offsets, dtype=float))
-    krr, krt, ktt = k[..., :3, :3], k[..., :3, 3:], k[..., 3:, 3:]
-    new_rt = krt + h @ ktt
-    out = np.empty(np.broadcast_shapes(k.shape, h.shape[:-2] + (6, 6)))
-    out[..., :3, 3:] = new_rt
-    out[..., 3:, :3] = np.swapaxes(new_rt, -1, -2)
-    out[..., :3, :3] = krr + h @ np.swapaxes(krt, -1, -2) + new_rt @ np.swapaxes(h, -1, -2)
-    out[..., 3:, 3:] = ktt
-    return out
+    r = np.asarray(offsets, dtype=float)
+    a = np.broadcast_to(np.eye(6), r.shape[:-1] + (6, 6)).copy()
+    a[..., :3, 3:] = hat(-r)
+    return np.asarray(a @ k @ np.swapaxes(a, -1, -2))
 
 
 def tool_offsets(poses: ArrayLike, tool_point: ArrayLike) -> FloatArray:
