@@ -37,7 +37,8 @@ printed before and after:
   (``--quick``: 4000), best of two.
 
 The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N
-batched_cpu_poses_per_s=N max_rel_diff=X max_rel_diff_k=X peak_mb_1e7=N
+batched_cpu_poses_per_s=N max_rel_diff=X max_rel_diff_k=X peak_mb_1e7=N (peak_mb_gridN with
+--memory-grid N)
 [general_poses_per_s=N general_vs_reduced=R] [planar_<design>_poses_per_s=N
 general_<design>_poses_per_s=N ...]``.
 Run: ``.venv/bin/python benchmarks/bench_map.py [--design FILE] [--quick]``.
@@ -337,11 +338,12 @@ def main(argv: list[str] | None = None) -> int:
                 f"reference path {rates[f'general_{name}']:,.0f} poses/s ({n_gen} poses)"
             )
         context = " " + " ".join(f"{k}_poses_per_s={v:.0f}" for k, v in rates.items())
+    memory_key = "peak_mb_1e7" if args.memory_grid == 3163 else f"peak_mb_grid{args.memory_grid}"
     print(f"after the runs: {load_text()}")
     print(
         f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
         f"ratio={ratio:.0f} batched_cpu_poses_per_s={cpu_rate:.0f} max_rel_diff={worst:.1e} "
-        f"max_rel_diff_k={worst_k:.1e} peak_mb_1e7={peak_mb:.0f}" + extra + context
+        f"max_rel_diff_k={worst_k:.1e} {memory_key}={peak_mb:.0f}" + extra + context
     )
     if max(worst, worst_k) > AGREEMENT:
         print(f"batched and single-pose paths differ by more than {AGREEMENT:g}")

@@ -56,12 +56,12 @@ MAX_GRID = 10_000
 #: Peak memory per map pose [bytes], for --max-memory: measured with
 #: ``/usr/bin/time -f %M ppm-stiffness map --grid 1000 [--data m.csv]``, 100 MB on the
 #: built-in design and 160 MB on examples/3rrr.toml for 10^6 poses, of which about
-#: 65 MB are the imports; rounded up. A map of the spatial principal stiffnesses (six
-#: quantities, and a tripod's three dependent coordinates) needs more:
-#: :data:`BYTES_PER_QUANTITY` per quantity beyond three (measured likewise on
-#: examples/3prs.toml: see docs/maps.md).
+#: 65 MB are the imports; rounded up. A map of the six spatial principal stiffnesses
+#: needs :data:`BYTES_PER_QUANTITY` more per quantity beyond three: measured likewise
+#: 156 MB (175 MB with --data m.csv) on examples/hexapod_6ups.toml and 177 MB (197 MB)
+#: on an rx-ry map of examples/3prs.toml (with its three dependent coordinates).
 BYTES_PER_POSE = 110
-BYTES_PER_QUANTITY = 40
+BYTES_PER_QUANTITY = 15
 #: Quantities per table of the summary (so that it fits 80 columns).
 _PER_TABLE = 3
 
