@@ -21,6 +21,7 @@ pytest.importorskip(
 from paper import PAPER_K_ACT_LOADED
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core import beam, solver  # noqa: E402
+from ppm_stiffness.core.beam import BeamSection  # noqa: E402
 from ppm_stiffness.core.conventions import BALANCE, length_balanced  # noqa: E402
 from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
 from ppm_stiffness.legs import chain  # noqa: E402
@@ -79,6 +80,41 @@ def test_cantilever_compliance_equals_fe(
     nz = c_vj != 0
     assert np.max(np.abs(c_fe - c_vj)[nz] / np.abs(c_vj)[nz]) < 1e-6
     # the structural zeros of eq. (3c) (no axial-bending or y-z coupling) are zeros
+    assert np.max(np.abs(c_fe[~nz])) < 1e-9 * np.max(np.abs(c_vj))
+
+
+@pytest.mark.parametrize(
+    "direction",
+    [(0.3, -0.5, 0.8), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0), (-0.6, 0.2, -0.1)],
+)
+def test_cantilever_in_space_has_the_link_frame_section_axes(
+    direction: tuple[float, float, float],
+) -> None:
+    """A link in any direction, with unequal bending inertias (5:1), in PyNite vs eq.
+    (3c) in the chain's link frame (``chain.link_screws``: y = unit(z x x), or
+    unit(x x e_x) along z): equal to 1e-6, so each inertia bends about its own axis."""
+    sec = BeamSection(
+        young_modulus=2.1e11,
+        shear_modulus=8.1e10,
+        area=4e-4,
+        torsion_constant=3e-9,
+        inertia_y=5e-9,
+        inertia_z=1e-9,
+    )
+    root = np.array([0.02, -0.01, 0.03])
+    tip = root + 0.12 * np.asarray(direction) / np.linalg.norm(direction)
+    c_fe = fe_cantilever_compliance(sec, root, tip)  # type: ignore[arg-type]
+    c_vj = beam.cantilever_compliance(sec, 0.12)
+    # the chain's link frame at the tip: the twist columns' axes
+    screws, _ = chain.link_screws(chain.Link(root - tip, np.zeros(3), sec))
+    frame = screws[3:, 3:].T  # rows: local x, y, z (translation columns)
+    x = (tip - root) / np.linalg.norm(tip - root)
+    np.testing.assert_allclose(frame[0], x, atol=1e-15)
+    y = np.cross([0.0, 0.0, 1.0], x)
+    y = y / np.linalg.norm(y) if np.linalg.norm(y) > 1e-12 else np.cross(x, [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(frame[1], y, atol=1e-15)
+    nz = c_vj != 0
+    assert np.max(np.abs(c_fe - c_vj)[nz] / np.abs(c_vj)[nz]) < 1e-6
     assert np.max(np.abs(c_fe[~nz])) < 1e-9 * np.max(np.abs(c_vj))
 
 

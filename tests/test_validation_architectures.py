@@ -154,7 +154,7 @@ def test_bad_input_is_a_library_error() -> None:
     centre = workspace_centre(design)
     with pytest.raises(DesignError, match="no leg"):
         build_model(design, centre, legs=(7,))
-    with pytest.raises(DesignError, match="pose"):
+    with pytest.raises(InputDataError, match="pose"):
         fe_stiffness_at_pose(design, [0.0, 0.0])
     with pytest.raises(UnreachablePoseError):
         fe_stiffness_at_pose(design, centre + [5.0, 0.0, 0.0])
