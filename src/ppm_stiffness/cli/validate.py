@@ -51,7 +51,7 @@ from ppm_stiffness.validation.compare import (
 )
 from ppm_stiffness.validation.fe_model import require_pynite
 
-#: Upper bound of --poses: about 3 to 4 minutes of FE solves on the reference machine.
+#: Upper bound of --poses: 2 to 10 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
 
 
@@ -107,7 +107,7 @@ def _check_args(args: argparse.Namespace) -> None:
     """Check the options; fill in the defaults of --radius and --angle."""
     if not 0 <= args.poses <= MAX_POSES:
         raise InputDataError(
-            f"--poses must be between 0 and {MAX_POSES} (about 0.2 s of FE solve each), "
+            f"--poses must be between 0 and {MAX_POSES} (0.1 to 0.6 s of FE solve each), "
             f"got {args.poses}"
         )
     if args.region and (args.radius is not None or args.angle is not None):
@@ -132,8 +132,14 @@ def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> l
     return out
 
 
-#: Short table headers of the figures.
+#: Short table headers of the figures, and what they compare.
 _HEADERS = {"planar": "planar", "out_of_plane": "out-pl.", "full": "full", "directions": "dirs"}
+_DESCRIPTIONS = {
+    "planar": "block phi_z, x, y",
+    "out_of_plane": "block phi_x, phi_y, z",
+    "full": "whole 6x6",
+    "directions": "any twist direction",
+}
 
 
 def _shown_coordinates(design: Design) -> tuple[str, ...]:
@@ -175,14 +181,6 @@ def _table(design: Design, results: list[PoseComparison]) -> Table:
             *(eng(r.differences[n], 3) for n in names),
         )
     return table
-
-
-_DESCRIPTIONS = {
-    "planar": "block phi_z, x, y",
-    "out_of_plane": "block phi_x, phi_y, z",
-    "full": "whole 6x6",
-    "directions": "any twist direction",
-}
 
 
 def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
