@@ -280,3 +280,21 @@ def test_the_picture_of_a_spatial_design_shows_all_six_components() -> None:
     assert labels(planar) == [["φz"], ["x", "y"]]
     spatial = deflection_curve(design_named("3prs"), "planar-force", [0.0, 5.0])
     assert labels(spatial) == [["φx", "φy", "φz"], ["x", "y", "z"]]
+
+
+def test_measurements_at_another_pose_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Review finding: deflect ignored a measurement file's pose columns, comparing a
+    curve at the home pose with rows measured elsewhere. Now the file's pose must be
+    the curve's (the pose options give it)."""
+    path = tmp_path / "m.csv"
+    path.write_text(
+        "# mode: moment\npose_x_mm,pose_y_mm,pose_phi_deg,load,phi_z_deg\n2,0,3,0.1,0.5\n",
+        encoding="utf-8",
+    )
+    assert main(["deflect", "--measurements", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}, line 3: the measurements are at pose (x = 2.00 mm" in err
+    assert "the model curve at (x = 0.00 mm" in err
+    _run(["deflect", "--measurements", str(path), "--x", "2", "--phi", "3"], capsys)

@@ -55,6 +55,7 @@ from ppm_stiffness.statics.measurements import (
     Measurements,
     check_mode,
     cli_order,
+    measured_poses,
     read_measurements,
     rms_differences,
 )
@@ -70,6 +71,8 @@ DEFAULT_MAX = {
 }
 CSV_COLUMNS = ("phi_x_deg", "phi_y_deg", "phi_z_deg", "x_mm", "y_mm", "z_mm")
 _MAX_POINTS = 100_000
+#: A measurement row's pose is the curve's when every coordinate agrees to this [m, rad].
+POSE_MATCH = 1e-9
 #: Legs whose actuator forces and stiffnesses share one table (more: one table each).
 _ONE_TABLE_LEGS = 3
 
@@ -216,6 +219,24 @@ def _mode(args: argparse.Namespace, meas: Measurements | None) -> str:
     return mode
 
 
+def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
+    """Refuse measurements whose pose columns give another pose than the curve's (they
+    were ignored: a curve at the home pose was compared with rows measured elsewhere)."""
+    if meas.poses is None:
+        return
+    from ppm_stiffness.poses import format_pose
+
+    at = measured_poses(design, meas)
+    off = np.flatnonzero(np.any(np.abs(at - pose) > POSE_MATCH, axis=1))
+    if off.size:
+        k = int(off[0])
+        raise InputDataError(
+            f"{meas.row_label(k)}: the measurements are at pose ({format_pose(at[k])}), "
+            f"the model curve at ({format_pose(pose)}): give that pose with the pose "
+            "options (--x, --y, --z, --rx, --ry, --rz, the design's task coordinates)"
+        )
+
+
 def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | None]:
     """The curve (and measurements) the command's options ask for."""
     design = load_deflect_design(args)
@@ -242,12 +263,13 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
             raise InputDataError("--mode wrench needs --wrench FX,FY,FZ,MX,MY,MZ")
         if not np.any(unit):
             raise InputDataError("--wrench must not be zero")
-    if meas is not None:  # the file's mode and direction, before any load is computed
+    if meas is not None:  # the file's mode, direction and pose, before any load
         check_mode(meas, mode, math.radians(args.alpha), unit)
+        _check_pose(design, meas, pose)
     top = args.max
     if top is None:
         pure_moment = unit is not None and not np.any(unit[3:])
-        top = 0.5 if mode == DIRECTION and pure_moment else DEFAULT_MAX[mode]
+        top = DEFAULT_MAX["moment" if mode == DIRECTION and pure_moment else mode]
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
         measured = meas.load_values()
