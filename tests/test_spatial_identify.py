@@ -78,9 +78,8 @@ def test_noise_free_recovery_on_the_3rps() -> None:
     to 1e-10 relative (measured 3.5e-11, the lateral bushing: relative 1-sigma 2 %;
     the others below 4e-13). Each leg transmits two wrenches (its actuator and its
     revolute's constraint), so the twist is not linear in the compliances (the linear
-    model misses by 1.5e-9 of the residuals): the nonlinear stage runs; before
-    LINEARITY_TOLERANCE was 1e-10 (it was 1e-7) it was skipped and the start was off by
-    3.9e-8."""
+    model misses by 1.5e-9 of the residuals): the nonlinear stage runs. With the
+    earlier LINEARITY_TOLERANCE of 1e-7 it was skipped, and the start was 3.9e-8 off."""
     factors = {
         "leg1.actuator.k_a": 1.2,
         "leg2.actuator.k_a": 0.85,

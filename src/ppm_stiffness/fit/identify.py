@@ -91,8 +91,10 @@ LINEAR_STEP = 1e-4
 #: Relative finite-difference step of the nonlinear fit's Jacobian.
 FIT_STEP = 1e-7
 #: The model counts as linear in u along the start's step when its residuals there
-#: match the linear model's to this fraction of the largest residual at the catalogue
-#: (forward differences of a linear model are exact to rounding: ~1e-10).
+#: match the linear model's to this fraction of the largest residual at the catalogue.
+#: Forward differences of a linear model are exact to rounding: measured 9e-12 on the
+#: 3-PPR's linear paths, 2.4e-11 on the hexapod; the 3-RPS's path, not linear (each leg
+#: transmits two wrenches), 1.5e-9 (1e-7 took it as linear: its start was 3.9e-8 off).
 LINEARITY_TOLERANCE = 1e-10
 #: Bounds of a positive parameter relative to its catalogue value during the fit.
 RELATIVE_BOUNDS = (1e-3, 1e3)
