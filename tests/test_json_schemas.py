@@ -76,6 +76,59 @@ CASES = [
             *_REGION,
         ],
     ),
+    # spatial designs: 6-D poses, a load along a direction, bands, 6-D measurement rows
+    (
+        "deflect",
+        [
+            "deflect",
+            "--json",
+            "--design",
+            str(ROOT / "examples/hexapod_6ups.toml"),
+            "--direction",
+            "0,0,0,0,0,3",
+            "--tool-point",
+            "0,0,50",
+        ],
+    ),
+    (
+        "deflect",
+        [
+            "deflect",
+            "--json",
+            "--design",
+            str(ROOT / "examples/3rps.toml"),
+            "--direction",
+            "100,0,50,0,0,2",
+            "--tolerances",
+            str(ROOT / "examples/identification/3rps_tolerances.toml"),
+        ],
+    ),
+    (
+        "analyze",
+        [
+            "analyze",
+            "--json",
+            "--design",
+            str(ROOT / "examples/3rps.toml"),
+            "--wrench",
+            "100,0,50,0,0,2",
+            "--tolerances",
+            str(ROOT / "examples/identification/3rps_tolerances.toml"),
+        ],
+    ),
+    (
+        "identify",
+        [
+            "identify",
+            "--json",
+            "--design",
+            str(ROOT / "examples/3rps.toml"),
+            "--measurements",
+            str(ROOT / "examples/identification/3rps_measurements.csv"),
+            "--free",
+            "leg1.actuator.k_a,leg*.base_revolute.tilt",
+        ],
+    ),
 ]
 
 
