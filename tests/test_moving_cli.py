@@ -14,6 +14,7 @@ from tests.helpers import design_named
 from tests.paper import PAPER_WRENCH
 
 from ppm_stiffness.cli import main
+from ppm_stiffness.cli.common import console
 from ppm_stiffness.statics.moving import moving_equilibrium
 
 jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is in the 'test' extra")
@@ -65,7 +66,11 @@ def test_frozen_geometry_is_the_default_and_says_so(capsys: pytest.CaptureFixtur
     assert "geometry: frozen (the paper's model" in out
 
 
-def test_moving_geometry_tables(capsys: pytest.CaptureFixture[str]) -> None:
+def test_moving_geometry_tables(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The tables name the model and fit 80 columns (no line longer, no cell cut)."""
+    monkeypatch.setattr(console, "width", 80)
     design = str(ROOT / "examples/hexapod_6ups.toml")
     argv = [
         "analyze",
@@ -88,6 +93,7 @@ def test_moving_geometry_tables(capsys: pytest.CaptureFixture[str]) -> None:
         "Symmetric part of K_F at the displaced P",
     ):
         assert text in out, text
+    assert not [line for line in out.splitlines() if len(line) > 80 or "…" in line]
 
 
 @pytest.mark.parametrize(
@@ -114,3 +120,13 @@ def test_bad_combinations_are_one_line(
     assert main(argv) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and message in err, err
+
+
+def test_the_statics_page_runs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The Python example of docs/statics.md runs (from the clone's top folder)."""
+    text = (ROOT / "docs" / "statics.md").read_text(encoding="utf-8")
+    blocks = [b.split("```", 1)[0] for b in text.split("```python\n")[1:]]
+    assert blocks
+    monkeypatch.chdir(ROOT)
+    for block in blocks:
+        exec(compile(block, "docs/statics.md", "exec"), {})
