@@ -21,13 +21,13 @@ from ppm_stiffness.model import stiffness_at_pose
 from ppm_stiffness.poses import home_pose, task_values
 from ppm_stiffness.statics.moving import (
     follow_load,
-    held_wrenches,
     moving_equilibrium,
     moving_states,
     relative_difference,
     relative_size,
 )
 from ppm_stiffness.statics.moving_core import PlatformChains
+from ppm_stiffness.statics.moving_tangents import held_wrenches
 
 DESIGNS = [
     "paper",

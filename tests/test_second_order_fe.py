@@ -1,8 +1,8 @@
 """An independent check of the geometric stiffness term with the FE frame model of the
 validation extra: PyNite's P-Delta analysis (the frame's members' geometric stiffness
 from their axial forces, on the unloaded geometry) against the virtual-joint model's
-loaded tangent on the unloaded geometry (statics/moving.reference_tangent: the Lie
-brackets of the chains' screws with the frozen leg wrenches), at loads where the
+loaded tangent on the unloaded geometry (statics/moving_tangents.reference_tangent: the
+Lie brackets of the chains' screws with the frozen leg wrenches), at loads where the
 geometric term is 1-10 % of K (validation/second_order.py, docs/statics.md)."""
 
 from __future__ import annotations

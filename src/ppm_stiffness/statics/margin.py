@@ -41,7 +41,6 @@ from ppm_stiffness.core.refusals import Refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.poses import full_poses
-from ppm_stiffness.statics.moving import load_point, platform_chains
 from ppm_stiffness.statics.moving_core import (
     MAX_STEP_MOTION,
     ChainState,
@@ -52,6 +51,7 @@ from ppm_stiffness.statics.moving_core import (
     stability_index,
     zero_state,
 )
+from ppm_stiffness.statics.moving_path import load_point, platform_chains
 
 #: The load factors searched by default: [0, MAX_FACTOR].
 MAX_FACTOR = 1000.0

@@ -57,6 +57,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import BALANCE, LENGTH_SCALE, BoolArray, FloatArray
 from ppm_stiffness.core.pose import rotation_exp
@@ -526,3 +527,15 @@ def stability_index(stiffness: FloatArray) -> FloatArray:
     if np.any(good):
         out[good] = np.min(np.linalg.eigvals(kb[good]).real, axis=1)
     return out
+
+
+def relative_size(a: ArrayLike, reference: ArrayLike) -> float:
+    """``||S a S|| / ||S reference S||`` of 6x6 stiffness matrices (Frobenius norms of
+    the length-balanced matrices, :data:`~ppm_stiffness.core.conventions.BALANCE`)."""
+    s = BALANCE[:, None] * BALANCE[None, :]
+    return float(np.linalg.norm(np.asarray(a) * s) / np.linalg.norm(np.asarray(reference) * s))
+
+
+def relative_difference(a: ArrayLike, b: ArrayLike) -> float:
+    """``||S (a - b) S|| / ||S b S||`` (:func:`relative_size` of the difference)."""
+    return relative_size(np.asarray(a) - np.asarray(b), b)

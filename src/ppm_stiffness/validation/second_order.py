@@ -1,15 +1,15 @@
 """A second-order check of the geometric stiffness with the FE frame model (P-Delta).
 
-PyNite's P-Delta analysis (``FEModel3D.analyze_PDelta``) solves the frame once
-linearly, takes every member's axial force from that solution and solves again with the
-members' geometric stiffness added: ``u = (K + K_g(N)) ^-1 f`` on the undeformed
-geometry. The virtual-joint analogue is the loaded tangent at the unloaded geometry
-with the frozen model's leg wrenches (:func:`ppm_stiffness.statics.moving
-.reference_tangent`), ``u = K_2^-1 f``. The two are the same approximation built
-independently (the frame's members and lumped springs against the chains' screws and
-Lie brackets), so their second-order corrections ``u_2 - u_1`` should agree to the
-models' difference; :func:`compare_second_order` gives both with the first-order ones
-and the full moving-geometry solution (:mod:`ppm_stiffness.statics.moving`).
+PyNite's P-Delta analysis (``FEModel3D.analyze_PDelta``) solves the frame once linearly,
+takes every member's axial force from that solution and solves again with the members'
+geometric stiffness added: ``u = (K + K_g(N)) ^-1 f`` on the undeformed geometry. The
+virtual-joint analogue is the loaded tangent at the unloaded geometry with the frozen
+model's leg wrenches (:func:`ppm_stiffness.statics.moving_tangents.reference_tangent`),
+``u = K_2^-1 f``. The two are the same approximation built independently (the frame's
+members and lumped springs against the chains' screws and Lie brackets), so their
+second-order corrections ``u_2 - u_1`` should agree to the models' difference;
+:func:`compare_second_order` gives both with the first-order ones and the full
+moving-geometry solution (:mod:`ppm_stiffness.statics.moving`).
 
 P-Delta is not a check of the moving-geometry solution itself: it keeps the geometry
 of the unloaded pose, so it lacks the second-order kinematics (displacements of order
@@ -35,7 +35,8 @@ from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.statics.equilibrium import equilibrium
-from ppm_stiffness.statics.moving import moving_equilibrium, reference_tangent, relative_size
+from ppm_stiffness.statics.moving import moving_equilibrium, relative_size
+from ppm_stiffness.statics.moving_tangents import reference_tangent
 from ppm_stiffness.validation.fe_model import FESettings, build_model
 from ppm_stiffness.validation.frame import DISPLACEMENTS, LOAD_CASES, node_vector, unit_scales
 
