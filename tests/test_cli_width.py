@@ -87,6 +87,8 @@ LINES = [
         "leg1.guide.yaw,leg2.guide.yaw,leg*.actuator.locked_stiffness",
     ],
     ["analyze", "--tolerances", str(ROOT / "examples/identification/tolerances.toml")],
+    ["modes"],
+    ["modes", "--design", str(ROOT / "examples/3prs.toml"), "--wrench", "5,5,20,0,0,0.1"],
 ]
 
 

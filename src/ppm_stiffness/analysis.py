@@ -22,6 +22,7 @@ from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.core.principal import principal_compliance
 from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.analysis import first_mode
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     stiffness_at_pose,
@@ -156,7 +157,10 @@ def analyze_design(
         F_b), ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``);
         with a wrench also ``wrench``, ``actuator_forces``,
         ``actuator_displacements`` (delta(G), the integral of 1/K_act),
-        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point).
+        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point);
+        with a mass model (``design.platform``) also ``first_frequency`` [Hz] and
+        ``first_mode_direction`` (:mod:`ppm_stiffness.dynamics`; under a wrench, of
+        the loaded tangent K).
     """
     p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
@@ -187,7 +191,9 @@ def analyze_design(
         out["actuator_secant_stiffness"] = state.secant_stiffness.tolist()
         out["twist"] = (twist_b_from_twist_a(np.eye(3), -offset) @ state.twist).tolist()
     out["actuator_stiffness"] = np.asarray(k_act).tolist()
-    out.update(analyze_matrix(stiffness_at_tool_point(k, p, tool), method))
+    k_tool = stiffness_at_tool_point(k, p, tool)
+    out.update(analyze_matrix(k_tool, method))
+    out.update(first_mode(design, p, k_tool, k_act, tool))
     return out
 
 
@@ -244,6 +250,7 @@ ANALYSIS_UNITS = {
     "actuator_displacements": "m (rad for a rotary actuator)",
     "actuator_secant_stiffness": "N/m (N·m/rad for a rotary actuator)",
     "twist": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+    "first_frequency": "Hz",
 }
 
 

@@ -180,6 +180,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
                 *np.degrees(np.asarray(t[:3]) + 0.0), *(1e3 * np.asarray(t[3:]) + 0.0)
             )
         )
+    if "first_frequency" in result:
+        c.print(
+            f"first natural frequency: {result['first_frequency']:.4g} Hz "
+            f"({result['first_mode_direction']}); `ppm-stiffness modes` gives all six"
+        )
     k = np.asarray(result["stiffness_matrix"])
     at = "T" if any(result.get("tool_point") or []) else "P"
     c.print(
