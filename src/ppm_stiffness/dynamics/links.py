@@ -119,6 +119,19 @@ def link_mass_matrix(link: Link, start_twist: FloatArray, end_twist: FloatArray)
     batch = np.broadcast_shapes(start.shape[:-1], end.shape[:-1], start_twist.shape[:-2])
     if link.mass is None:
         return np.zeros(batch + (6, 6))
+    with np.errstate(divide="ignore", invalid="ignore"):  # a zero-length link: NaN
+        return _link_mass_matrix(link, start, end, start_twist, end_twist, batch)
+
+
+def _link_mass_matrix(
+    link: Link,
+    start: FloatArray,
+    end: FloatArray,
+    start_twist: FloatArray,
+    end_twist: FloatArray,
+    batch: tuple[int, ...],
+) -> FloatArray:
+    assert link.mass is not None
     start = np.broadcast_to(start, batch + (3,))
     end = np.broadcast_to(end, batch + (3,))
     d = end - start

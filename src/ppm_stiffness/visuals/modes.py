@@ -9,7 +9,8 @@ amplitude a for all panels, chosen so that the platform's points move by
 :data:`AMPLITUDE` of the platform's size in the mode that moves them most (stated in
 the title: the motion is exaggerated). The legs are drawn at the displaced pose from
 their inverse kinematics (rigid legs; a mode that bends them shows as the platform's
-motion only).
+motion only; in the side view of a planar design the legs are drawn at rest only, their
+kinematics being that of the plane).
 
 A spatial design is drawn in 3-D; a planar one in a top view (x, y), except a mode
 whose out-of-plane components (z, rx, ry) carry most of its balanced norm, drawn in a
@@ -153,7 +154,9 @@ def plot_modes(
             ax = fig.add_subplot(2, 3, j + 1)
             for line in rest_legs:
                 ax.plot(line[:, i], line[:, k], color="0.7", lw=1.0)
-            for line in legs:
+            # a planar leg's inverse kinematics is that of the plane: out of it, the
+            # legs are drawn at rest only
+            for line in legs if view == "top" else []:
                 ax.plot(line[:, i], line[:, k], color="tab:blue", lw=1.2)
             ax.plot(
                 rest_poly[:, i],
