@@ -108,6 +108,8 @@ LINES = [
         "leg1.actuator.k_a,leg2.actuator.k_a,leg3.actuator.k_a,leg*.base_revolute.tilt,"
         "leg*.guide.lateral",
     ],
+    ["modes"],
+    ["modes", "--design", str(ROOT / "examples/3prs.toml"), "--wrench", "5,5,20,0,0,0.1"],
 ]
 
 

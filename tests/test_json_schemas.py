@@ -51,6 +51,9 @@ CASES = [
         ],
     ),
     ("map", ["map", "--json", "--grid", "8", "--actuators", "5,5,20,0,0,0.1"]),
+    ("modes", ["modes", "--json"]),
+    ("modes", ["modes", "--json", "--wrench", "5,5,20,0,0,0.1", "--tool-point", "10,0,5"]),
+    ("modes", ["modes", "--json", "--design", str(ROOT / "examples/3prs.toml")]),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (
         "compare",

@@ -26,6 +26,7 @@ from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.core.principal import principal_compliance
 from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.analysis import first_mode
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     stiffness_at_pose,
@@ -177,7 +178,10 @@ def analyze_design(
         with a wrench also ``wrench``, ``actuator_forces``,
         ``actuator_displacements`` (delta(G), the integral of 1/K_act),
         ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point);
-        ``geometry`` with a wrench, and ``moving_geometry`` with ``geometry="moving"``.
+        ``geometry`` with a wrench, and ``moving_geometry`` with ``geometry="moving"``;
+        with a mass model (``design.platform``) also ``first_frequency`` [Hz] and
+        ``first_mode_direction`` (:mod:`ppm_stiffness.dynamics`; under a wrench, of
+        the loaded tangent K).
     """
     if geometry not in GEOMETRIES:
         raise InputDataError(f"geometry must be one of {', '.join(GEOMETRIES)}, got {geometry!r}")
@@ -215,7 +219,9 @@ def analyze_design(
         out["actuator_secant_stiffness"] = state.secant_stiffness.tolist()
         out["twist"] = (twist_b_from_twist_a(np.eye(3), -offset) @ state.twist).tolist()
     out["actuator_stiffness"] = np.asarray(k_act).tolist()
-    out.update(analyze_matrix(stiffness_at_tool_point(k, p, tool), method))
+    k_tool = stiffness_at_tool_point(k, p, tool)
+    out.update(analyze_matrix(k_tool, method))
+    out.update(first_mode(design, p, k_tool, k_act, tool))
     return out
 
 
@@ -359,6 +365,7 @@ ANALYSIS_UNITS = {
     "moving_geometry.asymmetry": "1 (length-balanced Frobenius norm)",
     "moving_geometry.load_margin.factor": "1 (times the wrench)",
     "moving_geometry.load_margin.mode": "rad, m (a twist of unit length-balanced norm)",
+    "first_frequency": "Hz",
 }
 
 

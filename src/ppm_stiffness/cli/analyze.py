@@ -197,6 +197,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             )
         )
         print_geometry(result)
+    if "first_frequency" in result:
+        c.print(
+            f"first natural frequency: {result['first_frequency']:.4g} Hz "
+            f"({result['first_mode_direction']}); `ppm-stiffness modes` gives all six"
+        )
     k = np.asarray(result["stiffness_matrix"])
     at = "T" if any(result.get("tool_point") or []) else "P"
     what = f"Cartesian stiffness K at {at}"
