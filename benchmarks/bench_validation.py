@@ -1,12 +1,16 @@
 """Benchmark: FE frame model (PyNite) vs virtual-joint model, time per pose, one run.
 
-Poses: the workspace centre and the 5 seeded poses of ``ppm-stiffness validate``.
-Each model is warmed up once, then timed per pose as the best of ``--repeat`` runs
-(FE: build + six load cases + inverse; virtual joints: ``stiffness_at_pose``). The
-batched virtual-joint figure evaluates all poses of a 1000-pose map in one call and
-divides by the number of poses (the way the maps use the model).
+Designs: the built-in planar 3-PPR and the 6-UPS hexapod (examples/hexapod_6ups.toml)
+by default, or those given by ``--design`` (repeatable). Poses: the home pose and the 5
+seeded poses of ``ppm-stiffness validate`` (planar designs: its default box, +-10 mm,
++-5 deg; other designs: their required region, ``validate --region``). Each model is
+warmed up once, then timed per pose as the best of ``--repeat`` runs (FE: build + six
+load cases + inverse; virtual joints: ``stiffness_at_pose``). The batched virtual-joint
+figure evaluates 1000 completed poses of the same box in one call of the batched
+engine (``legs.engine``: ``reduce_chain`` + ``platform_stiffness``, the way the maps
+use the model) and divides by the number of poses.
 
-    .venv/bin/python benchmarks/bench_validation.py [--repeat N] [--design FILE]
+    .venv/bin/python benchmarks/bench_validation.py [--repeat N] [--design FILE ...]
 
 Needs the extra ``validate`` (PyNite).
 """
@@ -21,69 +25,88 @@ from functools import partial
 
 import numpy as np
 
-from ppm_stiffness.core.solver import cartesian_stiffness
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.design import Design, default_design, load_design
-from ppm_stiffness.legs.chain import leg_springs
-from ppm_stiffness.model import stiffness_at_pose, workspace_centre
-from ppm_stiffness.validation.compare import BLOCKS, block_difference, validation_poses
+from ppm_stiffness.legs import engine
+from ppm_stiffness.model import locked_actuator_stiffness, stiffness_at_pose
+from ppm_stiffness.poses import full_poses
+from ppm_stiffness.validation.compare import differences, sampling_box, validation_poses
 from ppm_stiffness.validation.fe_model import fe_stiffness_at_pose, require_pynite
+
+DEFAULT_DESIGNS = (None, "examples/hexapod_6ups.toml")
 
 
 def best_time(fn: Callable[[], object], repeat: int) -> float:
-    best = float("inf")
+    """Best wall time [s] of ``repeat`` runs."""
+    return best_times(fn, repeat)[0]
+
+
+def best_times(fn: Callable[[], object], repeat: int) -> tuple[float, float]:
+    """Best wall time and best CPU time of this process [s] of ``repeat`` runs (on a
+    shared machine the wall clock also counts the time others hold the cores)."""
+    wall, cpu = float("inf"), float("inf")
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+        wall = min(wall, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
+    return wall, cpu
 
 
 def batched_vj_time_per_pose(design: Design, n: int = 1000) -> float:
-    """Virtual-joint K at ``n`` poses in one batched call; seconds per pose."""
+    """Virtual-joint K at ``n`` completed, reachable poses of the validation box in one
+    call of the batched engine; seconds per pose."""
+    centre, half = sampling_box(design, region=not design.planar)
     rng = np.random.default_rng(0)
-    poses = workspace_centre(design) + rng.uniform(-1, 1, (n, 3)) * [0.005, 0.005, 0.05]
+    draws = centre + rng.uniform(-1, 1, (4 * n, len(centre))) * half
+    poses, ok = full_poses(design, draws)
+    for leg in design.legs:
+        ok &= leg.reachable(leg.solve(poses))
+    poses = poses[ok][:n]
+    k_act = locked_actuator_stiffness(design)
 
     def run() -> None:
-        legs = [
-            leg_springs(leg.chain(leg.solve(poses)), leg.actuator.locked_stiffness)
-            for leg in design.legs
+        reductions = [
+            engine.reduce_chain(leg.chain(leg.solve(poses)), len(poses)) for leg in design.legs
         ]
-        cartesian_stiffness(legs)
+        engine.platform_stiffness(reductions, k_act)
 
-    return best_time(run, 3) / n
+    return best_time(run, 3) / len(poses)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=5, help="runs per pose (best kept)")
-    parser.add_argument("--design", help="design file (default: the built-in design)")
-    args = parser.parse_args()
-    pynite = require_pynite()
-    design = default_design() if args.design is None else load_design(args.design)
-    poses = validation_poses(design, 5, seed=0)
+def _pose_text(pose: np.ndarray) -> str:
+    return " ".join(
+        f"{np.degrees(v):6.2f}" if name in ANGLE_COORDINATES else f"{v * 1e3:7.2f}"
+        for name, v in zip(POSE_COORDINATES, pose, strict=True)
+    )
+
+
+def bench_design(design: Design, repeat: int) -> None:
+    poses = validation_poses(design, 5, seed=0, region=not design.planar)
     stiffness_at_pose(design, poses[0])  # warm-up
-    fe_stiffness_at_pose(design, poses[0])
+    fe0 = fe_stiffness_at_pose(design, poses[0])
     print(
-        f"python {platform.python_version()}, numpy {np.__version__}, "
-        f"PyNite {pynite.__version__}, {platform.machine()}"
+        f"\n{design.name}: {len(design.legs)} legs; FE model {fe0.n_nodes} nodes, "
+        f"{fe0.n_members} members, {fe0.n_springs} springs at the home pose"
     )
     print(
-        f"{'pose':>6} {'x mm':>8} {'y mm':>8} {'phi deg':>8} {'FE ms':>8} {'VJ ms':>8} "
-        f"{'FE/VJ':>6} {'planar':>9} {'out-of-pl':>9}"
+        f"{'pose':>4} {'x, y, z [mm]; rx, ry, rz [deg]':>45} {'FE ms':>7} {'VJ ms':>6} "
+        f"{'FE/VJ':>5} {'figures'}"
     )
-    t_fe, t_vj = [], []
+    t_fe, t_vj, c_fe, c_vj = [], [], [], []
     for i, pose in enumerate(poses):
         fe = fe_stiffness_at_pose(design, pose)
-        k_vj = stiffness_at_pose(design, pose)
-        diff = {b: block_difference(k_vj, fe.stiffness, idx) for b, idx in BLOCKS.items()}
-        tf = best_time(partial(fe_stiffness_at_pose, design, pose), args.repeat)
-        tv = best_time(partial(stiffness_at_pose, design, pose), 20 * args.repeat)
+        diff = differences(design, stiffness_at_pose(design, pose), fe.stiffness)
+        tf, cf = best_times(partial(fe_stiffness_at_pose, design, pose), repeat)
+        tv, cv = best_times(partial(stiffness_at_pose, design, pose), 20 * repeat)
         t_fe.append(tf)
         t_vj.append(tv)
+        c_fe.append(cf)
+        c_vj.append(cv)
+        figures = " ".join(f"{k} {v:.2e}" for k, v in diff.items())
         print(
-            f"{'centre' if i == 0 else i:>6} {pose[0] * 1e3:8.3f} {pose[1] * 1e3:8.3f} "
-            f"{np.degrees(pose[2]):8.3f} {tf * 1e3:8.1f} {tv * 1e3:8.3f} {tf / tv:6.0f} "
-            f"{diff['planar']:9.2e} {diff['out_of_plane']:9.2e}"
+            f"{'home' if i == 0 else i:>4} {_pose_text(pose)} {tf * 1e3:7.1f} "
+            f"{tv * 1e3:6.3f} {tf / tv:5.0f} {figures}"
         )
     fe_mean, vj_mean = float(np.mean(t_fe)), float(np.mean(t_vj))
     vj_batch = batched_vj_time_per_pose(design)
@@ -92,9 +115,32 @@ def main() -> None:
         f"{vj_mean * 1e3:.3f} ms (single pose), ratio FE/VJ = {fe_mean / vj_mean:.0f}"
     )
     print(
+        f"mean CPU time per pose: FE {np.mean(c_fe) * 1e3:.1f} ms, virtual joints "
+        f"{np.mean(c_vj) * 1e3:.3f} ms (single pose)"
+    )
+    print(
         f"virtual joints batched over 1000 poses: {vj_batch * 1e6:.1f} us per pose, "
         f"ratio FE/VJ = {fe_mean / vj_batch:.0f}"
     )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5, help="runs per pose (best kept)")
+    parser.add_argument(
+        "--design",
+        action="append",
+        help="design file (repeatable; default: the built-in design and the hexapod)",
+    )
+    args = parser.parse_args()
+    pynite = require_pynite()
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, "
+        f"PyNite {pynite.__version__}, {platform.machine()}"
+    )
+    for path in args.design or DEFAULT_DESIGNS:
+        design = default_design() if path is None else load_design(path)
+        bench_design(design, args.repeat)
 
 
 if __name__ == "__main__":

@@ -15,6 +15,20 @@ import math
 from pathlib import Path
 
 import numpy as np
+from example_masses import (
+    ALUMINIUM as ALUMINIUM_DENSITY,
+)
+from example_masses import (
+    STEEL as STEEL_DENSITY,
+)
+from example_masses import (
+    bar,
+    block,
+    composite,
+    disk_mass,
+    rounded,
+    tube_area,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -84,8 +98,15 @@ def hexapod() -> str:
 #   tilt 1e3 N·m/rad, anti-rotation 200 N·m/rad;
 # - base universal joints: radial and axial 5e7 N/m, torsion 300 N·m/rad, +-30 deg;
 # - platform spherical joints (precision ball joints): 4e7 N/m, +-25 deg;
-# - joints mounted along their leg at the home pose (mounting axes below).
-# Section properties computed from the dimensions by scripts/spatial_examples.py.
+# - joints mounted along their leg at the home pose (mounting axes below);
+# - masses (docs/dynamics.md): densities 2700 kg/m^3 (aluminium), 7850 kg/m^3 (steel)
+#   times the dimensions; the platform an aluminium disk 240 x 12 mm with six ball
+#   joints (~50 g each), as a cylinder; the cylinder body: its tube, the 12 mm screw
+#   inside it (140 mm) and a motor of ~0.35 kg (estimated) 20 mm from the U joint; the
+#   rod: the steel tube, 185 mm long (125 mm free at the longest stroke, 60 mm engaged),
+#   with the ball nut (~80 g) at its inner end, fixed to the S joint; no rotor (the
+#   screw and nut are the drive's compliance, the motor held by its position loop).
+# Section and mass properties computed from the dimensions by scripts/spatial_examples.py.
 schema = 2
 name = "6-UPS precision positioning hexapod (examples/hexapod_6ups.toml)"
 task_coordinates = ["x", "y", "z", "rx", "ry", "rz"]
@@ -112,6 +133,15 @@ tool_point = [0.0, 0.0, 0.0]
         "The required region (SI: m, rad), a grid over the six task coordinates in order.",
     )
     out += table(
+        "platform",
+        {
+            "mass": round(disk_mass(0.12, 0.012, ALUMINIUM_DENSITY) + 6 * 0.05, 3),
+            "shape": "cylinder",
+            "radius": 0.12,
+            "height": 0.012,
+        },
+    )
+    out += table(
         "parts.actuator",
         {"locked_stiffness": 3.4e7, "k_a": 3.4e7, "q": 1.0, "threshold_displacement": 0.0},
     )
@@ -119,8 +149,21 @@ tool_point = [0.0, 0.0, 0.0]
         "parts.guide",
         {"roll": 200.0, "pitch": 1000.0, "yaw": 1000.0, "lateral": 2e7, "vertical": 2e7},
     )
-    out += table("parts.cylinder", tube(0.040, 0.003, ALUMINIUM))
-    out += table("parts.rod", tube(0.020, 0.002, STEEL))
+    cylinder_body = composite(
+        [
+            bar(0.14, tube_area(0.040, 0.003), ALUMINIUM_DENSITY),
+            bar(0.14, tube_area(0.012, 0.006), STEEL_DENSITY),
+            block(0.35, 0.02, 0.042),
+        ]
+    )
+    rod_body = composite(
+        [bar(0.185, tube_area(0.020, 0.002), STEEL_DENSITY), block(0.08, 0.185, 0.02)]
+    )
+    out += table("parts.cylinder", {**tube(0.040, 0.003, ALUMINIUM), **rounded(cylinder_body)})
+    out += table(
+        "parts.rod",
+        {**tube(0.020, 0.002, STEEL), **rounded({**rod_body, "mass_centre_from": "end"})},
+    )
     out += table(
         "parts.base_joint",
         {"radial": 5e7, "axial": 5e7, "torsion": 300.0, "max_angle": math.radians(30.0)},
@@ -148,6 +191,36 @@ tool_point = [0.0, 0.0, 0.0]
     return out
 
 
+def spindle_head() -> dict[str, object]:
+    """The 3-PRS head as one rigid body: an aluminium plate 360 x 20 mm centred at P, a
+    spindle unit (8 kg, a 90 x 250 mm cylinder from 150 mm below P up), three spherical
+    joints (0.3 kg each) on the 150 mm circle; mass, centre and inertia about it."""
+    bodies = []  # (mass, centre (3,), inertia about its own centre (3, 3))
+    plate = disk_mass(0.18, 0.02, ALUMINIUM_DENSITY)
+    bodies.append((plate, np.zeros(3), cylinder(plate, 0.18, 0.02)))
+    bodies.append((8.0, np.array([0.0, 0.0, -0.15 + 0.125]), cylinder(8.0, 0.045, 0.25)))
+    for angle in (90.0, 210.0, 330.0):
+        bodies.append((0.3, polar(0.15, angle), np.zeros((3, 3))))
+    mass = sum(m for m, _, _ in bodies)
+    centre = sum(m * c for m, c, _ in bodies) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, i in bodies:
+        d = c - centre
+        inertia += i + m * (d @ d * np.eye(3) - np.outer(d, d))
+    inertia[np.abs(inertia) < 1e-12] = 0.0
+    return {
+        "mass": round(mass, 4),
+        "centre_of_mass": [round(float(v), 6) + 0.0 for v in centre],
+        "inertia": [[float(f"{v:.4g}") for v in row] for row in inertia],
+    }
+
+
+def cylinder(mass: float, radius: float, height: float) -> np.ndarray:
+    """Inertia (3, 3) of a solid cylinder about its centre, axis along z."""
+    transverse = mass * (3 * radius**2 + height**2) / 12
+    return np.diag([transverse, transverse, mass * radius**2 / 2])
+
+
 def tripod(kind: str) -> str:
     if kind == "PRS":
         r_base, r_platform, link, home_z = 0.30, 0.15, 0.45, 0.40
@@ -163,9 +236,16 @@ def tripod(kind: str) -> str:
 # - carriage revolute: a pair of angular-contact bearings, radial 5e8, axial 3e8 N/m,
 #   tilt 1e5 N·m/rad;
 # - links: steel tube 60 x 5 mm;
-# - platform spherical joints: 3e8 N/m, +-35 deg, mounted along the link at home.
+# - platform spherical joints: 3e8 N/m, +-35 deg, mounted along the link at home;
+# - masses (docs/dynamics.md; steel 7850, aluminium 2700 kg/m^3 times the dimensions,
+#   the rest estimated): the head an aluminium plate 360 x 20 mm, a spindle unit of
+#   ~8 kg (a 90 x 250 mm cylinder from the nose 150 mm below P) and three spherical
+#   joints of ~0.3 kg, as one rigid body (its inertia computed); the links uniform steel
+#   tubes; each carriage two guide blocks (~1.5 kg each), a plate (~2 kg), the
+#   revolute's housing and bearings (~1 kg) and the ball nut (~0.8 kg): 6.8 kg; no rotor
+#   (the screw and nut are the drive's compliance).
 # Task coordinates (z, rx, ry): x, y and rz follow from the revolutes (parasitic motion).
-# Section properties computed from the dimensions by scripts/spatial_examples.py.
+# Section and mass properties computed from the dimensions by scripts/spatial_examples.py.
 schema = 2
 name = "3-PRS spindle head (examples/3prs.toml)"
 task_coordinates = ["z", "rx", "ry"]
@@ -191,9 +271,15 @@ tool_point = [0.0, 0.0, -0.15]
 # - the rod's bushing: lateral 3e7 N/m, tilt 2e3 N·m/rad, anti-rotation 500 N·m/rad;
 # - base revolute: a pair of angular-contact bearings, radial 3e8, axial 2e8 N/m, tilt
 #   5e4 N·m/rad;
-# - platform spherical joints: 1e8 N/m, +-30 deg, mounted along the leg at home.
+# - platform spherical joints: 1e8 N/m, +-30 deg, mounted along the leg at home;
+# - masses (docs/dynamics.md; steel 7850, aluminium 2700 kg/m^3 times the dimensions,
+#   the rest estimated): the table an aluminium disk 400 x 25 mm with three spherical
+#   joints (~50 g each), as a cylinder; the cylinder body: its tube, the 20 mm screw
+#   inside it (250 mm) and a motor of ~1 kg 30 mm from the revolute; the rod: the steel
+#   tube, 280 mm long (200 mm free at the longest stroke, 80 mm engaged), with its ball
+#   nut (~0.2 kg) at the inner end, fixed to the S joint; no rotor.
 # Task coordinates (z, rx, ry): x, y and rz follow from the revolutes (parasitic motion).
-# Section properties computed from the dimensions by scripts/spatial_examples.py.
+# Section and mass properties computed from the dimensions by scripts/spatial_examples.py.
 schema = 2
 name = "3-RPS tilting table (examples/3rps.toml)"
 task_coordinates = ["z", "rx", "ry"]
@@ -217,19 +303,36 @@ tool_point = [0.0, 0.0, 0.0]
         "workspace.required", region, "The required region (SI: m, rad), a grid over (z, rx, ry)."
     )
     if kind == "PRS":
+        out += table("platform", spindle_head(), "The head: plate, spindle and joints (above).")
         out += table(
             "parts.actuator",
-            {"locked_stiffness": 1e8, "k_a": 1e8, "q": 1.0, "threshold_displacement": 0.0},
+            {
+                "locked_stiffness": 1e8,
+                "k_a": 1e8,
+                "q": 1.0,
+                "threshold_displacement": 0.0,
+                "carriage_mass": 6.8,
+            },
         )
         out += table(
             "parts.guide", {"roll": 2e4, "pitch": 3e4, "yaw": 3e4, "lateral": 8e8, "vertical": 1e9}
         )
         out += table("parts.carriage_revolute", {"tilt": 1e5, "axial": 3e8, "radial": 5e8})
-        out += table("parts.link", tube(0.060, 0.005, STEEL))
+        link_mass = STEEL_DENSITY * tube_area(0.060, 0.005) * link
+        out += table("parts.link", {**tube(0.060, 0.005, STEEL), "mass": round(link_mass, 4)})
         out += table(
             "parts.platform_joint", {"axial": 3e8, "radial": 3e8, "max_angle": math.radians(35.0)}
         )
     else:
+        out += table(
+            "platform",
+            {
+                "mass": round(disk_mass(0.2, 0.025, ALUMINIUM_DENSITY) + 3 * 0.05, 3),
+                "shape": "cylinder",
+                "radius": 0.2,
+                "height": 0.025,
+            },
+        )
         out += table(
             "parts.actuator",
             {"locked_stiffness": 6e7, "k_a": 6e7, "q": 1.0, "threshold_displacement": 0.0},
@@ -239,8 +342,21 @@ tool_point = [0.0, 0.0, 0.0]
             {"roll": 500.0, "pitch": 2000.0, "yaw": 2000.0, "lateral": 3e7, "vertical": 3e7},
         )
         out += table("parts.base_revolute", {"tilt": 5e4, "axial": 2e8, "radial": 3e8})
-        out += table("parts.cylinder", tube(0.050, 0.004, ALUMINIUM))
-        out += table("parts.rod", tube(0.030, 0.003, STEEL))
+        cylinder_body = composite(
+            [
+                bar(0.25, tube_area(0.050, 0.004), ALUMINIUM_DENSITY),
+                bar(0.25, tube_area(0.020, 0.010), STEEL_DENSITY),
+                block(1.0, 0.03, 0.06),
+            ]
+        )
+        rod_body = composite(
+            [bar(0.28, tube_area(0.030, 0.003), STEEL_DENSITY), block(0.2, 0.28, 0.03)]
+        )
+        out += table("parts.cylinder", {**tube(0.050, 0.004, ALUMINIUM), **rounded(cylinder_body)})
+        out += table(
+            "parts.rod",
+            {**tube(0.030, 0.003, STEEL), **rounded({**rod_body, "mass_centre_from": "end"})},
+        )
         out += table(
             "parts.platform_joint", {"axial": 1e8, "radial": 1e8, "max_angle": math.radians(30.0)}
         )

@@ -97,6 +97,29 @@ LINES = [
         "leg1.guide.yaw,leg2.guide.yaw,leg*.actuator.locked_stiffness",
     ],
     ["analyze", "--tolerances", str(ROOT / "examples/identification/tolerances.toml")],
+    # spatial designs: six legs' actuators, the 6-D pose, a load along a direction
+    [
+        "deflect",
+        "--design",
+        str(ROOT / "examples/hexapod_6ups.toml"),
+        "--direction",
+        "100,-50,200,5,-3,2",
+        "--tool-point",
+        "10,-20,50",
+    ],
+    ["deflect", "--design", str(ROOT / "examples/3prs.toml"), "--rx", "5", "--mode", "moment"],
+    [
+        "identify",
+        "--design",
+        str(ROOT / "examples/3rps.toml"),
+        "--measurements",
+        str(ROOT / "examples/identification/3rps_measurements.csv"),
+        "--free",
+        "leg1.actuator.k_a,leg2.actuator.k_a,leg3.actuator.k_a,leg*.base_revolute.tilt,"
+        "leg*.guide.lateral",
+    ],
+    ["modes"],
+    ["modes", "--design", str(ROOT / "examples/3prs.toml"), "--wrench", "5,5,20,0,0,0.1"],
 ]
 
 

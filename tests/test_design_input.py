@@ -230,7 +230,8 @@ def test_a_file_with_neither_layout_is_told_to_add_schema() -> None:
 
 def test_a_v1_file_still_loads_with_its_warning() -> None:
     data = design_to_dict(default_design())
-    v1 = {"name": data["name"], "architecture": "PPR", **data["parts"]}
+    v1 = {"name": data["name"], "architecture": "PPR", "platform": data["platform"]}
+    v1.update(data["parts"])
     v1["legs"] = [{k: v for k, v in leg.items() if k != "type"} for leg in data["legs"]]
     with pytest.warns(DesignFormatWarning, match="design format v1"):
         design = design_from_dict(v1)

@@ -45,6 +45,7 @@ def _v1_of_builtin() -> dict[str, object]:
         "name": data["name"],
         "architecture": "PPR",
         "workspace": data["workspace"],
+        "platform": data["platform"],  # the mass model (schema 2 only added it)
         **data["parts"],
     }
     v1["legs"] = [{k: v for k, v in leg.items() if k != "type"} for leg in data["legs"]]

@@ -32,7 +32,10 @@ def test_wrench_file_with_poses_and_sigmas_in_si(tmp_path: Path) -> None:
     assert m.loads is None and m.n == 2
     assert m.metadata == {"rig": "bench 2"}
     assert m.components == (2, 3)
-    np.testing.assert_allclose(m.poses[0], [0.01, -0.005, math.radians(2)], rtol=1e-15)
+    # 6-D poses (x, y, z, rx, ry, rz); a coordinate the file does not give is NaN
+    np.testing.assert_allclose(m.poses[0, [0, 1, 5]], [0.01, -0.005, math.radians(2)], rtol=1e-15)
+    assert np.isnan(m.poses[:, 2:5]).all()
+    assert m.pose_columns == ("pose_x_mm", "pose_y_mm", "pose_phi_deg")
     # library order (m_x, m_y, m_z, f_x, f_y, f_z); absent components are zero
     np.testing.assert_allclose(m.wrenches[0], [0, 0, 0.1, 4, 0, 0], rtol=1e-15)
     np.testing.assert_allclose(m.twists[1, 2:4], [math.radians(0.1), -1e-5], rtol=1e-15)
@@ -59,7 +62,11 @@ def test_shipped_deflect_files_still_load(name: str) -> None:
         ("x_mm,y_mm\n0.1,0.2\n", "displacements with no wrench"),
         ("fx_N,mz_Nm\n1,0.2\n", "no displacement column"),
         ("load,fx_N,x_mm\n1,1,0.2\n", "either a load column or wrench"),
-        ("fx_N,pose_x_mm,pose_y_mm,x_mm\n1,0,0,0.2\n", "missing column 'pose_phi_deg'"),
+        (
+            "fx_N,pose_phi_deg,pose_rz_deg,x_mm\n1,0,0,0.2\n",
+            "'pose_phi_deg' and 'pose_rz_deg' are the same coordinate",
+        ),
+        ("fx_N,pose_z_m,x_mm\n1,0,0.2\n", "unknown column 'pose_z_m'.*did you mean 'pose_z_mm'"),
         ("fx_N,x_mm\n1,nan\n", "column 'x_mm': nan"),
         ("fx_N,x_mm\n1,\n", "column 'x_mm': empty"),
         ("fx_N,x_mm\n1,abc\n", "column 'x_mm': 'abc' is not numeric"),

@@ -18,9 +18,11 @@ pytest.importorskip(
     "Pynite", reason="FE validation needs the extra 'validate' (pip install pynitefea)"
 )
 
-from paper import PAPER_K_ACT_LOADED
+from helpers import design_named  # noqa: E402
+from paper import PAPER_K_ACT_LOADED  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core import beam, solver  # noqa: E402
+from ppm_stiffness.core.beam import BeamSection  # noqa: E402
 from ppm_stiffness.core.conventions import BALANCE, length_balanced  # noqa: E402
 from ppm_stiffness.design import Design, default_design, design_from_dict  # noqa: E402
 from ppm_stiffness.legs import chain  # noqa: E402
@@ -31,8 +33,10 @@ from ppm_stiffness.model import (  # noqa: E402
 )
 from ppm_stiffness.validation.compare import (  # noqa: E402
     BLOCKS,
+    POSE_COLUMNS,
     block_difference,
     compare_at_pose,
+    sample_reachable_poses,
 )
 from ppm_stiffness.validation.fe_model import (  # noqa: E402
     FESettings,
@@ -55,6 +59,9 @@ OUT_OF_PLANE_BOUND = 1e-4
 GENERIC_PLANAR_BOUND = 1.5e-5
 #: One leg alone vs eq. (1): measured 2.1e-5 of the largest length-balanced entry.
 LEG_BOUND = 1e-4
+#: The difference along any twist direction (compare.direction_difference), built-in
+#: design: measured at most 2.09e-5 (centre + 5 seeded poses).
+DIR_BOUND = 7e-5
 
 
 # --- a single cantilever link: textbook case, eq. (3c) ------------------------------
@@ -79,6 +86,41 @@ def test_cantilever_compliance_equals_fe(
     nz = c_vj != 0
     assert np.max(np.abs(c_fe - c_vj)[nz] / np.abs(c_vj)[nz]) < 1e-6
     # the structural zeros of eq. (3c) (no axial-bending or y-z coupling) are zeros
+    assert np.max(np.abs(c_fe[~nz])) < 1e-9 * np.max(np.abs(c_vj))
+
+
+@pytest.mark.parametrize(
+    "direction",
+    [(0.3, -0.5, 0.8), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0), (-0.6, 0.2, -0.1)],
+)
+def test_cantilever_in_space_has_the_link_frame_section_axes(
+    direction: tuple[float, float, float],
+) -> None:
+    """A link in any direction, with unequal bending inertias (5:1), in PyNite vs eq.
+    (3c) in the chain's link frame (``chain.link_screws``: y = unit(z x x), or
+    unit(x x e_x) along z): equal to 1e-6, so each inertia bends about its own axis."""
+    sec = BeamSection(
+        young_modulus=2.1e11,
+        shear_modulus=8.1e10,
+        area=4e-4,
+        torsion_constant=3e-9,
+        inertia_y=5e-9,
+        inertia_z=1e-9,
+    )
+    root = np.array([0.02, -0.01, 0.03])
+    tip = root + 0.12 * np.asarray(direction) / np.linalg.norm(direction)
+    c_fe = fe_cantilever_compliance(sec, root, tip)  # type: ignore[arg-type]
+    c_vj = beam.cantilever_compliance(sec, 0.12)
+    # the chain's link frame at the tip: the twist columns' axes
+    screws, _ = chain.link_screws(chain.Link(root - tip, np.zeros(3), sec))
+    frame = screws[3:, 3:].T  # rows: local x, y, z (translation columns)
+    x = (tip - root) / np.linalg.norm(tip - root)
+    np.testing.assert_allclose(frame[0], x, atol=1e-15)
+    y = np.cross([0.0, 0.0, 1.0], x)
+    y = y / np.linalg.norm(y) if np.linalg.norm(y) > 1e-12 else np.cross(x, [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(frame[1], y, atol=1e-15)
+    nz = c_vj != 0
+    assert np.max(np.abs(c_fe - c_vj)[nz] / np.abs(c_vj)[nz]) < 1e-6
     assert np.max(np.abs(c_fe[~nz])) < 1e-9 * np.max(np.abs(c_vj))
 
 
@@ -209,10 +251,22 @@ def test_cli_validate_writes_csv(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert "planar" in text and "out_of_plane" in text and "FE / VJ" in text
     with out.open() as fh:
         rows = list(csv.DictReader(fh))
-    assert [r["block"] for r in rows] == ["planar", "out_of_plane"] * 2
-    assert list(rows[0]) == ["pose_x_mm", "pose_y_mm", "phi_deg", "block", "max_rel_diff"]
-    assert float(rows[0]["pose_x_mm"]) == 0.0 and float(rows[0]["phi_deg"]) == 0.0
-    bound = {"planar": PLANAR_BOUND, "out_of_plane": OUT_OF_PLANE_BOUND}
+    assert [r["block"] for r in rows] == ["planar", "out_of_plane", "directions"] * 2
+    assert list(rows[0]) == [*POSE_COLUMNS, "block", "max_rel_diff"]
+    assert list(POSE_COLUMNS) == [
+        "pose_x_mm",
+        "pose_y_mm",
+        "pose_z_mm",
+        "pose_rx_deg",
+        "pose_ry_deg",
+        "pose_rz_deg",
+        "phi_deg",
+    ]
+    assert all(float(rows[0][c]) == 0.0 for c in POSE_COLUMNS)
+    for r in rows:  # a planar pose: z = rx = ry = 0, phi_deg = rz
+        assert float(r["pose_z_mm"]) == float(r["pose_rx_deg"]) == float(r["pose_ry_deg"]) == 0
+        assert r["phi_deg"] == r["pose_rz_deg"]
+    bound = {"planar": PLANAR_BOUND, "out_of_plane": OUT_OF_PLANE_BOUND, "directions": DIR_BOUND}
     for r in rows:
         assert 0.0 <= float(r["max_rel_diff"]) < bound[r["block"]]
 
@@ -222,6 +276,31 @@ def test_cli_validate_bad_input(argv: list[str], capsys: pytest.CaptureFixture[s
     assert main(["validate", *argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith("ppm-stiffness: error:") and len(err.strip().splitlines()) == 1
+
+
+def test_stiff_design_poses_are_sampled_by_the_transmission_index(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The rigid-structure limit (moduli 1e20 Pa, joint springs 1e13 times stiffer)
+    spreads K's eigenvalues below 1e-6 without making any pose singular: the sampling
+    skipped every pose by that spread ("only 0 of 3 random poses ... are reachable");
+    judged by the transmission index it keeps them, and `validate` then reports the FE
+    solve PyNite cannot carry out, in one line."""
+    import tomli_w
+
+    from ppm_stiffness.design import design_to_dict
+    from test_singularity import rigid_structure
+
+    for name in ("3rpr", "hexapod_6ups"):
+        design = rigid_structure(design_named(name))
+        poses = sample_reachable_poses(design, 3, seed=0)
+        assert poses.shape == (3, 6)
+    path = tmp_path / "rigid.toml"
+    path.write_text(tomli_w.dumps(design_to_dict(rigid_structure(design_named("3rpr")))))
+    assert main(["validate", "--design", str(path), "--poses", "2", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert "FE model: PyNite finds the frame's stiffness matrix singular" in err
 
 
 def test_cli_validate_unreachable_region(capsys: pytest.CaptureFixture[str]) -> None:

@@ -7,6 +7,7 @@ with the sign of the pitch, and the mechanism must show the modelled geometry.
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -20,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from helpers import colour_count, lines_by_gid  # noqa: E402
+from helpers import capture_saved_figures, colour_count, design_named, lines_by_gid  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import default_design  # noqa: E402
@@ -108,7 +109,7 @@ def test_mechanism_drawing_is_the_modelled_geometry() -> None:
         poly = [p for p in ax.patches if p.get_gid() == "platform"][0]
         verts = np.array(poly.get_xy())[:3] / 1e3
         plt.close(fig)
-        d = np.array([v.points["D"] for v in views])
+        d = np.array([v.points["D"][:2] for v in views])
         np.testing.assert_allclose(verts, d, atol=1e-12)  # D1-D2-D3 counter-clockwise
         radii = np.linalg.norm(verts - pose[:2], axis=1)
         np.testing.assert_allclose(radii, [leg.platform_radius for leg in design.legs], rtol=1e-12)
@@ -118,17 +119,17 @@ def test_mechanism_drawing_is_the_modelled_geometry() -> None:
             u, w = guide.axis[:2], bearing.axis[:2]
             rod = lines[f"link-{i}-2"]
             assert abs(_cross2(rod[1] - rod[0], w)) < 1e-12
-            np.testing.assert_allclose(rod[1], view.points["D"], atol=1e-12)
+            np.testing.assert_allclose(rod[1], view.points["D"][:2], atol=1e-12)
             rail = lines[f"base-{i}"]
             a = np.array(leg.base_point)
             assert abs(_cross2(rail[0] - a, u)) < 1e-12
             assert abs(_cross2(rail[1] - rail[0], u)) < 1e-12
             link = lines[f"link-{i}-1"]
             np.testing.assert_allclose(
-                link, np.stack([view.points["B"], view.points["C"]]), atol=1e-12
+                link, np.stack([view.points["B"], view.points["C"]])[:, :2], atol=1e-12
             )
             # bearing C sits bearing_offset along w from the rail point under D
-            assert abs((view.points["C"] - a) @ w - leg.bearing_offset) < 1e-12
+            assert abs((view.points["C"][:2] - a) @ w - leg.bearing_offset) < 1e-12
 
 
 MAGIC = {".png": b"\x89PNG\r\n\x1a\n", ".pdf": b"%PDF", ".svg": b"<svg"}
@@ -213,3 +214,25 @@ def test_analyze_does_not_import_matplotlib() -> None:
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert "MPL 0" in res.stdout
+
+
+def test_planar_pose_reaches_every_picture(tmp_path: Path, monkeypatch) -> None:
+    """A planar design's pose from the CLI is a full pose (x, y, z, rx, ry, rz): the
+    pictures' titles give phi = rz (on main they printed z, 0, as phi), the top view's
+    platform polygon is turned by phi."""
+    figures = capture_saved_figures(monkeypatch)
+    opts = ["--x", "2", "--y", "-1", "--phi", "10"]
+    for command in ("mechanism", "springs"):
+        assert main([command, *opts, "--out", str(tmp_path / f"{command}.png")]) == 0
+    mechanism, springs = figures
+    assert "phi = 10.00 deg" in mechanism.axes[0].get_title()
+    assert "phi = 10.00 deg" in springs.axes[0].get_title()
+    design = design_named("paper")
+    poly = next(p for p in mechanism.axes[0].patches if p.get_gid() == "platform")
+    verts = np.asarray(poly.get_xy())[: len(design.legs)] / 1e3
+    for v in verts:  # D_i - P = -r (cos(psi + phi), sin(psi + phi)) for some leg
+        rel = v - [2e-3, -1e-3]
+        angles = [math.atan2(-rel[1], -rel[0]) - leg.psi for leg in design.legs]
+        assert min(abs(math.remainder(a - math.radians(10), 2 * math.pi)) for a in angles) < 1e-12
+    plt.close(mechanism)
+    plt.close(springs)

@@ -1,4 +1,4 @@
-"""ppm-stiffness: stiffness of compliant planar parallel manipulators.
+"""ppm-stiffness: stiffness of compliant parallel manipulators, planar and spatial.
 
 The package follows the pipeline: ``design`` (schema, TOML) -> ``legs`` (joint chains,
 inverse kinematics, virtual springs) -> ``core`` (solver, eigenscrews, decoupling) ->

@@ -9,12 +9,16 @@ from __future__ import annotations
 
 import json
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import twist_b_from_twist_a, wrench_b_from_wrench_a
+from ppm_stiffness.core.conventions import (
+    FloatArray,
+    twist_b_from_twist_a,
+    wrench_b_from_wrench_a,
+)
 from ppm_stiffness.core.decoupling import Decoupling, Method, decouple
 from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
@@ -22,6 +26,7 @@ from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.core.principal import principal_compliance
 from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.analysis import first_mode
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     stiffness_at_pose,
@@ -30,6 +35,9 @@ from ppm_stiffness.model import (
     validate_pose,
 )
 from ppm_stiffness.statics.loading import loaded_state, validate_wrench
+
+if TYPE_CHECKING:
+    from ppm_stiffness.statics.moving import MovingEquilibrium
 
 
 def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
@@ -126,12 +134,19 @@ def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, 
     }
 
 
+#: The statics models of a loaded analysis: the paper's (geometry at the unloaded pose)
+#: and the equilibrium with the geometry moving under the load
+#: (:mod:`ppm_stiffness.statics.moving`).
+GEOMETRIES = ("frozen", "moving")
+
+
 def analyze_design(
     design: Design,
     pose: ArrayLike | None = None,
     wrench: ArrayLike | None = None,
     method: Method = "paper",
     tool_point: ArrayLike | None = None,
+    geometry: str = "frozen",
 ) -> dict[str, Any]:
     """Full analysis at a pose, unloaded or under ``wrench``, at the tool point.
 
@@ -146,6 +161,12 @@ def analyze_design(
         The decoupling reported under ``decoupling``/``principal``.
     tool_point : array_like (3,), optional
         In the platform frame [m]; ``design.tool_point`` if None ((0, 0, 0) is P).
+    geometry : {"frozen", "moving"}
+        Under a wrench: the paper's model (the geometry of the unloaded pose), or the
+        equilibrium with moving geometry (:mod:`ppm_stiffness.statics.moving`), whose
+        loaded tangent K_F (at the displaced tool point) is then analysed (its
+        symmetric part) and described under ``moving_geometry`` (see
+        :func:`moving_geometry_dict`).
 
     Returns
     -------
@@ -156,8 +177,16 @@ def analyze_design(
         F_b), ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``);
         with a wrench also ``wrench``, ``actuator_forces``,
         ``actuator_displacements`` (delta(G), the integral of 1/K_act),
-        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point).
+        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point);
+        ``geometry`` with a wrench, and ``moving_geometry`` with ``geometry="moving"``;
+        with a mass model (``design.platform``) also ``first_frequency`` [Hz] and
+        ``first_mode_direction`` (:mod:`ppm_stiffness.dynamics`; under a wrench, of
+        the loaded tangent K).
     """
+    if geometry not in GEOMETRIES:
+        raise InputDataError(f"geometry must be one of {', '.join(GEOMETRIES)}, got {geometry!r}")
+    if geometry == "moving" and wrench is None:
+        raise InputDataError("--geometry moving needs a --wrench: the geometry moves under a load")
     p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
@@ -176,19 +205,101 @@ def analyze_design(
     if wrench is None:
         k_act = actuator_stiffness_vector(design, None)
         k = stiffness_at_pose(design, p, k_act)
+    elif geometry == "moving":
+        return _analyze_moving(design, p, validate_wrench(wrench), method, tool, out)
     else:
         w_tool = validate_wrench(wrench)
         w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # moved from T to P
         state = loaded_state(design, w_p, p)
         k_act, k = state.actuator_stiffness, state.stiffness_matrix
+        out["geometry"] = "frozen"
         out["wrench"] = w_tool.tolist()
         out["actuator_forces"] = state.actuator_forces.tolist()
         out["actuator_displacements"] = state.actuator_displacements.tolist()
         out["actuator_secant_stiffness"] = state.secant_stiffness.tolist()
         out["twist"] = (twist_b_from_twist_a(np.eye(3), -offset) @ state.twist).tolist()
     out["actuator_stiffness"] = np.asarray(k_act).tolist()
-    out.update(analyze_matrix(stiffness_at_tool_point(k, p, tool), method))
+    k_tool = stiffness_at_tool_point(k, p, tool)
+    out.update(analyze_matrix(k_tool, method))
+    out.update(first_mode(design, p, k_tool, k_act, tool))
     return out
+
+
+def _analyze_moving(
+    design: Design,
+    pose: FloatArray,
+    wrench: FloatArray,
+    method: Method,
+    tool: FloatArray,
+    out: dict[str, Any],
+) -> dict[str, Any]:
+    """:func:`analyze_design` with ``geometry="moving"``: the tables of the symmetric
+    part of K_F, and ``moving_geometry``."""
+    from ppm_stiffness.statics.moving import moving_equilibrium
+
+    state = moving_equilibrium(design, wrench, pose, tool)
+    k_f = state.stiffness_matrix
+    with np.errstate(divide="ignore", invalid="ignore"):
+        secant = np.where(
+            state.actuator_displacements != 0,
+            state.actuator_forces
+            / np.where(state.actuator_displacements != 0, state.actuator_displacements, 1.0),
+            [leg.actuator.locked_stiffness for leg in design.legs],
+        )
+    out["geometry"] = "moving"
+    out["wrench"] = wrench.tolist()
+    out["actuator_forces"] = state.actuator_forces.tolist()
+    out["actuator_displacements"] = state.actuator_displacements.tolist()
+    out["actuator_secant_stiffness"] = secant.tolist()
+    out["twist"] = state.twist.tolist()
+    out["actuator_stiffness"] = state.actuator_stiffness.tolist()
+    out.update(analyze_matrix(0.5 * (k_f + k_f.T), method))
+    out["moving_geometry"] = moving_geometry_dict(design, state)
+    return out
+
+
+def moving_geometry_dict(design: Design, state: MovingEquilibrium) -> dict[str, Any]:
+    """What ``analyze --geometry moving`` adds, as plain data (SI): the displaced pose,
+    K_F in full (at the displaced tool point, axes of F_b), the frozen model's K at the
+    tool point, their difference, the geometric term, the relative sizes of both
+    (length-balanced Frobenius norms), K_F's antisymmetric part and the load margin
+    (:mod:`ppm_stiffness.statics.margin`)."""
+    from ppm_stiffness.statics.margin import MAX_FACTOR, MarginKind, load_margin
+    from ppm_stiffness.statics.moving import relative_difference, relative_size
+
+    k_f, k0 = state.stiffness_matrix, state.frozen_stiffness
+    margin = load_margin(design, state.wrench, state.pose, state.tool_point)
+    kinds = {
+        MarginKind.NONE: "none",
+        MarginKind.BIFURCATION: "bifurcation",
+        MarginKind.LIMIT_POINT: "limit point",
+        MarginKind.STROKE: "stroke",
+    }
+    return {
+        "displaced_pose": {
+            **{n: float(v) for n, v in zip(POSE_COORDINATES, state.displaced_pose, strict=True)},
+            "phi": float(state.displaced_pose[5]),
+        },
+        "reference_point": "the displaced tool point (P when no tool point is set)",
+        "stiffness_matrix": k_f.tolist(),
+        "frozen_stiffness_matrix": k0.tolist(),
+        "difference": (k_f - k0).tolist(),
+        "relative_difference": relative_difference(k_f, k0),
+        "geometric_stiffness": state.geometric_stiffness.tolist(),
+        "relative_geometric": relative_size(state.geometric_stiffness, k_f),
+        "asymmetry": relative_size(0.5 * (k_f - k_f.T), k_f),
+        "load_steps": state.steps,
+        "newton_iterations": state.iterations,
+        "load_margin": {
+            "factor": margin.factor,
+            "kind": kinds[margin.kind],
+            "searched_up_to": margin.searched_up_to,
+            "max_factor": MAX_FACTOR,
+            "mode": None if margin.mode is None else margin.mode.tolist(),
+            "mode_direction": margin.mode_name,
+            "description": margin.describe(),
+        },
+    }
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -244,6 +355,17 @@ ANALYSIS_UNITS = {
     "actuator_displacements": "m (rad for a rotary actuator)",
     "actuator_secant_stiffness": "N/m (N·m/rad for a rotary actuator)",
     "twist": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+    "moving_geometry.displaced_pose": "x, y, z [m], rx, ry, rz [rad] (phi = rz)",
+    "moving_geometry.stiffness_matrix": "K_rr N·m/rad, K_rt N, K_tt N/m (displaced tool point)",
+    "moving_geometry.frozen_stiffness_matrix": "K_rr N·m/rad, K_rt N, K_tt N/m",
+    "moving_geometry.difference": "K_rr N·m/rad, K_rt N, K_tt N/m",
+    "moving_geometry.geometric_stiffness": "K_rr N·m/rad, K_rt N, K_tt N/m",
+    "moving_geometry.relative_difference": "1 (length-balanced Frobenius norm)",
+    "moving_geometry.relative_geometric": "1 (length-balanced Frobenius norm)",
+    "moving_geometry.asymmetry": "1 (length-balanced Frobenius norm)",
+    "moving_geometry.load_margin.factor": "1 (times the wrench)",
+    "moving_geometry.load_margin.mode": "rad, m (a twist of unit length-balanced norm)",
+    "first_frequency": "Hz",
 }
 
 

@@ -103,11 +103,16 @@ def full_poses(design: Design, poses: ArrayLike) -> tuple[FloatArray, BoolArray]
     if not np.all(np.isfinite(p)):
         raise InputDataError("pose coordinates must be finite")
     dependent = dependent_indices(design)
-    if design.planar and width == 3:
+    if design.planar:
         # planar legs' residuals (z, n_x, n_y) vanish exactly at z = rx = ry = 0
-        full = np.zeros(p.shape[:-1] + (6,))
-        full[..., list(task)] = p
-        return full, np.ones(p.shape[:-1], dtype=bool)
+        if width == 3:
+            full = np.zeros(p.shape[:-1] + (6,))
+            full[..., list(task)] = p
+            return full, np.ones(p.shape[:-1], dtype=bool)
+        ok = np.all(np.abs(p[..., list(dependent)]) <= DEPENDENT_TOLERANCE, axis=-1)
+        full = p.copy()
+        full[..., list(dependent)] = 0.0
+        return full, ok
     if width == 6 and len(task) < 6:
         full = p.copy()
         given = p[..., list(dependent)]

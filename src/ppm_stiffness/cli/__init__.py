@@ -73,6 +73,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "ppm_stiffness.cli.optimize",
         "optimise design parameters over the required region (differential evolution)",
     ),
+    "modes": (
+        "ppm_stiffness.cli.modes",
+        "natural frequencies and mode shapes at a pose, from K and the design's mass model",
+    ),
     "identify": (
         "ppm_stiffness.cli.identify",
         "identify element stiffnesses from measured platform deflections under known loads",

@@ -55,6 +55,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="paper",
         help="decoupling shown first (default: the paper's eq. 19)",
     )
+    parser.add_argument(
+        "--geometry",
+        choices=("frozen", "moving"),
+        default="frozen",
+        help="under --wrench: 'frozen' keeps the geometry of the unloaded pose (the "
+        "paper's model, default); 'moving' solves the equilibrium with the platform and "
+        "legs displaced and gives the loaded tangent K_F, its difference from the frozen "
+        "K and the load margin",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
 
@@ -63,13 +72,14 @@ def run(args: argparse.Namespace) -> int:
         if (
             args.design is not None
             or args.wrench is not None
+            or args.geometry != "frozen"
             or any(
                 getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point", "tolerances")
             )
         ):
             raise InputDataError(
-                "--matrix cannot be combined with --design, a pose, --wrench, --tool-point "
-                "or --tolerances"
+                "--matrix cannot be combined with --design, a pose, --wrench, --tool-point, "
+                "--geometry or --tolerances"
             )
         k = validate_stiffness_matrix(
             read_matrix_csv(args.matrix), args.matrix, PRINTED_SYMMETRY_TOLERANCE
@@ -83,7 +93,13 @@ def run(args: argparse.Namespace) -> int:
         pose = pose_from_args(args, design)
         variables = read_tolerance_args(args, design)
         wrench, tool = parse_wrench(args.wrench), tool_point_from_args(args, design)
-        result = analyze_design(design, pose, wrench, args.method, tool)
+        if args.geometry == "moving" and wrench is None:
+            raise InputDataError(
+                "--geometry moving needs a --wrench: the geometry moves under a load"
+            )
+        if args.geometry == "moving" and variables is not None:
+            raise InputDataError("--tolerances works with the frozen geometry only")
+        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry)
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name
@@ -180,11 +196,20 @@ def print_tables(result: dict[str, Any], title: str) -> None:
                 *np.degrees(np.asarray(t[:3]) + 0.0), *(1e3 * np.asarray(t[3:]) + 0.0)
             )
         )
+        print_geometry(result)
+    if "first_frequency" in result:
+        c.print(
+            f"first natural frequency: {result['first_frequency']:.4g} Hz "
+            f"({result['first_mode_direction']}); `ppm-stiffness modes` gives all six"
+        )
     k = np.asarray(result["stiffness_matrix"])
     at = "T" if any(result.get("tool_point") or []) else "P"
+    what = f"Cartesian stiffness K at {at}"
+    if result.get("geometry") == "moving":
+        what = f"Symmetric part of K_F at the displaced {at}"
     c.print(
         _matrix_table(
-            f"Cartesian stiffness K at {at}, axes of F_b: w = K t, t = (phi, u) "
+            f"{what}, axes of F_b: w = K t, t = (phi, u) "
             "[rad, m], w = (m, f) [N·m, N]; blocks K_rr [N·m/rad], K_rt [N], "
             "K_tt [N/m]",
             k,
@@ -280,3 +305,44 @@ def print_tables(result: dict[str, Any], title: str) -> None:
                 f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
                 f"k_y = {eng(tr[1], 5)} N/m (paper's definitions)"
             )
+
+
+def print_geometry(result: dict[str, Any]) -> None:
+    """Which statics model a loaded analysis used and, with moving geometry, the
+    displaced pose, K_F, its difference from the frozen K and the load margin."""
+    c = console
+    if result.get("geometry") != "moving":
+        c.print(
+            "geometry: frozen (the paper's model: the geometry of the unloaded pose; "
+            "--geometry moving lets it move under the load)"
+        )
+        return
+    mg = result["moving_geometry"]
+    at = "T" if any(result.get("tool_point") or []) else "P"
+    c.print(
+        f"geometry: moving (equilibrium with the platform and legs displaced, "
+        f"{mg['load_steps']} load step(s), {mg['newton_iterations']} Newton iterations); "
+        f"K_F at the displaced {at}"
+    )
+    c.print(f"displaced pose (P in F_b): {_coordinates(mg['displaced_pose'], POSE_COORDINATES)}")
+    c.print(
+        _matrix_table(
+            f"Loaded tangent stiffness K_F at the displaced {at}, axes of F_b "
+            "(dw = K_F dt; K_rr [N·m/rad], K_rt [N], K_tt [N/m])",
+            mg["stiffness_matrix"],
+            TWIST_COMPONENTS,
+        )
+    )
+    c.print(
+        _matrix_table(
+            "K_F - K (frozen geometry, same load) [N·m/rad, N, N/m]",
+            mg["difference"],
+            TWIST_COMPONENTS,
+        )
+    )
+    c.print(
+        f"K_F differs from the frozen K by {100 * mg['relative_difference']:.4g} %; its "
+        f"geometric term is {100 * mg['relative_geometric']:.4g} % of K_F; its "
+        f"antisymmetric part {100 * mg['asymmetry']:.3g} % (length-balanced Frobenius norms)"
+    )
+    c.print(f"load margin: {escape(mg['load_margin']['description'])}")

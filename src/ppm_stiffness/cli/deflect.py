@@ -1,4 +1,6 @@
-"""``ppm-stiffness deflect``: platform deflection along a growing load (Fig. 9-10)."""
+"""``ppm-stiffness deflect``: platform deflection along a growing load (Fig. 9-10), for
+any design: the paper's modes, any wrench direction (``--direction``), or multiples of
+a wrench (``--mode wrench``)."""
 
 from __future__ import annotations
 
@@ -24,6 +26,7 @@ from ppm_stiffness.cli.common import (
     eng,
     json_document,
     load_design_arg,
+    parse_floats,
     parse_wrench,
     pose_from_args,
     tool_point_from_args,
@@ -37,26 +40,41 @@ from ppm_stiffness.cli.tolerances import (
 )
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.design import Design
 from ppm_stiffness.statics.deflection import (
-    LOAD_UNITS,
+    CURVE_MODES,
+    DIRECTION,
     METHODS,
-    MODES,
     DeflectionCurve,
     deflection_curve,
     deflection_path,
+    direction_wrench,
 )
 from ppm_stiffness.statics.measurements import (
     Measurements,
     check_mode,
+    cli_order,
+    measured_poses,
     read_measurements,
     rms_differences,
 )
 
-#: Default largest load of each mode [N or N·m].
-DEFAULT_MAX = {"planar-force": 10.0, "moment": 0.5, "vertical-force": 20.0, "wrench": 1.0}
+#: Default largest load of each mode [N or N·m] ("direction": 10 N, 0.5 N·m for a pure
+#: moment).
+DEFAULT_MAX = {
+    "planar-force": 10.0,
+    "moment": 0.5,
+    "vertical-force": 20.0,
+    DIRECTION: 10.0,
+    "wrench": 1.0,
+}
 CSV_COLUMNS = ("phi_x_deg", "phi_y_deg", "phi_z_deg", "x_mm", "y_mm", "z_mm")
 _MAX_POINTS = 100_000
+#: A measurement row's pose is the curve's when every coordinate agrees to this [m, rad].
+POSE_MATCH = 1e-9
+#: Legs whose actuator forces and stiffnesses share one table (more: one table each).
+_ONE_TABLE_LEGS = 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -66,10 +84,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_tool_point_argument(parser)
     parser.add_argument(
         "--mode",
-        choices=MODES + ("wrench",),
-        help="planar force at angle --alpha, pure moment m_z, vertical force f_z (Fig. 9), "
-        "or 'wrench': multiples 0..--max of --wrench (default: the measurement file's "
-        "mode, else planar-force)",
+        choices=CURVE_MODES,
+        help="planar force at angle --alpha, pure moment m_z, vertical force f_z (Fig. 9, "
+        "axes of F_b, any design), 'direction': a load along --direction, or 'wrench': "
+        "multiples 0..--max of --wrench (default: 'direction' with --direction, else the "
+        "measurement file's mode, else planar-force)",
+    )
+    parser.add_argument(
+        "--direction",
+        metavar="FX,FY,FZ,MX,MY,MZ",
+        help="a load along this wrench direction [N, N·m], axes of F_b, at the tool point, "
+        "normalised: the load is the force's magnitude [N] (the moment in proportion), "
+        "or a pure moment's [N·m]",
     )
     parser.add_argument(
         "--alpha",
@@ -88,7 +114,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--max",
         type=float,
         metavar="LOAD",
-        help="largest load [N, N·m for moment] (default: 10 N, 0.5 N·m, 20 N, 1)",
+        help="largest load [N, N·m for moment] (default: 10 N, 0.5 N·m, 20 N; along "
+        "--direction 10 N or 0.5 N·m; --mode wrench 1)",
     )
     parser.add_argument(
         "--step", type=float, metavar="LOAD", help="load step (default: --max / 20)"
@@ -162,6 +189,54 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
     return design
 
 
+def parse_direction(text: str) -> np.ndarray:
+    """``--direction FX,FY,FZ,MX,MY,MZ`` as the library's (m_x, m_y, m_z, f_x, f_y,
+    f_z), not normalised; refused when zero."""
+    values = parse_floats(text, 6, "--direction", "FX,FY,FZ,MX,MY,MZ")
+    if not any(values):
+        raise InputDataError(
+            "--direction must not be zero: give the load's direction FX,FY,FZ,MX,MY,MZ"
+        )
+    return np.array(values[3:] + values[:3])
+
+
+def _mode(args: argparse.Namespace, meas: Measurements | None) -> str:
+    """The loading mode of the options (module doc), checked against --direction and
+    --wrench."""
+    if args.direction is not None:
+        if args.mode not in (None, DIRECTION):
+            raise InputDataError(
+                f"--direction goes with --mode {DIRECTION} (the mode it implies), not "
+                f"--mode {args.mode}"
+            )
+        mode = DIRECTION
+    else:
+        mode = args.mode or (meas.mode if meas is not None and meas.mode else "planar-force")
+    if mode not in CURVE_MODES:
+        raise InputDataError(f"unknown loading mode {mode!r}")
+    if args.wrench is not None and mode != "wrench":
+        raise InputDataError("--wrench goes with --mode wrench (and only with it)")
+    return mode
+
+
+def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
+    """Refuse measurements whose pose columns give another pose than the curve's (they
+    were ignored: a curve at the home pose was compared with rows measured elsewhere)."""
+    if meas.poses is None:
+        return
+    from ppm_stiffness.poses import format_pose
+
+    at = measured_poses(design, meas)
+    off = np.flatnonzero(np.any(np.abs(at - pose) > POSE_MATCH, axis=1))
+    if off.size:
+        k = int(off[0])
+        raise InputDataError(
+            f"{meas.row_label(k)}: the measurements are at pose ({format_pose(at[k])}), "
+            f"the model curve at ({format_pose(pose)}): give that pose with the pose "
+            "options (--x, --y, --z, --rx, --ry, --rz, the design's task coordinates)"
+        )
+
+
 def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | None]:
     """The curve (and measurements) the command's options ask for."""
     design = load_deflect_design(args)
@@ -169,45 +244,66 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
     meas = None
     if args.measurements is not None:
         meas = read_measurements(check_input_path(args.measurements, "--measurements"))
-    mode = args.mode or (meas.mode if meas is not None and meas.mode else "planar-force")
-    if mode not in MODES + ("wrench",):
-        raise InputDataError(f"unknown loading mode {mode!r}")
-    if (mode == "wrench") != (args.wrench is not None):
-        raise InputDataError("--wrench goes with --mode wrench (and only with it)")
+    mode = _mode(args, meas)
     if not math.isfinite(args.alpha):
         raise InputDataError("--alpha must be finite")
-    if meas is not None:  # the file's mode and direction, before any load is computed
-        check_mode(meas, mode, math.radians(args.alpha))
-    top = DEFAULT_MAX[mode] if args.max is None else args.max
+    unit: np.ndarray | None = None
+    if mode == DIRECTION:
+        if args.direction is not None:
+            unit = direction_wrench(parse_direction(args.direction))
+        elif meas is not None and meas.mode == DIRECTION:
+            unit = meas.unit_wrench()  # the file's '# direction:' line
+        else:
+            raise InputDataError(f"--mode {DIRECTION} needs --direction FX,FY,FZ,MX,MY,MZ")
+    elif mode == "wrench":
+        unit = parse_wrench(args.wrench)
+        if unit is None and meas is not None and meas.mode == "wrench":
+            unit = meas.unit_wrench()  # the file's '# direction:' line
+        if unit is None:
+            raise InputDataError("--mode wrench needs --wrench FX,FY,FZ,MX,MY,MZ")
+        if not np.any(unit):
+            raise InputDataError("--wrench must not be zero")
+    if meas is not None:  # the file's mode, direction and pose, before any load
+        check_mode(meas, mode, math.radians(args.alpha), unit)
+        _check_pose(design, meas, pose)
+    top = args.max
+    if top is None:
+        pure_moment = unit is not None and not np.any(unit[3:])
+        top = DEFAULT_MAX["moment" if mode == DIRECTION and pure_moment else mode]
     loads = _load_grid(top, top / 20 if args.step is None else args.step)
     if meas is not None:
         measured = meas.load_values()
         loads = np.union1d(loads, measured[measured > 0])
-    if mode == "wrench":
-        w = parse_wrench(args.wrench)
-        assert w is not None
-        if not np.any(w):
-            raise InputDataError("--wrench must not be zero")
-        curve = deflection_path(
-            design, w, loads, pose, args.method, tool_point=tool_point_from_args(args, design)
-        )
+    tool = tool_point_from_args(args, design)
+    if unit is not None:
+        curve = deflection_path(design, unit, loads, pose, args.method, mode, tool_point=tool)
     else:
         curve = deflection_curve(
-            design,
-            mode,
-            loads,
-            pose,
-            math.radians(args.alpha),
-            args.method,
-            tool_point_from_args(args, design),
+            design, mode, loads, pose, math.radians(args.alpha), args.method, tool
         )
     return curve, meas
+
+
+def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
+    """The pose as ``x = .. mm, y = .. mm, phi = .. deg`` for a planar design, else
+    every coordinate (x, y, z mm; rx, ry, rz deg), each number formatted by ``fmt``."""
+    p = curve.pose
+    if curve.planar:
+        return (
+            f"x = {p[0] * 1e3:{fmt}} mm, y = {p[1] * 1e3:{fmt}} mm, "
+            f"phi = {math.degrees(p[5]):{fmt}} deg"
+        )
+    return ", ".join(
+        f"{name} = {math.degrees(v):{fmt}} deg"
+        if name in ANGLE_COORDINATES
+        else f"{name} = {v * 1e3:{fmt}} mm"
+        for name, v in zip(POSE_COORDINATES, p, strict=True)
+    )
 
 
 def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     """Load and the six twist components (deg, mm), with the case in comments."""
     twist = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
-    p = curve.pose
     lines = [
         "# ppm-stiffness deflect: platform deflection at the tool point "
         "({:g}, {:g}, {:g}) mm, platform frame (0,0,0 is P), axes of F_b, from the "
@@ -216,10 +312,11 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     ]
     if curve.mode == "planar-force":
         lines.append(f"# alpha_deg: {math.degrees(curve.alpha):.12g}")
+    if curve.mode in (DIRECTION, "wrench"):  # the load per unit, so that it reads back
+        lines.append("# direction: " + ",".join(f"{v:.17g}" for v in cli_order(curve.unit_wrench)))
     lines += [
         f"# method: {curve.method}",
-        f"# pose: x = {p[0] * 1e3:.6g} mm, y = {p[1] * 1e3:.6g} mm, "
-        f"phi = {math.degrees(p[2]):.6g} deg",
+        f"# pose: {_pose_text(curve, '.6g')}",
         f"# load unit: {curve.load_unit}; wrench per unit load (mx,my,mz,fx,fy,fz): "
         + ",".join(f"{v:.6g}" for v in curve.unit_wrench),
         "load," + ",".join(CSV_COLUMNS),
@@ -231,11 +328,14 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
 
 #: SI units of the values of ``deflect --json``.
 _JSON_UNITS = {
-    "pose": "x, y [m], phi [rad]",
+    "pose": "x, y, z [m], rx, ry, rz [rad] (phi = rz): the unloaded pose of P",
+    "tool_point": "m (platform frame)",
     "alpha_deg": "deg (the direction of the planar force)",
+    "load_direction": "N·m, N per unit load (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
     "loads": "load_unit",
     "wrenches": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
     "twists": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point",
+    "loaded_poses": "m, rad (x, y, z, rx, ry, rz) of P under each load",
     "actuator_forces": "N (N·m for a rotary actuator)",
     "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
     "actuator_displacements": "m (rad for a rotary actuator)",
@@ -244,15 +344,20 @@ _JSON_UNITS = {
 
 
 def _json(curve: DeflectionCurve, rms: dict[str, Any] | None) -> dict[str, Any]:
+    pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
     return {
         "mode": curve.mode,
         "alpha_deg": math.degrees(curve.alpha) if math.isfinite(curve.alpha) else None,
         "method": curve.method,
-        "pose": {"x": curve.pose[0], "y": curve.pose[1], "phi": curve.pose[2]},
+        "pose": pose | {"phi": pose["rz"]},
+        "task_coordinates": list(curve.task_coordinates),
+        "tool_point": curve.tool_point,
+        "load_direction": curve.unit_wrench,
         "load_unit": curve.load_unit,
         "loads": curve.loads,
         "wrenches": curve.wrenches,
         "twists": curve.twists,
+        "loaded_poses": curve.loaded_poses(),
         "actuator_forces": curve.actuator_forces,
         "actuator_stiffness": curve.actuator_stiffness,
         "actuator_displacements": curve.actuator_displacements,
@@ -260,21 +365,57 @@ def _json(curve: DeflectionCurve, rms: dict[str, Any] | None) -> dict[str, Any]:
     }
 
 
+def _print_pose(curve: DeflectionCurve) -> None:
+    """The unloaded pose: (x, y, phi) for a planar design; else the task coordinates,
+    then the ones the legs complete (the parasitic motion)."""
+    if curve.planar:
+        console.print(f"pose: {_pose_text(curve, '.3f')}")
+        return
+
+    def text(names: list[str]) -> str:
+        return ", ".join(
+            f"{n} = {math.degrees(curve.pose[POSE_COORDINATES.index(n)]):.4f} deg"
+            if n in ANGLE_COORDINATES
+            else f"{n} = {curve.pose[POSE_COORDINATES.index(n)] * 1e3:.4f} mm"
+            for n in names
+        )
+
+    task = list(curve.task_coordinates)
+    head = "pose of P (R = Rz Ry Rx): "
+    for start in range(0, len(task), 3):  # three coordinates a line
+        console.print(head + text(task[start : start + 3]))
+        head = "  "
+    others = [n for n in POSE_COORDINATES if n not in task]
+    if others:
+        console.print(f"  parasitic (from the legs): {text(others)}")
+
+
 def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
     c = console
-    unit = LOAD_UNITS.get(curve.mode, "1")
+    unit = curve.load_unit
     head = f"[bold]deflection, mode {curve.mode}"
     if curve.mode == "planar-force":
         head += f" (α = {math.degrees(curve.alpha):g}°)"
-    p = curve.pose
     c.print(head + f", method {curve.method}[/bold]")
-    c.print(
-        f"pose: x = {p[0] * 1e3:.3f} mm, y = {p[1] * 1e3:.3f} mm, "
-        f"phi = {math.degrees(p[2]):.3f} deg"
-    )
+    _print_pose(curve)
+    at = "T" if np.any(curve.tool_point) else "P"
+    if at == "T":
+        c.print(
+            "tool point T (platform frame): ({:.3f}, {:.3f}, {:.3f}) mm".format(
+                *(1e3 * curve.tool_point)
+            )
+        )
+    if curve.mode in (DIRECTION, "wrench"):
+        w = curve.unit_wrench
+        c.print(f"load per {unit} (at {at}, axes of F_b):")
+        c.print(
+            f"  f = ({eng(w[3])}, {eng(w[4])}, {eng(w[5])}) N, "
+            f"m = ({eng(w[0])}, {eng(w[1])}, {eng(w[2])}) N·m"
+        )
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     t = Table(
-        title="platform deflection at P (axes of F_b): rotations phi \\[deg], displacements \\[mm]",
+        title=f"platform deflection at {at} (axes of F_b): rotations phi \\[deg], "
+        "displacements \\[mm]",
         title_justify="left",
         box=box.SIMPLE_HEAD,
         pad_edge=False,
@@ -285,26 +426,7 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
     for k, load in enumerate(curve.loads):
         t.add_row(f"{load:g}", *(eng(v) for v in curve.twists[k] * scale))
     c.print(t)
-    n_legs = curve.actuator_forces.shape[1]
-    a = Table(
-        title="actuators: force G \\[N] and tangent stiffness K \\[N/m] per leg "
-        "(N·m and N·m/rad for a rotary actuator)",
-        title_justify="left",
-        box=box.SIMPLE_HEAD,
-        pad_edge=False,
-    )
-    a.add_column(f"load \\[{unit}]", justify="right")
-    for i in range(n_legs):
-        a.add_column(f"G{i + 1}", justify="right")
-    for i in range(n_legs):
-        a.add_column(f"K{i + 1}", justify="right")
-    for k, load in enumerate(curve.loads):
-        a.add_row(
-            f"{load:g}",
-            *(eng(v) for v in curve.actuator_forces[k]),
-            *(eng(v) for v in curve.actuator_stiffness[k]),
-        )
-    c.print(a)
+    _print_actuators(curve)
     if rms is not None:
         o, q = rms["orientation_deg"], rms["position_mm"]
         c.print(
@@ -314,6 +436,31 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
         )
         comps = ", ".join(f"{k} {v:.4f}" for k, v in rms["components"].items())
         c.print(f"  per component: {comps}")
+
+
+def _print_actuators(curve: DeflectionCurve) -> None:
+    """Actuator forces and tangent stiffnesses per leg: one table for up to three legs,
+    one table each for more (so that six legs fit 80 columns)."""
+    unit = curve.load_unit
+    n_legs = curve.actuator_forces.shape[1]
+    what = "force G \\[N] and tangent stiffness K \\[N/m] per leg"
+    groups = [("G", curve.actuator_forces), ("K", curve.actuator_stiffness)]
+    tables = [groups] if n_legs <= _ONE_TABLE_LEGS else [[g] for g in groups]
+    for n, group in enumerate(tables):
+        if len(tables) == 1:
+            title = f"actuators: {what} (N·m and N·m/rad for a rotary actuator)"
+        elif n == 0:
+            title = "actuator forces G \\[N] (N·m if rotary)"
+        else:
+            title = "actuator tangent stiffness K \\[N/m] (N·m/rad if rotary)"
+        a = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
+        a.add_column(f"load \\[{unit}]", justify="right")
+        for name, _ in group:
+            for i in range(n_legs):
+                a.add_column(f"{name}{i + 1}", justify="right", no_wrap=True)
+        for k, load in enumerate(curve.loads):
+            a.add_row(f"{load:g}", *(eng(v) for _, values in group for v in values[k]))
+        console.print(a)
 
 
 def run(args: argparse.Namespace) -> int:

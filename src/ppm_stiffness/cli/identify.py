@@ -1,4 +1,5 @@
-"""``ppm-stiffness identify``: element stiffnesses from measured platform deflections."""
+"""``ppm-stiffness identify``: element stiffnesses from measured platform deflections, for
+any design (rows with 6-D poses, :mod:`ppm_stiffness.statics.measurements`)."""
 
 from __future__ import annotations
 
@@ -29,9 +30,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--measurements",
         metavar="DATA.csv",
         required=True,
-        help="one row per measurement: pose_x_mm,pose_y_mm,pose_phi_deg (optional), "
-        "fx_N..mz_Nm, measured phi_x_deg..z_mm, optional sigma_<column> (docs/"
-        "identification.md); deflect's files (load column and '# mode:') also work",
+        help="one row per measurement: the pose's task coordinates (optional; "
+        "pose_x_mm,pose_y_mm,pose_phi_deg for a planar design, pose_z_mm,pose_rx_deg,"
+        "pose_ry_deg for a tripod, all six pose_*_mm/_deg for a hexapod), fx_N..mz_Nm, "
+        "measured phi_x_deg..z_mm, optional sigma_<column> (docs/identification.md); "
+        "deflect's files (load column and '# mode:') also work",
     )
     parser.add_argument(
         "--free",

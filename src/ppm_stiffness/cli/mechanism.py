@@ -1,4 +1,5 @@
-"""``ppm-stiffness mechanism``: top view of the manipulator at a pose."""
+"""``ppm-stiffness mechanism``: the manipulator at a pose (top view of a planar design, 3-D
+view of a spatial one)."""
 
 from __future__ import annotations
 

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_figure_output,
@@ -48,12 +46,10 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.visuals import save_figure, use_headless_backend
 
     use_headless_backend()
+    from ppm_stiffness.visuals.leg_geometry import pose_text
     from ppm_stiffness.visuals.springs import plot_screw_springs
 
-    title = (
-        f"Screw springs of K at x = {pose[0] * 1e3:.1f} mm, y = {pose[1] * 1e3:.1f} mm, "
-        f"phi = {np.degrees(pose[2]):.1f} deg ({state})"
-    )
+    title = f"Screw springs of K at P ({state})\n{pose_text(design, pose)}"
     fig = plot_screw_springs(springs, design, pose, title=title)
     with output_files(args.overwrite) as files:
         save_figure(fig, files.temp(out, "--out"))

@@ -18,7 +18,8 @@ import numpy as np
 from ppm_stiffness.cli.common import check_input_path, console, eng, progress
 from ppm_stiffness.core.errors import InputDataError
 
-#: The principal stiffnesses ranked by the sensitivity tables, and their units.
+#: The principal stiffnesses of a planar design ranked by the sensitivity tables, and
+#: their units (a spatial design's: ``fit.band_outputs.principal_quantities``).
 RANKED = (("k_phi", "N·m/rad"), ("k_x", "N/m"), ("k_y", "N/m"))
 #: Variables listed per ranking.
 TOP = 5
@@ -112,16 +113,24 @@ def pose_uncertainty(
     tool_point: Any,
     wrench: Any | None,
 ) -> dict[str, Any]:
-    """Bands of k_phi, k_x, k_y, K (and the twist under a wrench) at one pose, as the
+    """Bands of the principal stiffnesses (k_phi, k_x, k_y of a planar design; the
+    spatial ones, ``k_rot_1..3`` and ``k_trans_1..3`` at the tool point in ascending
+    order, of a spatial design), K (and the twist under a wrench) at one pose, as the
     ``uncertainty`` entry of ``analyze --json``."""
-    from ppm_stiffness.fit.band_outputs import POSE_FAILED_VALUE, pose_output
+    from ppm_stiffness.fit.band_outputs import (
+        pose_failed_value,
+        pose_output,
+        principal_quantities,
+    )
 
+    ranked = principal_quantities(design)
+    n = len(ranked)
     output = pose_output(pose, tool_point, wrench)
-    failed = POSE_FAILED_VALUE[: 39 if wrench is None else 45]
+    failed = pose_failed_value(design, wrench is not None)
     bands = compute_bands(args, design, variables, output, failed)
     out = _head(bands)
     quantities = {}
-    for i, (name, unit) in enumerate(RANKED):
+    for i, (name, unit) in enumerate(ranked):
         quantities[name] = {
             "unit": unit,
             "nominal": bands.nominal[i],
@@ -130,12 +139,12 @@ def pose_uncertainty(
             "std": bands.std[i],
         }
     out["quantities"] = quantities
-    out["stiffness_matrix_lower"] = bands.lower[3:39].reshape(6, 6)
-    out["stiffness_matrix_upper"] = bands.upper[3:39].reshape(6, 6)
+    out["stiffness_matrix_lower"] = bands.lower[n : n + 36].reshape(6, 6)
+    out["stiffness_matrix_upper"] = bands.upper[n : n + 36].reshape(6, 6)
     if wrench is not None:
-        out["twist_lower"] = bands.lower[39:45]
-        out["twist_upper"] = bands.upper[39:45]
-    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(RANKED)}
+        out["twist_lower"] = bands.lower[n + 36 : n + 42]
+        out["twist_upper"] = bands.upper[n + 36 : n + 42]
+    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(ranked)}
     return _json_safe(out)
 
 
@@ -222,28 +231,31 @@ def curve_uncertainty(
 
 
 def print_curve_uncertainty(curve: Any, unc: dict[str, Any]) -> None:
-    """A table of the bands at each load for the curve's main components."""
+    """Tables of the bands at each load for the curve's main components (those the
+    sensitivity ranks: the ones that are not round-off), three a table."""
     from rich import box
     from rich.table import Table
 
     from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 
     print_head(unc)
-    names = list(unc["sensitivity"])[:3]
-    t = Table(box=box.SIMPLE)
-    t.add_column(f"load \\[{curve.load_unit}]", justify="right")
-    for name in names:
-        unit = "deg" if name.startswith("phi") else "mm"
-        t.add_column(f"{name} lo..hi \\[{unit}]", justify="right")
+    main = list(unc["sensitivity"])
     lo, hi = np.asarray(unc["twists_lower"], float), np.asarray(unc["twists_upper"], float)
-    for k, load in enumerate(curve.loads):
-        cells = []
+    for start in range(0, max(len(main), 1), 3):
+        names = main[start : start + 3]
+        t = Table(box=box.SIMPLE)
+        t.add_column(f"load \\[{curve.load_unit}]", justify="right")
         for name in names:
-            i = TWIST_COMPONENTS.index(name)
-            f = 180 / math.pi if i < 3 else 1e3
-            cells.append(f"{eng(lo[k, i] * f, 3)}..{eng(hi[k, i] * f, 3)}")
-        t.add_row(eng(load, 3), *cells)
-    console.print(t)
+            unit = "deg" if name.startswith("phi") else "mm"
+            t.add_column(f"{name} lo..hi \\[{unit}]", justify="right")
+        for k, load in enumerate(curve.loads):
+            cells = []
+            for name in names:
+                i = TWIST_COMPONENTS.index(name)
+                f = 180 / math.pi if i < 3 else 1e3
+                cells.append(f"{eng(lo[k, i] * f, 3)}..{eng(hi[k, i] * f, 3)}")
+            t.add_row(eng(load, 3), *cells)
+        console.print(t)
     print_sensitivity(unc["sensitivity"], " (at the largest load)")
 
 

@@ -1,10 +1,14 @@
 """``ppm-stiffness validate``: the virtual-joint K against an independent FE frame model.
 
-Needs the optional extra ``validate`` (PyNite). Compares at the workspace centre and
-at ``--poses`` seeded reachable poses; prints the largest relative difference of the
-planar (phi_z, x, y) and out-of-plane (phi_x, phi_y, z) blocks per pose and the time
-each model takes. Exit code 0 when every block is within the tolerances (planar 2%,
-out-of-plane 5%), 1 otherwise.
+Needs the optional extra ``validate`` (PyNite). Compares at the home pose and at
+``--poses`` seeded reachable poses, drawn over the design's task coordinates (within
+``--radius`` of the home pose in every length coordinate and ``--angle`` in every
+angle coordinate, or over the required region with ``--region``), completed; prints
+per pose the largest relative differences (planar designs: the planar (phi_z, x, y)
+and out-of-plane (phi_x, phi_y, z) blocks; other designs: the whole matrix; all: every
+twist direction) and the time the FE model takes. Exit code 0 when every figure is
+within its tolerance (planar 2 %, out-of-plane 5 %, whole matrix 2 %, directions 5 %),
+1 otherwise.
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -31,18 +36,22 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES, POSE_INDEX
 from ppm_stiffness.design import Design
 from ppm_stiffness.validation.compare import (
-    BLOCKS,
+    POSE_COLUMNS,
     TOLERANCES,
     PoseComparison,
     compare_at_pose,
     csv_rows,
+    describe_box,
+    figure_names,
+    sampling_box,
     validation_poses,
 )
 from ppm_stiffness.validation.fe_model import require_pynite
 
-#: Upper bound of --poses: about 3 to 4 minutes of FE solves on the reference machine.
+#: Upper bound of --poses: 2 to 10 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
 
 
@@ -54,28 +63,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=5,
         metavar="N",
-        help="seeded reachable poses besides the workspace centre (default 5)",
+        help="seeded reachable poses besides the home pose (default 5)",
     )
     add_seed_argument(parser, "the poses")
     parser.add_argument(
         "--radius",
         type=float,
-        default=10.0,
         metavar="MM",
-        help="poses drawn within +-MM of the centre in x and y (default 10)",
+        help="poses drawn within +-MM of the home pose in each length task coordinate "
+        "(x, y, z) (default 10)",
     )
     parser.add_argument(
         "--angle",
         type=float,
-        default=5.0,
         metavar="DEG",
-        help="poses drawn within +-DEG of the centre orientation (default 5)",
+        help="poses drawn within +-DEG of the home pose in each angle task coordinate "
+        "(rx, ry, rz) (default 5)",
+    )
+    parser.add_argument(
+        "--region",
+        action="store_true",
+        help="draw the poses over the design's required region ([workspace.required]) "
+        "instead of --radius / --angle",
     )
     parser.add_argument(
         "--csv",
         metavar="FILE",
-        help="write pose_x_mm, pose_y_mm, phi_deg, block, max_rel_diff (one row per "
-        "pose and block)",
+        help="write " + ", ".join(POSE_COLUMNS) + " (= pose_rz_deg), block, max_rel_diff "
+        "(one row per pose and figure)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.add_argument(
@@ -83,15 +98,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+#: Defaults of --radius [mm] and --angle [deg].
+DEFAULT_RADIUS_MM = 10.0
+DEFAULT_ANGLE_DEG = 5.0
+
+
 def _check_args(args: argparse.Namespace) -> None:
+    """Check the options; fill in the defaults of --radius and --angle."""
     if not 0 <= args.poses <= MAX_POSES:
         raise InputDataError(
-            f"--poses must be between 0 and {MAX_POSES} (about 0.2 s of FE solve each), "
+            f"--poses must be between 0 and {MAX_POSES} (0.1 to 0.6 s of FE solve each), "
             f"got {args.poses}"
         )
-    for name in ("radius", "angle"):
+    if args.region and (args.radius is not None or args.angle is not None):
+        raise InputDataError(
+            "--region draws the poses over the design's required region: give it "
+            "without --radius and --angle"
+        )
+    for name, default in (("radius", DEFAULT_RADIUS_MM), ("angle", DEFAULT_ANGLE_DEG)):
         value = getattr(args, name)
-        if not math.isfinite(value) or value < 0:
+        if value is None:
+            setattr(args, name, default)
+        elif not math.isfinite(value) or value < 0:
             raise InputDataError(f"--{name} must be finite and >= 0, got {value}")
 
 
@@ -104,33 +132,53 @@ def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> l
     return out
 
 
-def _table(results: list[PoseComparison]) -> Table:
+#: Short table headers of the figures, and what they compare.
+_HEADERS = {"planar": "planar", "out_of_plane": "out-pl.", "full": "full", "directions": "dirs"}
+_DESCRIPTIONS = {
+    "planar": "block phi_z, x, y",
+    "out_of_plane": "block phi_x, phi_y, z",
+    "full": "whole 6x6",
+    "directions": "any twist direction",
+}
+
+
+def _shown_coordinates(design: Design) -> tuple[str, ...]:
+    """The pose columns of the table: a planar design's task coordinates (the others
+    are zero), all six for any other design (the dependent ones completed)."""
+    return design.task_coordinates if design.planar else POSE_COORDINATES
+
+
+def _coordinate(name: str, value: float, planar: bool) -> str:
+    """A pose coordinate in mm or deg, at most 6 characters for a spatial design's
+    table up to |angle| < 1000 deg and |length| < 100 m."""
+    if name in ANGLE_COORDINATES:
+        deg = math.degrees(value)
+        return f"{deg:.{2 if planar or abs(deg) < 99.995 else 1}f}"
+    mm = value * 1e3
+    return f"{mm:.{2 if planar or abs(mm) < 99.995 else 1 if abs(mm) < 999.95 else 0}f}"
+
+
+def _table(design: Design, results: list[PoseComparison]) -> Table:
+    names = figure_names(design)
+    shown = _shown_coordinates(design)
     table = Table(
-        title="virtual-joint (VJ) K vs FE frame model (PyNite): largest relative "
-        "difference of the planar and out-of-plane (out-pl.) blocks; time per pose",
+        title="virtual-joint K vs FE frame model (PyNite): largest relative "
+        "differences (" + ", ".join(f"{_HEADERS[n]}: {_DESCRIPTIONS[n]}" for n in names) + "); "
+        "pose in mm and deg",
         title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
     )
-    for col in (
-        "pose",
-        "x [mm]",
-        "y [mm]",
-        "phi [deg]",
-        "planar",
-        "out-pl.",
-        "FE [s]",
-        "VJ [s]",
-    ):
-        table.add_column(escape(col), justify="right")
+    table.add_column("pose", justify="right")
+    for name in shown:
+        table.add_column(escape("phi" if design.planar and name == "rz" else name), justify="right")
+    for name in names:
+        table.add_column(_HEADERS[name], justify="right")
     for i, r in enumerate(results):
         table.add_row(
-            "centre" if i == 0 else str(i),
-            f"{r.pose[0] * 1e3:.2f}",
-            f"{r.pose[1] * 1e3:.2f}",
-            f"{np.degrees(r.pose[2]):.2f}",
-            eng(r.differences["planar"], 3),
-            eng(r.differences["out_of_plane"], 3),
-            eng(r.time_fe, 3),
-            eng(r.time_virtual_joint, 3),
+            "home" if i == 0 else str(i),
+            *(_coordinate(n, float(r.pose[POSE_INDEX[n]]), design.planar) for n in shown),
+            *(eng(r.differences[n], 3) for n in names),
         )
     return table
 
@@ -147,17 +195,25 @@ def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
         raise InputDataError(f"cannot write {name}: {exc.strerror}") from None
 
 
+def _pose_json(pose: np.ndarray) -> dict[str, float]:
+    """The full pose [m, rad] by coordinate name, and phi (= rz)."""
+    out = {name: float(v) for name, v in zip(POSE_COORDINATES, pose, strict=True)}
+    out["phi"] = float(pose[5])
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     _check_args(args)
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
     require_pynite()
     design = load_design_arg(args)
-    poses = validation_poses(
-        design, args.poses, args.seed, args.radius * 1e-3, math.radians(args.angle)
-    )
+    radius, angle = args.radius * 1e-3, math.radians(args.angle)
+    centre, half = sampling_box(design, radius, angle, args.region)
+    poses = validation_poses(design, args.poses, args.seed, radius, angle, args.region)
     results = _run_poses(design, poses, args)
-    worst = {name: max(r.differences[name] for r in results) for name in BLOCKS}
-    ok = all(worst[name] <= TOLERANCES[name] for name in BLOCKS)
+    names = figure_names(design)
+    worst = {name: max(r.differences[name] for r in results) for name in names}
+    ok = all(worst[name] <= TOLERANCES[name] for name in names)
     if args.csv:
         with output_files(args.overwrite) as out:
             _write_csv(out.temp(args.csv, "--csv"), args.csv, results)
@@ -165,9 +221,15 @@ def run(args: argparse.Namespace) -> int:
         payload = {
             "design": design.name,
             "architecture": design.architecture,
+            "task_coordinates": list(design.task_coordinates),
+            "sampling": {
+                "region": bool(args.region),
+                "low": dict(zip(design.task_coordinates, (centre - half).tolist(), strict=True)),
+                "high": dict(zip(design.task_coordinates, (centre + half).tolist(), strict=True)),
+            },
             "poses": [
                 {
-                    "pose": {"x": r.pose[0], "y": r.pose[1], "phi": r.pose[2]},
+                    "pose": _pose_json(r.pose),
                     "differences": r.differences,
                     "stiffness_virtual_joint": r.k_virtual_joint,
                     "stiffness_fe": r.k_fe,
@@ -177,14 +239,18 @@ def run(args: argparse.Namespace) -> int:
                 for r in results
             ],
             "worst": worst,
-            "tolerances": {name: TOLERANCES[name] for name in BLOCKS},
+            "tolerances": {name: TOLERANCES[name] for name in names},
             "passed": ok,
             "csv": args.csv,
         }
         print(json_document("validate", payload, _JSON_UNITS))
         return 0 if ok else 1
-    console.print(_table(results))
-    for name in BLOCKS:
+    console.print(
+        f"poses: the home pose and {args.poses} drawn with {describe_box(design, centre, half)}"
+        f"{' (the required region)' if args.region else ''}, seed {args.seed}"
+    )
+    console.print(_table(design, results))
+    for name in names:
         console.print(
             f"{name}: max {worst[name]:.2e} (tolerance {TOLERANCES[name]:.0%}) "
             f"{'ok' if worst[name] <= TOLERANCES[name] else 'FAILED'}"
@@ -200,8 +266,9 @@ def run(args: argparse.Namespace) -> int:
 
 _BLOCKS = "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)"
 _JSON_UNITS = {
-    "poses.pose": "x, y [m], phi [rad]",
-    "poses.differences": "1 (largest relative difference of the block)",
+    "sampling": "x, y, z [m], rx, ry, rz [rad] (the task coordinates' ranges drawn from)",
+    "poses.pose": "x, y, z [m], rx, ry, rz [rad] (R = Rz Ry Rx); phi = rz",
+    "poses.differences": "1 (largest relative difference of each figure)",
     "poses.stiffness_virtual_joint": _BLOCKS,
     "poses.stiffness_fe": _BLOCKS,
     "poses.time_fe": "s",

@@ -45,6 +45,9 @@ class Refusal(IntEnum):
     LARGE_ROTATION = 5
     #: the loaded tangent K is not positive definite
     LOADED_NOT_POSITIVE_DEFINITE = 6
+    #: with moving geometry: the load path passes the first instability (a limit or
+    #: bifurcation point, :mod:`ppm_stiffness.statics.margin`) before the full load
+    UNSTABLE = 7
 
     @property
     def reason(self) -> str:
@@ -65,6 +68,7 @@ _REASONS = {
     Refusal.BEYOND_STROKE: "load too large: an actuator beyond its stroke",
     Refusal.LARGE_ROTATION: "load too large: platform rotation beyond the small-displacement model",
     Refusal.LOADED_NOT_POSITIVE_DEFINITE: "loaded stiffness not positive definite",
+    Refusal.UNSTABLE: "load beyond the first instability (moving geometry)",
 }
 _ERRORS: dict[Refusal, type[PPMStiffnessError]] = {
     Refusal.NONE: PPMStiffnessError,
@@ -74,6 +78,7 @@ _ERRORS: dict[Refusal, type[PPMStiffnessError]] = {
     Refusal.BEYOND_STROKE: InputDataError,
     Refusal.LARGE_ROTATION: InputDataError,
     Refusal.LOADED_NOT_POSITIVE_DEFINITE: SingularConfigurationError,
+    Refusal.UNSTABLE: EquilibriumError,
 }
 
 

@@ -26,6 +26,7 @@ from pydantic import (
 
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import POSE_COORDINATES
+from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.validation import design_issues, validate_design
 from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
 from ppm_stiffness.legs.parts import Finite, PartModel, StrictNumber
@@ -220,6 +221,11 @@ class Design(PartModel):
         "at the tool point" (``analyze``, ``map``, ``deflect``) are expressed there;
         the model itself works at P. Each component within the plausible length of
         :data:`ppm_stiffness.legs.base.MAX_LENGTH`, as every length of a design.
+    platform : PlatformModel or None
+        The platform's mass properties (``[platform]``,
+        :mod:`ppm_stiffness.design.platform`): the design's mass model, with the legs'
+        optional masses (links' sections, actuators' moving parts). None: no mass
+        model (natural frequencies are not available; everything else is).
     """
 
     schema_version: Literal[2] = Field(default=2, alias="schema")
@@ -227,6 +233,7 @@ class Design(PartModel):
     workspace: WorkspaceModel = WorkspaceModel()
     tool_point: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
     task_coordinates: tuple[str, ...] = ()
+    platform: PlatformModel | None = None
     legs: Annotated[list[_LEG_UNION], Field(min_length=3)]
 
     model_config = {**PartModel.model_config, "populate_by_name": True}
@@ -286,6 +293,25 @@ class Design(PartModel):
                 "may be written phi"
             )
         return self
+
+    @model_validator(mode="after")
+    def _masses_need_platform(self) -> Design:
+        """Leg masses are part of a mass model, whose base is the platform's mass."""
+        if self.platform is None:
+            for i, leg in enumerate(self.legs):
+                chain_masses = _leg_mass_keys(leg)
+                if chain_masses:
+                    raise ValueError(
+                        f"leg{i + 1}.{chain_masses[0]}: the legs carry masses but the "
+                        "design has no [platform] table (mass [kg] and inertia, or a "
+                        "shape): the mass model starts with the platform's"
+                    )
+        return self
+
+    @property
+    def has_mass_model(self) -> bool:
+        """True when the design has a mass model (a ``[platform]`` table)."""
+        return self.platform is not None
 
     @property
     def planar(self) -> bool:
@@ -372,6 +398,8 @@ class Design(PartModel):
         parts = first.split(".")
         if parts[0] == "workspace":
             return "rad" if parts[-1] in ("phi", "rx", "ry") else "m"
+        if parts[0] == "platform":
+            return PLATFORM_UNITS.get(parts[-1], "")
         leg = self.legs[int(parts[0][3:]) - 1]
         if len(parts) == 2:
             return type(leg).UNITS.get(parts[1], "")
@@ -383,6 +411,7 @@ class Design(PartModel):
                 "k_a": f"{force}/{disp}^q",
                 "q": "1",
                 "threshold_displacement": disp,
+                **leg.drive_units(),
             }[parts[2]]
         return part_units(type(part)).get(parts[2], "")
 
@@ -450,9 +479,24 @@ class Design(PartModel):
     def scalar_parameter_names(self) -> list[str]:
         """Every scalar parameter name of this design, in file order."""
         names = [f"workspace.{k}" for k, v in self.workspace if _is_scalar(v)]
+        if self.platform is not None:
+            names += [f"platform.{k}" for k, v in self.platform if _is_scalar(v)]
         for i, leg in enumerate(self.legs, start=1):
             names += _scalar_names(leg, f"leg{i}")
         return names
+
+
+def _leg_mass_keys(leg: LegModel) -> list[str]:
+    """Dotted keys (within a leg) of the masses a leg's parts carry."""
+    keys = []
+    for key, value in leg:
+        if isinstance(value, BaseModel):
+            keys += [
+                f"{key}.{sub}"
+                for sub in ("mass", "carriage_mass", "rotor_inertia")
+                if getattr(value, sub, None) is not None
+            ]
+    return keys
 
 
 def _matches(names: list[str], pattern: str) -> list[str]:
@@ -519,6 +563,22 @@ __all__ = [
 ]
 
 
+#: The optional mass fields of the parts (:mod:`ppm_stiffness.legs.parts`): left out of
+#: :func:`leg_parameter_rows` where a design does not give them.
+MASS_FIELDS = frozenset(
+    {
+        "mass",
+        "mass_centre",
+        "mass_centre_from",
+        "inertia_transverse",
+        "inertia_axial",
+        "carriage_mass",
+        "rotor_inertia",
+        "gear_ratio",
+    }
+)
+
+
 def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
     """The legs' parameters side by side, for tables and reports.
 
@@ -539,6 +599,8 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
                 continue
             if isinstance(value, BaseModel):
                 for sub, v in value:
+                    if sub in MASS_FIELDS and v is None:
+                        continue  # an optional mass field not given
                     name = f"{key}.{sub}"
                     table.setdefault(name, [None] * len(design.legs))[i] = v
                     units.setdefault(name, part_units(type(value)).get(sub, ""))
@@ -550,6 +612,7 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
                             "actuator.k_a": f"{force}/{disp}^q",
                             "actuator.q": "1",
                             "actuator.threshold_displacement": disp,
+                            **{f"actuator.{k}": u for k, u in leg.drive_units().items()},
                         }
                     )
             else:

@@ -2,13 +2,18 @@
 
 Data: rows of (pose of P, wrench at P, measured twist of P), each measured component
 with its noise sigma (:func:`measurement_rows`, from the file read by
-:func:`ppm_stiffness.statics.measurements.read_measurements`).
+:func:`ppm_stiffness.statics.measurements.read_measurements`). Poses are full 6-D poses
+(x, y, z, rx, ry, rz) of any design, planar or spatial
+(:func:`ppm_stiffness.statics.measurements.measured_poses`).
 
 Model. The predicted twist of a row is the one ``deflect`` computes: the equilibrium
 of the loaded manipulator with the nonlinear actuator law
 (:func:`ppm_stiffness.statics.equilibrium.equilibrium`, where the deflection path of
 :func:`ppm_stiffness.statics.deflection.deflection_path` ends; the springs are elastic,
-so the twist does not depend on the loading history), passive joints eliminated exactly.
+so the twist does not depend on the loading history), passive joints eliminated exactly,
+at the full pose. A row's pose is held at its task coordinates: the dependent ones are
+completed by each design the fit evaluates (the same as the catalogue's unless a free
+parameter moves the legs' constraints).
 
 Parameters. ``free`` are names or globs of ``Design.scalar_parameter_names()``; a glob
 (``leg*.guide.lateral``) is one parameter tying every match (their catalogue values
@@ -68,8 +73,11 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import validate_pose
-from ppm_stiffness.statics.measurements import COMPONENT_COLUMNS, Measurements
+from ppm_stiffness.statics.measurements import (
+    COMPONENT_COLUMNS,
+    Measurements,
+    measured_poses,
+)
 
 #: A combination whose relative 1-sigma (1 / singular value) exceeds this is
 #: unidentifiable (module doc).
@@ -83,9 +91,11 @@ LINEAR_STEP = 1e-4
 #: Relative finite-difference step of the nonlinear fit's Jacobian.
 FIT_STEP = 1e-7
 #: The model counts as linear in u along the start's step when its residuals there
-#: match the linear model's to this fraction of the largest residual at the catalogue
-#: (forward differences of a linear model are exact to rounding: ~1e-10).
-LINEARITY_TOLERANCE = 1e-7
+#: match the linear model's to this fraction of the largest residual at the catalogue.
+#: Forward differences of a linear model are exact to rounding: measured 9e-12 on the
+#: 3-PPR's linear paths, 2.4e-11 on the hexapod; the 3-RPS's path, not linear (each leg
+#: transmits two wrenches), 1.5e-9 (1e-7 took it as linear: its start was 3.9e-8 off).
+LINEARITY_TOLERANCE = 1e-10
 #: Bounds of a positive parameter relative to its catalogue value during the fit.
 RELATIVE_BOUNDS = (1e-3, 1e3)
 
@@ -107,7 +117,9 @@ class MeasurementRows:
 
     Attributes
     ----------
-    poses : ndarray (n, 3) [m, m, rad]
+    poses : ndarray (n, 6) or (n, n_task) [m, rad]
+        Full poses (x, y, z, rx, ry, rz) of P (:func:`measurement_rows`), or the
+        design's task coordinates.
     wrenches : ndarray (n, 6) (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N]
     twists : ndarray (n, 6) [rad, m], NaN where not measured
     sigmas : ndarray (n, 6) [rad, m], 1-sigma noise; NaN where not measured
@@ -156,51 +168,50 @@ def measurement_rows(
     Parameters
     ----------
     design : Design
-        Gives the pose (its workspace centre) when the file has no pose columns.
+        Completes the poses (the dependent coordinates; its home pose when the file
+        has no pose columns).
     measurements : Measurements
         A file with wrench columns, or with a load column and a ``mode`` (and
         ``alpha_deg``) metadata line (the loading modes of ``deflect``).
     sigma : mapping component index (0-5) -> 1-sigma [rad or m], optional
         Noise of the components that have no ``sigma_*`` column.
 
+    Returns
+    -------
+    MeasurementRows
+        With full poses (n, 6).
+
     Raises
     ------
     InputDataError
-        A load column without a mode; a row with a zero wrench or a malformed pose (the
+        A load column without a mode; a row with a zero wrench; a missing task
+        coordinate column or a dependent coordinate that disagrees with the legs (the
         file and the row's line named); a measured component with no sigma (or a sigma
         given both ways); a sigma that is not > 0.
+    UnreachablePoseError
+        A row's pose that the legs cannot reach (file and line named).
     """
-    from ppm_stiffness.statics.deflection import mode_wrench
-
     src = measurements.source
     n = measurements.n
     labels = tuple(measurements.row_label(k) for k in range(n))
     if measurements.wrenches is not None:
         wrenches = np.asarray(measurements.wrenches, dtype=float)
     else:
-        mode = measurements.mode
-        if mode is None:
+        unit = measurements.unit_wrench()
+        if unit is None:
             raise InputDataError(
-                f"{src}: a load column needs a '# mode:' line (planar-force, moment or "
-                "vertical-force) to say which wrench made the displacements"
+                f"{src}: a load column needs a '# mode:' line (planar-force, moment, "
+                "vertical-force, or direction with a '# direction:' line) to say which "
+                "wrench made the displacements"
             )
-        alpha = math.radians(float(measurements.metadata.get("alpha_deg", "45")))
-        wrenches = measurements.load_values()[:, None] * mode_wrench(mode, alpha)[None, :]
+        wrenches = measurements.load_values()[:, None] * unit[None, :]
     zero = np.flatnonzero(~np.any(wrenches != 0, axis=1))
     if zero.size:
         raise InputDataError(
             f"{labels[zero[0]]}: a zero wrench: a displacement without a wrench says "
             "nothing about stiffness"
         )
-    if measurements.poses is not None:
-        poses = np.array(
-            [
-                _row(labels[k], lambda q: validate_pose(design, q), p)
-                for k, p in enumerate(measurements.poses)
-            ]
-        )
-    else:
-        poses = np.tile(validate_pose(design, None), (n, 1))
+    poses = measured_poses(design, measurements)
     sig = (
         np.full((n, 6), np.nan)
         if measurements.sigmas is None
@@ -250,16 +261,32 @@ def predict_twists(
     """Twist of P (n, 6) [rad, m] under each wrench at each pose: the loaded
     equilibrium with the nonlinear actuator law (what ``deflect`` computes).
 
-    Rows at the same pose share one set of springs. ``labels`` (one per row, e.g.
-    ``"FILE, line N"``) prefix the errors of a row's pose or load.
+    Parameters
+    ----------
+    design : Design
+    poses : array_like (n, 6) or (n, n_task) [m, rad]
+        Full poses or task coordinates: each row is evaluated at its task coordinates,
+        the dependent ones completed by ``design`` (:mod:`ppm_stiffness.poses`).
+    wrenches : array_like (n, 6) [N·m, N]
+        At P, axes of F_b.
+    labels : sequence of str
+        One per row (e.g. ``"FILE, line N"``): they prefix the errors of a row's pose or
+        load.
+
+    Rows at the same pose share one set of springs.
     """
+    from ppm_stiffness.poses import full_pose, full_poses, task_indices
     from ppm_stiffness.statics.equilibrium import LegStructures, equilibrium
 
-    p = np.asarray(poses, dtype=float)
+    given = np.asarray(poses, dtype=float)
     w = np.asarray(wrenches, dtype=float)
+    names = list(labels) if len(labels) else [None] * given.shape[0]
+    task = given[:, list(task_indices(design))] if given.shape[-1] == 6 else given
+    p, ok = full_poses(design, task)
+    for bad in np.flatnonzero(~np.asarray(ok, dtype=bool)).tolist():
+        _row(names[bad], full_pose, design, task[bad])  # raises, naming the row
     out = np.zeros((p.shape[0], 6))
     keys, inverse = np.unique(p, axis=0, return_inverse=True)
-    names = list(labels) if len(labels) else [None] * p.shape[0]
     for k, pose in enumerate(keys):
         rows = [int(r) for r in np.flatnonzero(inverse.ravel() == k)]
         st = _row(names[rows[0]], LegStructures, design, pose)

@@ -33,7 +33,7 @@ from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from pydantic import ValidationInfo, field_validator
+from pydantic import ValidationInfo, field_validator, model_validator
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
@@ -194,6 +194,24 @@ class LegModel(PartModel):
                 if isinstance(v, (int, float)):
                     check_plausible(str(info.field_name), v, unit)
         return value
+
+    @model_validator(mode="after")
+    def _drive_ratio(self) -> LegModel:
+        """A linear actuator's rotor needs its gear ratio [rad/m] (no default: 1 rad/m
+        is no drive)."""
+        law = self.actuator
+        if self.ACTUATED_KIND == "P" and law.rotor_inertia is not None and law.gear_ratio is None:
+            raise ValueError(
+                "actuator.rotor_inertia of a linear actuator needs actuator.gear_ratio "
+                "[rad/m], the motor's rotation per metre of travel (2 pi / lead of a "
+                "ball screw)"
+            )
+        return self
+
+    def drive_units(self) -> dict[str, str]:
+        """SI units of the actuator's mass fields (carriage, rotor, gear ratio)."""
+        ratio = "rad/m" if self.ACTUATED_KIND == "P" else "rad/rad"
+        return {"carriage_mass": "kg", "rotor_inertia": "kg·m^2", "gear_ratio": ratio}
 
     # -- to be provided by each leg type ------------------------------------------
     def attachment(self) -> FloatArray:  # pragma: no cover - abstract

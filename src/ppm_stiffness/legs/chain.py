@@ -44,6 +44,12 @@ axis has the batch shape plus a trailing 3) into the arrays of
 
 The paper's P-P-R leg is ``P(actuated, guide) - link - C(bearing) - link - R``, and
 the builder gives exactly its 22 springs in the order of the paper's appendix.
+
+Masses (optional; :mod:`ppm_stiffness.dynamics`): a link may carry a
+:class:`LinkMass` (a rigid body moving with the link's start, i.e. upstream of its own
+tip springs), a joint a :class:`JointMass` (a body at the joint's point moving with the
+joint's output, and a rotor inertia reflected to its first freedom: the actuated
+joint's moving drive parts). The stiffness ignores them.
 """
 
 from __future__ import annotations
@@ -94,6 +100,51 @@ FREEDOMS = {kind: len(d) for kind, d in FREEDOM_DIRECTIONS.items()}
 
 
 @dataclass(frozen=True)
+class LinkMass:
+    """A link's mass properties (a rigid body fixed to the link).
+
+    Attributes
+    ----------
+    mass : float [kg]
+    centre : float or None [m]
+        Distance of the centre of mass along the link from its start (or its end, with
+        ``from_end``); None: the middle of the link's current length.
+    from_end : bool
+        ``centre`` is measured from the link's end (the platform side) rather than its
+        start: a body fixed to the joint at that end keeps its distance to it when the
+        link's length changes.
+    transverse : float or None [kg·m^2]
+        Inertia about any axis through the centre of mass normal to the link; None: a
+        uniform slender rod of the link's current length L, ``mass L^2 / 12``.
+    axial : float [kg·m^2]
+        Inertia about the link's axis (0: spin neglected).
+    """
+
+    mass: float
+    centre: float | None = None
+    from_end: bool = False
+    transverse: float | None = None
+    axial: float = 0.0
+
+
+@dataclass(frozen=True)
+class JointMass:
+    """Moving parts carried by a joint (an actuator's drive).
+
+    Attributes
+    ----------
+    mass : float [kg]
+        A body at the joint's point moving with the joint's output (a carriage).
+    rotor : float [kg·m^2 or kg]
+        Inertia reflected to the joint's first freedom (its actuated coordinate):
+        ``rotor_inertia * gear_ratio^2``, kinetic energy ``rotor * rate^2 / 2``.
+    """
+
+    mass: float = 0.0
+    rotor: float = 0.0
+
+
+@dataclass(frozen=True)
 class Joint:
     """One joint of a chain (arrays: batch shape + (3,), relative to P, axes of F_b).
 
@@ -116,6 +167,8 @@ class Joint:
         direction of e2 of the joint frame (its component normal to e1), where the
         default ``unit(z x e1)`` does not follow the hardware (a guide on a vertical
         rail, whose lateral direction the leg's geometry defines).
+    mass : JointMass or None
+        Moving parts the joint carries (the actuated joint's drive), for the mass model.
     """
 
     kind: JointKind
@@ -125,6 +178,7 @@ class Joint:
     actuated: bool = False
     name: str = ""
     axis2: FloatArray | None = None
+    mass: JointMass | None = None
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
@@ -142,12 +196,14 @@ class Joint:
 
 @dataclass(frozen=True)
 class Link:
-    """A straight beam from ``start`` to ``end`` (relative to P, axes of F_b) [m]."""
+    """A straight beam from ``start`` to ``end`` (relative to P, axes of F_b) [m], and
+    its mass properties (None: massless)."""
 
     start: FloatArray
     end: FloatArray
     section: BeamSection
     name: str = ""
+    mass: LinkMass | None = None
 
 
 Element = Joint | Link

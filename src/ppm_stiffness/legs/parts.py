@@ -19,6 +19,23 @@ in-plane axis: the in-plane lateral direction), ``e3 = e1 x e2`` (then: z).
 - :class:`SphericalModel`, a spherical joint (its frame oriented by the adjacent link,
   e1 along it): axial along e1, radial along e2 and e3 [N/m]; optionally the largest
   angle [rad] between the link and the joint's mounting axis.
+
+Masses (optional, for natural frequencies: :mod:`ppm_stiffness.dynamics`). A link's
+section may carry its ``mass`` [kg], the distance of its centre of mass from one of its
+ends, ``mass_centre`` [m] from ``mass_centre_from`` (``"start"``, the end nearer the base
+along the chain, the default, or ``"end"``; without ``mass_centre``: the middle of the
+link's current length), and
+its inertia about the centre of mass, ``inertia_transverse`` (about any axis normal to
+the link) and ``inertia_axial`` (about the link) [kg·m^2] (default: a uniform slender
+rod of the current length, ``m L^2 / 12``, spin neglected). An actuator may carry the
+moving parts of its drive: ``carriage_mass`` [kg], a body at the actuated joint moving
+with its output, and ``rotor_inertia`` [kg·m^2] with ``gear_ratio`` (motor rotation per
+unit of the actuated coordinate: rad/rad for a rotary actuator, rad/m for a linear one,
+e.g. 2 pi / lead of a ball screw), reflected to the actuated coordinate as
+``rotor_inertia * gear_ratio^2``. Masses are in kg, inertias in kg·m^2: a mass beyond
+:data:`MAX_MASS` or a radius of gyration ``sqrt(I / m)`` beyond
+:data:`~ppm_stiffness.legs.base.MAX_LENGTH` is refused naming the likely unit mistake
+(g, kg·mm^2).
 """
 
 from __future__ import annotations
@@ -26,14 +43,23 @@ from __future__ import annotations
 import math
 import numbers
 import sys
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 from pydantic_core import PydanticCustomError
 
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.legs.chain import JointMass, LinkMass
 
 
 def value_kind(value: Any) -> str:
@@ -87,6 +113,36 @@ MIN_MODULUS = 1e6
 #: (0.083 m^4). Above, mm^2 / mm^4 are likely.
 MAX_AREA = 1.0
 MAX_SECOND_MOMENT = 0.1
+#: Largest mass of one body of a design [kg] (10 t): above, grams are likely.
+MAX_MASS = 1e4
+#: Largest radius of gyration ``sqrt(I / m)`` of a body [m]: the largest length of a
+#: design (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, repeated here to avoid an import
+#: cycle). Above, an inertia in kg·mm^2 is likely.
+MAX_GYRATION = 10.0
+#: Largest rotor inertia [kg·m^2] of an actuator (a motor of some 100 kW): above, an
+#: inertia in kg·mm^2 is likely.
+MAX_ROTOR_INERTIA = 1.0
+
+
+def check_mass(key: str, value: float) -> float:
+    """Refuse a mass beyond :data:`MAX_MASS`, naming the likely unit mistake (g)."""
+    if value > MAX_MASS:
+        raise ValueError(
+            f"{key} = {value:g}: masses in design files are in kg (<= {MAX_MASS:g} kg); "
+            f"did you mean {value * 1e-3:.6g} (g)?"
+        )
+    return value
+
+
+def check_gyration(key: str, inertia: float, mass: float) -> None:
+    """Refuse an inertia whose radius of gyration ``sqrt(I / m)`` exceeds
+    :data:`MAX_GYRATION`, naming the likely unit mistake (kg·mm^2)."""
+    if mass > 0 and inertia > mass * MAX_GYRATION**2:
+        raise ValueError(
+            f"{key} = {inertia:g}: inertias in design files are in kg·m^2 (radius of "
+            f"gyration sqrt(I / m) = {math.sqrt(inertia / mass):.3g} m > "
+            f"{MAX_GYRATION:g} m); did you mean {inertia * 1e-6:.6g} (kg·mm^2)?"
+        )
 
 
 class PartModel(BaseModel):
@@ -95,8 +151,21 @@ class PartModel(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+#: The fields of :class:`SectionModel` that are the beam's section (the others are its
+#: optional mass).
+SECTION_FIELDS = (
+    "young_modulus",
+    "shear_modulus",
+    "area",
+    "torsion_constant",
+    "inertia_y",
+    "inertia_z",
+)
+
+
 class SectionModel(PartModel):
-    """A link's material and section (paper Table 2) [Pa, m^2, m^4]."""
+    """A link's material and section (paper Table 2) [Pa, m^2, m^4], and optionally its
+    mass [kg], centre of mass [m] and inertia [kg·m^2] (module doc)."""
 
     young_modulus: Positive
     shear_modulus: Positive
@@ -104,6 +173,47 @@ class SectionModel(PartModel):
     torsion_constant: Positive
     inertia_y: Positive
     inertia_z: Positive
+    mass: NonNegative | None = None
+    mass_centre: NonNegative | None = None
+    mass_centre_from: Literal["start", "end"] | None = None
+    inertia_transverse: NonNegative | None = None
+    inertia_axial: NonNegative | None = None
+
+    @field_validator("mass")
+    @classmethod
+    def _mass_in_kg(cls, v: float | None) -> float | None:
+        return v if v is None else check_mass("mass", v)
+
+    @field_validator("mass_centre")
+    @classmethod
+    def _centre_in_m(cls, v: float | None) -> float | None:
+        if v is not None and v > MAX_GYRATION:
+            raise ValueError(
+                f"mass_centre = {v:g}: lengths in design files are in metres "
+                f"(<= {MAX_GYRATION:g} m); did you mean {v / 1000:.6g}?"
+            )
+        return v
+
+    @model_validator(mode="after")
+    def _mass_fields(self) -> SectionModel:
+        """A centre of mass or an inertia needs the mass; inertias in kg·m^2."""
+        given = [
+            k
+            for k in ("mass_centre", "inertia_transverse", "inertia_axial")
+            if getattr(self, k) is not None
+        ]
+        if self.mass is None:
+            if self.mass_centre_from is not None:
+                given.append("mass_centre_from")
+            if given:
+                names = ", ".join(given)
+                raise ValueError(f"{names} given without the link's mass: give mass [kg]")
+            return self
+        for key in ("inertia_transverse", "inertia_axial"):
+            value = getattr(self, key)
+            if value is not None:
+                check_gyration(key, value, self.mass)
+        return self
 
     @field_validator("young_modulus", "shear_modulus")
     @classmethod
@@ -132,7 +242,19 @@ class SectionModel(PartModel):
         return v
 
     def section(self) -> BeamSection:
-        return BeamSection(**self.model_dump())
+        return BeamSection(**{k: getattr(self, k) for k in SECTION_FIELDS})
+
+    def link_mass(self) -> LinkMass | None:
+        """The link's mass properties for its chain element, or None (no mass given)."""
+        if self.mass is None:
+            return None
+        return LinkMass(
+            mass=self.mass,
+            centre=self.mass_centre,
+            from_end=self.mass_centre_from == "end",
+            transverse=self.inertia_transverse,
+            axial=0.0 if self.inertia_axial is None else self.inertia_axial,
+        )
 
 
 class ActuatorModel(PartModel):
@@ -149,6 +271,45 @@ class ActuatorModel(PartModel):
     k_a: Positive
     q: Annotated[Positive, Field(le=1.0)]
     threshold_displacement: NonNegative
+    carriage_mass: NonNegative | None = None
+    rotor_inertia: NonNegative | None = None
+    gear_ratio: Positive | None = None
+
+    @field_validator("carriage_mass")
+    @classmethod
+    def _mass_in_kg(cls, v: float | None) -> float | None:
+        return v if v is None else check_mass("carriage_mass", v)
+
+    @field_validator("rotor_inertia")
+    @classmethod
+    def _rotor_in_si(cls, v: float | None) -> float | None:
+        if v is not None and v > MAX_ROTOR_INERTIA:
+            raise ValueError(
+                f"rotor_inertia = {v:g}: inertias in design files are in kg·m^2 (a rotor "
+                f"<= {MAX_ROTOR_INERTIA:g} kg·m^2); did you mean {v * 1e-6:.6g} (kg·mm^2)?"
+            )
+        return v
+
+    @model_validator(mode="after")
+    def _gear_needs_rotor(self) -> ActuatorModel:
+        if self.gear_ratio is not None and self.rotor_inertia is None:
+            raise ValueError("gear_ratio given without rotor_inertia [kg·m^2]")
+        return self
+
+    def moving_parts(self) -> JointMass | None:
+        """The drive's moving parts for the actuated joint of a chain, or None.
+
+        The rotor's inertia is reflected to the actuated coordinate:
+        ``rotor_inertia * gear_ratio^2`` (a missing ``gear_ratio`` is 1, direct drive;
+        a linear actuator's leg type requires it).
+        """
+        if self.carriage_mass is None and self.rotor_inertia is None:
+            return None
+        ratio = 1.0 if self.gear_ratio is None else self.gear_ratio
+        rotor = 0.0 if self.rotor_inertia is None else self.rotor_inertia * ratio**2
+        return JointMass(
+            mass=0.0 if self.carriage_mass is None else self.carriage_mass, rotor=rotor
+        )
 
 
 class GuideModel(PartModel):
@@ -239,6 +400,10 @@ def part_units(model: type[BaseModel]) -> dict[str, str]:
             "torsion_constant": "m^4",
             "inertia_y": "m^4",
             "inertia_z": "m^4",
+            "mass": "kg",
+            "mass_centre": "m",
+            "inertia_transverse": "kg·m^2",
+            "inertia_axial": "kg·m^2",
         },
         GuideModel: {
             "roll": "N·m/rad",

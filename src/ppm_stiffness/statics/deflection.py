@@ -2,7 +2,12 @@
 
 A load grows from zero along a fixed direction, ``w(L) = L * w_hat`` (``L`` in N or
 N·m, ``w_hat`` the wrench of a unit load), geometry fixed at the unloaded pose (small
-displacements, as in the paper). Three ways to compute the platform twist t(L):
+displacements, as in the paper), for any design (planar or spatial; poses are full
+6-D poses, :mod:`ppm_stiffness.poses`). The direction is one of the paper's Fig. 9
+modes (:data:`MODES`), any wrench direction (mode ``"direction"``,
+:func:`direction_wrench`: normalised so that the load is the force's magnitude [N], or
+a pure moment's [N·m]), or multiples of a given wrench (mode ``"wrench"``, a
+dimensionless scale). Three ways to compute the platform twist t(L):
 
 ``"closed-form"``
     the exact equilibrium at each load (:mod:`ppm_stiffness.statics.equilibrium`):
@@ -37,6 +42,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError
+from ppm_stiffness.core.pose import displaced_pose
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.statics.actuator import (
@@ -56,6 +62,8 @@ from ppm_stiffness.statics.loading import (
 )
 
 __all__ = [
+    "CURVE_MODES",
+    "DIRECTION",
     "LOAD_UNITS",
     "METHODS",
     "MODES",
@@ -64,14 +72,28 @@ __all__ = [
     "closed_form_twist",
     "deflection_curve",
     "deflection_path",
+    "direction_load_unit",
+    "direction_wrench",
     "mode_wrench",
     "threshold_force",
 ]
 
-#: The loading modes of the paper's Fig. 9, plus an arbitrary proportional wrench.
+#: The loading modes of the paper's Fig. 9 (wrenches at the tool point, axes of F_b:
+#: they mean the same for a planar and a spatial design).
 MODES = ("planar-force", "moment", "vertical-force")
-#: Unit of the load for each mode ("wrench": a dimensionless scale of a given wrench).
-LOAD_UNITS = {"planar-force": "N", "moment": "N·m", "vertical-force": "N", "wrench": "1"}
+#: The mode of a load along any wrench direction (:func:`direction_wrench`).
+DIRECTION = "direction"
+#: Every mode a curve may have: Fig. 9's, a direction, and multiples of a wrench.
+CURVE_MODES = MODES + (DIRECTION, "wrench")
+#: Unit of the load for each mode ("wrench": a dimensionless scale of a given wrench;
+#: "direction": N, or N·m for a pure moment, :func:`direction_load_unit`).
+LOAD_UNITS = {
+    "planar-force": "N",
+    "moment": "N·m",
+    "vertical-force": "N",
+    DIRECTION: "N",
+    "wrench": "1",
+}
 #: Ways to compute the path (module doc).
 METHODS = ("integrate", "closed-form", "linear")
 
@@ -79,21 +101,66 @@ METHODS = ("integrate", "closed-form", "linear")
 INTEGRATION_RTOL = 1e-10
 
 
-def mode_wrench(mode: str, alpha: float = math.pi / 4) -> FloatArray:
-    """Wrench of a unit load of a Fig. 9 mode, (m_x, m_y, m_z, f_x, f_y, f_z).
+def direction_wrench(direction: ArrayLike) -> FloatArray:
+    """The wrench of a unit load along a direction (6,) (m_x, m_y, m_z, f_x, f_y, f_z).
+
+    Normalised so that the load is the magnitude of the force [N]: ``w / |f|``, the
+    moment following in proportion (a force along f with the moment m / |f| per
+    newton: e.g. a force applied away from the tool point); a pure moment (f = 0) is
+    normalised by its own magnitude, the load then in N·m
+    (:func:`direction_load_unit`).
+
+    Raises
+    ------
+    InputDataError
+        Not 6 finite components, or all zero.
+    """
+    w = validate_wrench(direction)
+    force, moment = float(np.linalg.norm(w[3:])), float(np.linalg.norm(w[:3]))
+    if force > 0:
+        return np.asarray(w / force)
+    if moment > 0:
+        return np.asarray(w / moment)
+    raise InputDataError("a load direction must not be zero (6 components, not all 0)")
+
+
+def direction_load_unit(unit_wrench: ArrayLike) -> str:
+    """Unit of the load along a normalised direction: "N" when it has a force, "N·m"
+    for a pure moment (:func:`direction_wrench`)."""
+    return "N" if np.any(np.asarray(unit_wrench, dtype=float)[3:] != 0) else "N·m"
+
+
+def mode_wrench(
+    mode: str, alpha: float = math.pi / 4, direction: ArrayLike | None = None
+) -> FloatArray:
+    """Wrench of a unit load of a mode, (m_x, m_y, m_z, f_x, f_y, f_z).
 
     Parameters
     ----------
-    mode : {"planar-force", "moment", "vertical-force"}
-        planar force ``f_xy (cos alpha, sin alpha)`` at P; pure moment ``m_z``;
-        vertical force ``f_z`` at P.
+    mode : {"planar-force", "moment", "vertical-force", "direction"}
+        planar force ``f_xy (cos alpha, sin alpha)``; pure moment ``m_z``; vertical
+        force ``f_z``; or the normalised ``direction`` (:func:`direction_wrench`). The
+        axes are those of F_b, for any design.
     alpha : float
         Direction of the planar force in the xy plane of F_b [rad].
+    direction : array_like (6,), optional
+        (m_x, m_y, m_z, f_x, f_y, f_z), with mode "direction" only.
 
     Returns
     -------
     ndarray, shape (6,) [N·m per unit load, N per unit load]
+
+    Raises
+    ------
+    InputDataError
+        An unknown mode, a direction with another mode or none with "direction".
     """
+    if mode == DIRECTION:
+        if direction is None:
+            raise InputDataError("mode 'direction' needs a direction (6 wrench components)")
+        return direction_wrench(direction)
+    if direction is not None:
+        raise InputDataError(f"a direction goes with mode {DIRECTION!r}, not {mode!r}")
     w = np.zeros(6)
     if mode == "planar-force":
         if not math.isfinite(alpha):
@@ -104,7 +171,9 @@ def mode_wrench(mode: str, alpha: float = math.pi / 4) -> FloatArray:
     elif mode == "vertical-force":
         w[5] = 1.0
     else:
-        raise InputDataError(f"unknown loading mode {mode!r}; expected one of {MODES}")
+        raise InputDataError(
+            f"unknown loading mode {mode!r}; expected one of {MODES + (DIRECTION,)}"
+        )
     return w
 
 
@@ -115,9 +184,10 @@ class DeflectionCurve:
     Attributes
     ----------
     mode : str
-        "planar-force", "moment", "vertical-force" or "wrench".
+        One of :data:`CURVE_MODES`.
     loads : ndarray, shape (n,)
-        Load values [N, N·m, or a scale for "wrench"], increasing, >= 0.
+        Load values [N, N·m, or a scale for "wrench": :attr:`load_unit`], increasing,
+        >= 0.
     wrenches : ndarray, shape (n, 6)
         Applied wrench at each load, (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N].
     twists : ndarray, shape (n, 6)
@@ -130,14 +200,20 @@ class DeflectionCurve:
     actuator_displacements : ndarray, shape (n, n_legs)
         Signed actuator displacements [m] (:func:`actuator_displacement`).
     unit_wrench : ndarray, shape (6,)
-        Wrench per unit load, applied at the tool point.
-    pose : ndarray, shape (3,)
+        Wrench per unit load (the load direction), applied at the tool point.
+    pose : ndarray, shape (6,)
+        The unloaded full pose (x, y, z, rx, ry, rz) [m, rad] of P.
     alpha : float
         Direction of the planar force [rad] (NaN for other modes).
     method : str
         One of :data:`METHODS`.
     tool_point : ndarray, shape (3,)
         Where the load acts and the twist is given, platform frame [m].
+    planar : bool
+        The design is planar (``Design.planar``): its pictures keep the components of
+        the paper's modes; a spatial design's show all six.
+    task_coordinates : tuple of str
+        The design's task coordinates (``Design.task_coordinates``).
     """
 
     mode: str
@@ -152,14 +228,29 @@ class DeflectionCurve:
     alpha: float
     method: str
     tool_point: FloatArray = field(default_factory=lambda: np.zeros(3))
+    planar: bool = True
+    task_coordinates: tuple[str, ...] = ("x", "y", "rz")
 
     @property
     def load_unit(self) -> str:
+        if self.mode == DIRECTION:
+            return direction_load_unit(self.unit_wrench)
         return LOAD_UNITS.get(self.mode, "1")
 
     def conjugate_displacement(self) -> FloatArray:
         """Displacement work-conjugate to the load, ``w_hat . t`` (n,) [m or rad]."""
         return np.asarray(self.twists @ self.unit_wrench)
+
+    def twists_at_p(self) -> FloatArray:
+        """The twists (n, 6) [rad, m] of P (the curve's are the tool point's)."""
+        offset = tool_offset(self.pose, self.tool_point)  # tool point - P, axes of F_b
+        return np.asarray(self.twists @ twist_b_from_twist_a(np.eye(3), offset).T)
+
+    def loaded_poses(self) -> FloatArray:
+        """The pose (n, 6) (x, y, z, rx, ry, rz) [m, rad] of P under each load: the
+        unloaded pose moved by the twist of P, ``R' = exp(hat(phi)) R``, ``p' = p + v``
+        (:func:`ppm_stiffness.core.pose.displaced_pose`)."""
+        return displaced_pose(np.broadcast_to(self.pose, self.twists.shape), self.twists_at_p())
 
 
 def _validate_loads(loads: ArrayLike) -> FloatArray:
@@ -291,12 +382,13 @@ def deflection_path(
         point (P by default).
     loads : array_like, shape (n,)
         Increasing load values >= 0 (the path always starts at zero load).
-    pose : array_like, shape (3,), optional
-        (x [m], y [m], phi [rad]); the workspace centre if None.
+    pose : array_like, shape (n_task,) or (6,), optional
+        The design's task coordinates or a full pose [m, rad]
+        (:mod:`ppm_stiffness.poses`); the home pose if None.
     method : {"integrate", "closed-form", "linear"}
         See :data:`METHODS` and the module docstring.
     mode, alpha
-        Labels stored in the result.
+        Labels stored in the result (``mode`` one of :data:`CURVE_MODES`).
     tool_point : array_like, shape (3,), optional
         Platform frame [m]: the load acts there and the twists are given there;
         ``design.tool_point`` if None.
@@ -313,6 +405,8 @@ def deflection_path(
     x = _validate_loads(loads)
     if method not in METHODS:
         raise InputDataError(f"unknown method {method!r}; expected one of {METHODS}")
+    if mode not in CURVE_MODES:
+        raise InputDataError(f"unknown loading mode {mode!r}; expected one of {CURVE_MODES}")
     p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     offset = tool_offset(p, tool)
@@ -372,6 +466,8 @@ def deflection_path(
         alpha=alpha,
         method=method,
         tool_point=tool,
+        planar=design.planar,
+        task_coordinates=tuple(design.task_coordinates),
     )
 
 
@@ -383,26 +479,39 @@ def deflection_curve(
     alpha: float = math.pi / 4,
     method: str = "integrate",
     tool_point: ArrayLike | None = None,
+    direction: ArrayLike | None = None,
 ) -> DeflectionCurve:
-    """Deflection along one of the Fig. 9 loading modes.
+    """Deflection along one of the Fig. 9 loading modes, or along a direction.
 
     Parameters
     ----------
     design : Design
-    mode : {"planar-force", "moment", "vertical-force"}
+        Any design; the modes' wrenches are in the axes of F_b at the tool point.
+    mode : {"planar-force", "moment", "vertical-force", "direction"}
     loads : array_like, shape (n,)
-        Increasing loads >= 0 [N, or N·m for "moment"].
-    pose : array_like, shape (3,), optional
-        Workspace centre if None.
+        Increasing loads >= 0 [N, or N·m for "moment" and a pure-moment direction].
+    pose : array_like, shape (n_task,) or (6,), optional
+        Task coordinates or a full pose [m, rad]; the home pose if None.
     alpha : float
         Direction of the planar force [rad] (default 45 deg, Fig. 10a).
     method : {"integrate", "closed-form", "linear"}
+    tool_point : array_like (3,), optional
+        Platform frame [m]; ``design.tool_point`` if None.
+    direction : array_like (6,), optional
+        With mode "direction": (m_x, m_y, m_z, f_x, f_y, f_z) in any scale, normalised
+        by :func:`direction_wrench`.
 
     Returns
     -------
     DeflectionCurve
+
+    Raises
+    ------
+    InputDataError
+        An unknown mode, a direction that is zero or does not go with the mode, bad
+        loads (:func:`deflection_path`).
     """
-    w_hat = mode_wrench(mode, alpha)
+    w_hat = mode_wrench(mode, alpha, direction)
     return deflection_path(
         design,
         w_hat,

@@ -1,14 +1,27 @@
-"""Compare the virtual-joint stiffness with the FE frame model, block by block.
+"""Compare the virtual-joint stiffness with the FE frame model.
 
-The planar block is (phi_z, x, y) = indices (2, 3, 4), the out-of-plane block
-(phi_x, phi_y, z) = (0, 1, 5). Within a block, an entry is compared when it is at
-least ``ENTRY_THRESHOLD`` (1%) of the block's largest entry after length balancing
+Figures per pose (:func:`figure_names`):
+
+- a planar design: the planar block (phi_z, x, y) = indices (2, 3, 4) and the
+  out-of-plane block (phi_x, phi_y, z) = (0, 1, 5), as ever (K of a planar mechanism
+  has no entry coupling them);
+- any other design: the whole 6x6 matrix (``"full"``);
+- every design: ``"directions"``, the largest relative difference of the stiffness
+  along any twist, ``max |lambda - 1|`` over the generalised eigenvalues of
+  ``K_fe t = lambda K_vj t`` (independent of the reference point, the axes and the
+  length balancing, and blind to no direction: a soft direction whose entries are
+  all below the threshold below is still compared).
+
+Within a block, an entry is compared when it is at least ``ENTRY_THRESHOLD`` (1%) of
+the block's largest entry after length balancing
 (:func:`~ppm_stiffness.core.conventions.length_balanced`: K_rr / L^2, K_rt / L, K_tt
-with L = ``LENGTH_SCALE``): in raw
-SI units N·m/rad, N and N/m are not comparable and the rotational stiffness would
-never reach 1% of the translational one. The relative difference of an entry is
-``|K_fe - K_vj| / |K_vj|`` (unit free); a block's figure is the largest over its
-compared entries.
+with L = ``LENGTH_SCALE``): in raw SI units N·m/rad, N and N/m are not comparable and
+the rotational stiffness would never reach 1% of the translational one. The relative
+difference of an entry is ``|K_fe - K_vj| / |K_vj|`` (unit free); a block's figure is
+the largest over its compared entries.
+
+Poses are full poses (x, y, z, rx, ry, rz) [m, rad] (:mod:`ppm_stiffness.poses`),
+drawn over the design's task coordinates (:func:`sample_reachable_poses`).
 """
 
 from __future__ import annotations
@@ -22,22 +35,42 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, length_balanced
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError, UnreachablePoseError
-from ppm_stiffness.core.solver import cartesian_stiffness
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.core.singularity import nonsingular
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import (
-    check_nonsingular,
-    leg_springs_at_pose,
-    stiffness_at_pose,
-    workspace_centre,
-)
+from ppm_stiffness.model import stiffness_at_pose, transmission_at_pose, validate_pose
+from ppm_stiffness.poses import full_poses, home_pose, task_indices
 from ppm_stiffness.validation.fe_model import FESettings, fe_stiffness_at_pose
 
-#: Indices of the blocks in the library's twist order (phi_x, phi_y, phi_z, x, y, z).
-BLOCKS: dict[str, tuple[int, int, int]] = {"planar": (2, 3, 4), "out_of_plane": (0, 1, 5)}
+#: Indices of the blocks of a planar design in the library's twist order
+#: (phi_x, phi_y, phi_z, x, y, z).
+BLOCKS: dict[str, tuple[int, ...]] = {"planar": (2, 3, 4), "out_of_plane": (0, 1, 5)}
+#: The block of any other design: the whole matrix.
+SPATIAL_BLOCKS: dict[str, tuple[int, ...]] = {"full": (0, 1, 2, 3, 4, 5)}
+#: The figure over every twist direction (module doc).
+DIRECTIONS = "directions"
 #: Entries below this fraction of the block's largest (balanced) entry are not compared.
 ENTRY_THRESHOLD = 0.01
-#: Acceptance limits of the issue: planar 2%, out-of-plane 5%.
-TOLERANCES: dict[str, float] = {"planar": 0.02, "out_of_plane": 0.05}
+#: Acceptance limits: planar 2 %, out-of-plane 5 % (the planar designs' acceptance);
+#: the whole matrix of a spatial design 2 % (as the block that carries a planar
+#: design's stiffness), every direction 5 % (as the softer block).
+TOLERANCES: dict[str, float] = {
+    "planar": 0.02,
+    "out_of_plane": 0.05,
+    "full": 0.02,
+    DIRECTIONS: 0.05,
+}
+
+
+def design_blocks(design: Design) -> dict[str, tuple[int, ...]]:
+    """The entry blocks compared for ``design``: :data:`BLOCKS` for a planar design,
+    :data:`SPATIAL_BLOCKS` for any other."""
+    return BLOCKS if design.planar else SPATIAL_BLOCKS
+
+
+def figure_names(design: Design) -> tuple[str, ...]:
+    """The figures compared per pose: the design's blocks, then ``"directions"``."""
+    return (*design_blocks(design), DIRECTIONS)
 
 
 def block_difference(
@@ -71,6 +104,33 @@ def block_difference(
     return float(np.max(np.abs(b - a)[mask] / np.abs(a)[mask]))
 
 
+def direction_difference(reference: ArrayLike, other: ArrayLike) -> float:
+    """Largest relative difference of the stiffness along any twist direction.
+
+    ``max |lambda - 1|`` over the generalised eigenvalues of ``other t = lambda
+    reference t``: for every twist t, ``|t.other.t - t.reference.t| <= figure *
+    t.reference.t``, with equality along some t. It does not depend on the reference
+    point, the axes or the units.
+
+    Parameters
+    ----------
+    reference, other : array_like, shape (6, 6)
+        Symmetric stiffness matrices at the same point and axes; ``reference``
+        positive definite.
+
+    Returns
+    -------
+    float
+    """
+    a = length_balanced(reference)
+    b = length_balanced(other)
+    # reference = L L^T: the eigenvalues of L^-1 other L^-T, symmetric
+    chol = np.linalg.cholesky(0.5 * (a + a.T))
+    m = np.linalg.solve(chol, np.linalg.solve(chol, 0.5 * (b + b.T)).T)
+    lam = np.linalg.eigvalsh(0.5 * (m + m.T))
+    return float(np.max(np.abs(lam - 1.0)))
+
+
 def cross_coupling(stiffness: ArrayLike) -> float:
     """Largest entry coupling the planar and out-of-plane blocks, relative to the
     largest entry of K (length-balanced). Zero for a planar mechanism."""
@@ -79,22 +139,30 @@ def cross_coupling(stiffness: ArrayLike) -> float:
     return float(np.max(np.abs(cross)) / np.max(np.abs(kb)))
 
 
+def differences(design: Design, k_vj: ArrayLike, k_fe: ArrayLike) -> dict[str, float]:
+    """The figures of :func:`figure_names` of ``k_fe`` against ``k_vj``."""
+    out = {name: block_difference(k_vj, k_fe, idx) for name, idx in design_blocks(design).items()}
+    out[DIRECTIONS] = direction_difference(k_vj, k_fe)
+    return out
+
+
 @dataclass(frozen=True)
 class PoseComparison:
-    """Both stiffness matrices at one pose and their per-block differences.
+    """Both stiffness matrices at one pose and their differences.
 
     Attributes
     ----------
-    pose : ndarray, shape (3,)
-        (x [m], y [m], phi [rad]).
+    pose : ndarray, shape (6,)
+        The full pose (x, y, z [m], rx, ry, rz [rad]).
     k_virtual_joint, k_fe : ndarray, shape (6, 6)
         At P, axes of F_b (SI, library order).
     differences : dict
-        Block name -> :func:`block_difference` of the FE matrix to the virtual-joint one.
+        Figure name (:func:`figure_names`) -> relative difference of the FE matrix to
+        the virtual-joint one.
     fe_asymmetry : float
         Reciprocity check of the FE solution (see ``FEResult.asymmetry``).
     fe_cross_coupling : float
-        :func:`cross_coupling` of the FE matrix.
+        :func:`cross_coupling` of the FE matrix (zero for a planar mechanism).
     time_virtual_joint, time_fe : float
         Wall time [s] of each model at this pose (the FE time includes building).
     """
@@ -109,8 +177,8 @@ class PoseComparison:
     time_fe: float
 
     def within_tolerances(self) -> bool:
-        """True when every block is within :data:`TOLERANCES`."""
-        return all(self.differences[b] <= TOLERANCES[b] for b in BLOCKS)
+        """True when every figure is within :data:`TOLERANCES`."""
+        return all(v <= TOLERANCES[name] for name, v in self.differences.items())
 
 
 def compare_at_pose(
@@ -119,8 +187,9 @@ def compare_at_pose(
     actuator_stiffness: ArrayLike | None = None,
     settings: FESettings | None = None,
 ) -> PoseComparison:
-    """Virtual-joint and FE stiffness at one pose, compared per block."""
-    p = np.asarray(pose, dtype=float)
+    """Virtual-joint and FE stiffness at one pose (task coordinates or a full pose),
+    compared (:func:`differences`)."""
+    p = validate_pose(design, pose)
     t0 = time.perf_counter()
     k_vj = stiffness_at_pose(design, p, actuator_stiffness)
     t1 = time.perf_counter()
@@ -130,14 +199,74 @@ def compare_at_pose(
         pose=p,
         k_virtual_joint=k_vj,
         k_fe=fe.stiffness,
-        differences={
-            name: block_difference(k_vj, fe.stiffness, idx) for name, idx in BLOCKS.items()
-        },
+        differences=differences(design, k_vj, fe.stiffness),
         fe_asymmetry=fe.asymmetry,
         fe_cross_coupling=cross_coupling(fe.stiffness),
         time_virtual_joint=t1 - t0,
         time_fe=t2 - t1,
     )
+
+
+def sampling_box(
+    design: Design,
+    radius: float = 0.01,
+    angle: float = float(np.radians(5.0)),
+    region: bool = False,
+) -> tuple[FloatArray, FloatArray]:
+    """Centre and half-widths (n_task,) of the box the poses are drawn from, over the
+    design's task coordinates (in pose order) [m, rad].
+
+    Parameters
+    ----------
+    radius : float
+        Half-width [m] about the home pose of every length task coordinate (x, y, z).
+    angle : float
+        Half-width [rad] about the home pose of every angle task coordinate (rx, ry, rz).
+    region : bool
+        The design's required region (``[workspace.required]``) instead.
+
+    Raises
+    ------
+    InputDataError
+        ``radius`` / ``angle`` not finite and >= 0, or ``region`` without a required
+        region in the design.
+    """
+    for name, value in (("radius", radius), ("angle", angle)):
+        if not np.isfinite(value) or value < 0:
+            raise InputDataError(f"{name} must be finite and >= 0, got {value}")
+    names = design.task_coordinates
+    if region:
+        required = design.workspace.required
+        if required is None:
+            raise InputDataError(
+                f"{design.name!r} has no required region ([workspace.required]) to draw "
+                "the poses from"
+            )
+        lo, hi = np.array([required.range(n) for n in names]).T
+        return 0.5 * (lo + hi), 0.5 * (hi - lo)
+    centre = home_pose(design)[list(task_indices(design))]
+    half = np.array([angle if n in ANGLE_COORDINATES else radius for n in names])
+    return centre, half
+
+
+def describe_box(design: Design, centre: FloatArray, half: FloatArray) -> str:
+    """``"x in [-10.0, 10.0] mm, rz in [-5.0, 5.0] deg"``: the box, in CLI units."""
+    parts = []
+    for name, c, h in zip(design.task_coordinates, centre, half, strict=True):
+        if name in ANGLE_COORDINATES:
+            parts.append(f"{name} in [{np.degrees(c - h):.1f}, {np.degrees(c + h):.1f}] deg")
+        else:
+            parts.append(f"{name} in [{(c - h) * 1e3:.1f}, {(c + h) * 1e3:.1f}] mm")
+    return ", ".join(parts)
+
+
+def _accepted(design: Design, pose: FloatArray) -> bool:
+    """The model accepts the full pose: it is not singular by the transmission index
+    (:func:`ppm_stiffness.model.transmission_at_pose`), whatever the parts' stiffness."""
+    try:
+        return bool(nonsingular(transmission_at_pose(design, pose)))
+    except PPMStiffnessError:
+        return False
 
 
 def sample_reachable_poses(
@@ -147,13 +276,18 @@ def sample_reachable_poses(
     radius: float = 0.01,
     angle: float = float(np.radians(5.0)),
     max_tries: int = 1000,
+    region: bool = False,
 ) -> FloatArray:
-    """``n`` seeded poses around the workspace centre where the model is defined.
+    """``n`` seeded full poses over the design's task coordinates where the model is
+    defined.
 
-    Poses are drawn uniformly in the box ``centre +- (radius, radius, angle)``, in
-    order; a draw is kept when every leg reaches it (:meth:`LegModel.solve` and
-    :meth:`LegModel.reachable`: inverse kinematics and joint limits, any leg type)
-    and K is not singular (:func:`ppm_stiffness.model.check_nonsingular`).
+    Task coordinates are drawn uniformly in the box of :func:`sampling_box` (about the
+    home pose, or the required region), in order, and completed
+    (:func:`ppm_stiffness.poses.full_poses`); a draw is kept when the completion
+    converges, every leg reaches it (:meth:`LegModel.solve` and
+    :meth:`LegModel.reachable`: inverse kinematics and joint limits, any leg type) and
+    it is not singular by the transmission index (a question of the joints' geometry:
+    a design of near-rigid parts is not skipped).
 
     Parameters
     ----------
@@ -162,51 +296,43 @@ def sample_reachable_poses(
         Number of poses (>= 0).
     seed : int
         Seed of ``numpy.random.default_rng``.
-    radius : float
-        Half-width of the box in x and y [m].
-    angle : float
-        Half-range of phi [rad].
+    radius, angle, region
+        The box (:func:`sampling_box`) [m, rad].
     max_tries : int
         Draws allowed per requested pose before giving up.
 
     Returns
     -------
-    ndarray, shape (n, 3)
+    ndarray, shape (n, 6)
+        Full poses (x, y, z [m], rx, ry, rz [rad]).
 
     Raises
     ------
     UnreachablePoseError
         If too few draws are reachable.
     InputDataError
-        ``n`` negative, or ``radius`` / ``angle`` not finite and >= 0.
+        ``n`` negative, or a bad box (:func:`sampling_box`).
     """
     if n < 0:
         raise InputDataError(f"the number of poses must be >= 0, got {n}")
-    for name, value in (("radius", radius), ("angle", angle)):
-        if not np.isfinite(value) or value < 0:
-            raise InputDataError(f"{name} must be finite and >= 0, got {value}")
+    centre, half = sampling_box(design, radius, angle, region)
     rng = np.random.default_rng(seed)
-    half = np.array([radius, radius, angle])
-    draws = workspace_centre(design) + rng.uniform(-1.0, 1.0, (max_tries * max(n, 1), 3)) * half
-    ok = np.ones(len(draws), dtype=bool)
+    draws = centre + rng.uniform(-1.0, 1.0, (max_tries * max(n, 1), len(centre))) * half
+    poses, ok = full_poses(design, draws)
     for leg in design.legs:
-        ok &= leg.reachable(leg.solve(draws))
+        ok &= leg.reachable(leg.solve(poses))
     out: list[FloatArray] = []
-    for pose in draws[ok]:
+    for pose in poses[ok]:
         if len(out) == n:
             break
-        try:
-            k = cartesian_stiffness(leg_springs_at_pose(design, pose))
-            check_nonsingular(k)
-        except PPMStiffnessError:
-            continue
-        out.append(pose)
+        if _accepted(design, pose):
+            out.append(pose)
     if len(out) < n:
         raise UnreachablePoseError(
-            f"only {len(out)} of {n} random poses within +-{radius * 1e3:.1f} mm, "
-            f"+-{np.degrees(angle):.1f} deg of the centre are reachable"
+            f"only {len(out)} of {n} random poses with {describe_box(design, centre, half)} "
+            "are reachable"
         )
-    return np.array(out).reshape(n, 3)
+    return np.array(out).reshape(n, 6)
 
 
 def validation_poses(
@@ -215,11 +341,12 @@ def validation_poses(
     seed: int = 0,
     radius: float = 0.01,
     angle: float = float(np.radians(5.0)),
+    region: bool = False,
 ) -> FloatArray:
-    """The workspace centre followed by ``n`` seeded reachable poses; shape (n + 1, 3)."""
-    return np.vstack(
-        [workspace_centre(design)[None, :], sample_reachable_poses(design, n, seed, radius, angle)]
-    )
+    """The home pose followed by ``n`` seeded reachable poses
+    (:func:`sample_reachable_poses`); full poses, shape (n + 1, 6)."""
+    samples = sample_reachable_poses(design, n, seed, radius, angle, region=region)
+    return np.vstack([home_pose(design)[None, :], samples])
 
 
 def compare_poses(
@@ -231,18 +358,22 @@ def compare_poses(
     return [compare_at_pose(design, p, settings=settings) for p in poses]
 
 
+#: CSV pose columns: the six coordinates in mm and degrees, and phi_deg (= rz, the
+#: planar name of earlier files).
+POSE_COLUMNS = tuple(
+    f"pose_{n}_deg" if n in ANGLE_COORDINATES else f"pose_{n}_mm" for n in POSE_COORDINATES
+) + ("phi_deg",)
+
+
 def csv_rows(comparisons: Iterable[PoseComparison]) -> list[dict[str, float | str]]:
-    """One row per pose and block: pose_x_mm, pose_y_mm, phi_deg, block, max_rel_diff."""
+    """One row per pose and figure: the :data:`POSE_COLUMNS`, block, max_rel_diff."""
     rows: list[dict[str, float | str]] = []
     for c in comparisons:
-        for name in BLOCKS:
-            rows.append(
-                {
-                    "pose_x_mm": float(c.pose[0] * 1e3),
-                    "pose_y_mm": float(c.pose[1] * 1e3),
-                    "phi_deg": float(np.degrees(c.pose[2])),
-                    "block": name,
-                    "max_rel_diff": c.differences[name],
-                }
-            )
+        scaled = [
+            float(np.degrees(v)) if n in ANGLE_COORDINATES else float(v * 1e3)
+            for n, v in zip(POSE_COORDINATES, c.pose, strict=True)
+        ]
+        pose = dict(zip(POSE_COLUMNS, [*scaled, scaled[5]], strict=True))
+        for name, value in c.differences.items():
+            rows.append({**pose, "block": name, "max_rel_diff": value})
     return rows

@@ -9,28 +9,23 @@ deformation the virtual-joint model does not have.
 Model (coordinates: F_b axes, origin at P; PyNite's global X, Y, Z are our x, y, z)
 ----------------------------------------------------------------------------------
 Every leg is built from its joint chain (:meth:`LegModel.chain`, the same chain the
-virtual-joint model reads), walked from the base to the platform:
+virtual-joint model reads) at the full pose (x, y, z, rx, ry, rz), walked from the base
+to the platform:
 
 * a **link** is an Euler-Bernoulli member from a node at its start to a node at its
-  end with the link's section (built as two halves, see ``FrameBuilder.segment``);
-* a **joint** joins the node before it (a grounded node for the first joint) to a
-  new node at the same point (the node after it). In the joint frame (e1, e2, e3) of
-  :mod:`ppm_stiffness.legs.chain`, each of the six relative motions (rotations about
-  e1, e2, e3, translations along e1, e2, e3) is free (a passive freedom: no
-  element), a spring (a hardware spring, or the actuator along the actuated joint's
-  freedom) or rigid (no hardware spring given: a spring of the ``rigid`` scale);
-  - rotations: two *moment-only* members (all end forces released at a common
-    auxiliary node X, translations of X supported) from the two nodes to X along
-    the frame axis normal to the plane; their local axes are the joint frame, so
-    their ``GJ/L, EI_y/L, EI_z/L`` (each twice the spring, in series) are the three
-    rotational springs; a free rotation is also released at X on the first member;
-  - translations: per constrained or actuated direction, two axial ``Spring3D`` of
-    twice the stiffness in series through an auxiliary node Y on the line through
-    the joint point along that direction; Y's other freedoms are held by supports
-    and a grounded spring that acts on nothing else;
+  end with the link's section, its section axes those of the link frame (built as two
+  halves, see ``FrameBuilder.segment``);
+* a **joint** (R, P, C, U or S, any axes) joins the node before it (a grounded node
+  for the first joint) to a new node at the same point (the node after it):
+  moment-only members for its rotations, axial springs through auxiliary nodes for
+  its translations, nothing for its passive freedoms (:mod:`.joints`);
 * a link that does not start at the previous joint's point, or a joint away from the
   previous link's end, is joined by a stiff member (a rigid body in the chain);
-* the **platform**: a stiff member from the last joint's node to P.
+* the **platform**: one node per distinct platform point (the point of each leg's last
+  joint; legs meeting at one point share it, a point at P is P's node), each joined by
+  a stiff member to P, or to the farthest other platform point on its way to P (so
+  that no member passes through a node): a stiff frame joining the legs' platform
+  points and P, for any platform geometry.
 
 Every spring realisation is exact in linear analysis. The approximations are the
 finite stiffness of the platform members and of the rigid joint directions, both
@@ -40,31 +35,30 @@ model scales as its inverse. The stiffness at P comes from six unit-load cases a
 (moments, then forces, along the base axes): the displacements are the compliance
 columns, ``K = inv(C)``.
 
-Only the chain (points, axes, springs, sections) and the design's numbers are
-shared with the virtual-joint model: :mod:`ppm_stiffness.core.solver`,
-:func:`ppm_stiffness.core.beam.cantilever_compliance` and
-:func:`ppm_stiffness.legs.chain.leg_springs` are not used.
+Only the chain (points, axes, joint kinds, springs, sections) and the design's numbers
+are shared with the virtual-joint model: :mod:`ppm_stiffness.core.solver`,
+:mod:`ppm_stiffness.legs.engine`, :func:`ppm_stiffness.core.beam.cantilever_compliance`
+and :func:`ppm_stiffness.legs.chain.leg_springs` are not used.
+
+Reuse. :func:`build_model` returns the builder and P's node with no load on it: a
+caller may add its own load cases at P (or elsewhere) and run any PyNite analysis
+(linear, P-Delta) on ``builder.model``; :func:`compliance_at_node` is the one used here.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import (
-    LENGTH_SCALE,
-    Z_AXIS,
-    FloatArray,
-    length_balanced_compliance,
-)
+from ppm_stiffness.core.conventions import FloatArray, length_balanced_compliance
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
 from ppm_stiffness.legs.chain import Element, Joint, Link
-from ppm_stiffness.model import actuator_stiffness_vector, solve_legs
+from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, validate_pose
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
     REACTIONS,
@@ -77,6 +71,7 @@ from ppm_stiffness.validation.frame import (
     require_pynite,
     unit_scales,
 )
+from ppm_stiffness.validation.joints import SAME_POINT, Placement, add_joint, joint_stiffness
 
 __all__ = [
     "FEResult",
@@ -88,18 +83,6 @@ __all__ = [
     "joint_stiffness",
     "require_pynite",
 ]
-
-#: Relative motions of a joint in its frame: 0-2 rotations about e1, e2, e3, 3-5
-#: translations along e1, e2, e3. Constrained ones, in the order of the hardware
-#: springs (:mod:`ppm_stiffness.legs.chain`), and freedoms (the actuated one first).
-CONSTRAINED_MOTIONS: dict[str, tuple[int, ...]] = {
-    "P": (0, 1, 2, 4, 5),
-    "C": (1, 2, 4, 5),
-    "R": (1, 2, 3, 4, 5),
-}
-FREE_MOTIONS: dict[str, tuple[int, ...]] = {"P": (3,), "C": (0, 3), "R": (0,)}
-#: Two points closer than this are the same point [m].
-_SAME_POINT = 1e-9
 
 
 @dataclass(frozen=True)
@@ -127,257 +110,106 @@ class FEResult:
     n_springs: int
 
 
-def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
-    """Stiffness of a joint's six relative motions in its frame, shape (6,).
-
-    Order: rotations about e1, e2, e3 [N·m/rad], translations along e1, e2, e3 [N/m].
-    0 is a free motion, ``inf`` a rigid one (a constrained direction without a
-    hardware spring, or an ``inf`` spring).
-
-    Raises
-    ------
-    DesignError
-        Springs of the wrong number or not positive.
-    """
-    k = np.zeros(6)
-    constrained = CONSTRAINED_MOTIONS[joint.kind]
-    if joint.springs is None:
-        k[list(constrained)] = np.inf
-    else:
-        springs = np.asarray(joint.springs, dtype=float)
-        if springs.shape != (len(constrained),) or np.any(~(springs > 0)):
-            raise DesignError(
-                f"FE model, joint {joint.name or joint.kind}: {len(constrained)} positive "
-                f"spring stiffnesses expected, got {springs}"
-            )
-        k[list(constrained)] = springs
-    if joint.actuated:
-        k[FREE_MOTIONS[joint.kind][0]] = actuator_stiffness
-    return k
-
-
-@dataclass
-class _Planner:
-    """Where auxiliary nodes may go: off the in-plane members, one z line per point."""
-
-    segments: list[tuple[FloatArray, FloatArray]] = field(default_factory=list)
-    points: list[FloatArray] = field(default_factory=list)
-    joints_at: dict[tuple[int, int], int] = field(default_factory=dict)
-    springs_at: dict[tuple[int, int], int] = field(default_factory=dict)
-
-    @staticmethod
-    def key(point: FloatArray) -> tuple[int, int]:
-        return (round(float(point[0]) / _SAME_POINT), round(float(point[1]) / _SAME_POINT))
-
-    def clear(self, q: FloatArray, margin: float) -> bool:
-        """``q`` is farther than ``margin`` from every member and auxiliary node."""
-        for a, b in self.segments:
-            ab = b - a
-            t = float(np.clip((q - a) @ ab / (ab @ ab), 0.0, 1.0))
-            if np.linalg.norm(q - (a + t * ab)) <= margin:
-                return False
-        return all(np.linalg.norm(q - p) > margin for p in self.points)
-
-
-def _point(v: FloatArray) -> FloatArray:
+def _point(v: ArrayLike) -> FloatArray:
     p = np.asarray(v, dtype=float)
     if p.shape != (3,):
         raise DesignError(f"FE model: one pose at a time, got a point of shape {p.shape}")
     return p
 
 
-def _along_z(axis: FloatArray) -> bool:
-    return bool(abs(abs(float(axis @ Z_AXIS)) - 1.0) < 1e-9)
+def _same(a: FloatArray, b: FloatArray) -> bool:
+    return bool(np.linalg.norm(a - b) <= SAME_POINT)
 
 
-def _in_plane(axis: FloatArray) -> bool:
-    return bool(abs(float(axis @ Z_AXIS)) < 1e-9)
+def _end_point(chain: Sequence[Element]) -> FloatArray:
+    last = chain[-1]
+    return _point(last.end if isinstance(last, Link) else last.point)
 
 
-def _rigid(fb: FrameBuilder) -> tuple[float, float]:
-    """Stiffness of a rigid joint direction: rotation [N·m/rad], translation [N/m]."""
-    k = fb.settings.rigid_stiffness
-    return k * LENGTH_SCALE**2, k
+def _platform_parents(points: list[FloatArray]) -> list[int]:
+    """For each distinct platform point, the index of the point its stiff member goes
+    to: the farthest other platform point lying on its segment to P (strictly inside),
+    or -1 for P itself."""
+    parents = []
+    for i, q in enumerate(points):
+        best, best_d = -1, 0.0
+        qq = float(q @ q)
+        for j, r in enumerate(points):
+            if j == i:
+                continue
+            t = float(r @ q) / qq
+            if 0.0 < t < 1.0 and np.linalg.norm(r - t * q) <= SAME_POINT and t > best_d:
+                best, best_d = j, t
+        parents.append(best)
+    return parents
 
 
-def _add_joint_rotations(
-    fb: FrameBuilder,
-    plan: _Planner,
-    before: str,
-    after: str,
-    point: FloatArray,
-    frame: tuple[FloatArray, FloatArray, FloatArray],
-    k_rot: FloatArray,
-    label: str,
-) -> None:
-    """Rotational springs of a joint: two moment-only members through X (module doc)."""
-    if not np.any(k_rot != 0):
-        return
-    normal = [i for i in range(3) if _along_z(frame[i])]
-    if not normal:
-        raise DesignError(f"FE model, {label}: the joint frame has no axis normal to the plane")
-    i_x = normal[0]
-    i_y, i_z = (i_x + 1) % 3, (i_x + 2) % 3
-    key = plan.key(point)
-    slot = plan.joints_at.get(key, 0)
-    if slot >= 2:
-        raise DesignError(f"FE model, {label}: more than two joints at one point")
-    plan.joints_at[key] = slot + 1
-    sign = 1.0 if slot == 0 else -1.0
-    x_axis = sign * Z_AXIS
-    y_axis = frame[i_y]
-    rot_rigid = _rigid(fb)[0]
-    k = np.array([k_rot[i_x], k_rot[i_y], k_rot[i_z]])
-    free = (bool(k[0] == 0), bool(k[1] == 0), bool(k[2] == 0))
-    k = np.where(np.isinf(k), rot_rigid, k)
-    hold = float(np.max(k))  # the second member holds X about the free axes
-    x_node = fb.node(point + sign * fb.s * Z_AXIS, "X")
-    fb.support(x_node, "DX DY DZ")
-    # local z of a member along x_axis with local y = frame[i_y] is x_axis x y_axis
-    z_sign = float(np.cross(x_axis, y_axis) @ frame[i_z])
-    if abs(abs(z_sign) - 1.0) > 1e-9:
-        raise DesignError(f"FE model, {label}: joint frame is not orthonormal")
-    stiff = 2.0 * np.where(np.array(free), 1.0, k)
-    fb.moment_member(before, x_node, (x_axis, y_axis), stiff, free)
-    fb.moment_member(
-        after,
-        x_node,
-        (x_axis, y_axis),
-        2.0 * np.where(np.array(free), hold, k),
-        (False, False, False),
-    )
-
-
-def _add_joint_translation(
-    fb: FrameBuilder,
-    plan: _Planner,
-    before: str,
-    after: str,
-    point: FloatArray,
-    axis: FloatArray,
-    stiffness: float,
-    label: str,
-) -> None:
-    """A translational spring along ``axis``: two Spring3D in series through Y."""
-    s = fb.s
-    if _along_z(axis):
-        key = plan.key(point)
-        n = plan.springs_at.get(key, 0)
-        plan.springs_at[key] = n + 1
-        # beyond the moment-only members (|z| <= s), alternately up and down
-        pos = point + (1.0 if n % 2 == 0 else -1.0) * (2 + n // 2) * s * Z_AXIS
-        y_node = fb.node(pos, "Y")
-        fb.support(y_node, "DX DY RX RY RZ")
-    elif _in_plane(axis):
-        pos = None
-        for step in range(1, 10_000):
-            for sign in (1.0, -1.0):
-                q = point + sign * step * s * axis
-                if plan.clear(q, 0.25 * s):
-                    pos = q
-                    break
-            if pos is not None:
-                break
-        if pos is None:  # pragma: no cover - needs members everywhere on the line
-            raise DesignError(f"FE model, {label}: no room for a spring node")
-        plan.points.append(pos)
-        y_node = fb.node(pos, "Y")
-        fb.support(y_node, "DZ RX RY RZ")
-        across = np.cross(Z_AXIS, axis)
-        holder = fb.ground(pos + s * (across + Z_AXIS) / np.sqrt(2.0))
-        fb.axial_spring(y_node, holder, stiffness)
-    else:
-        raise DesignError(f"FE model, {label}: joint axes must lie in the plane or along z")
-    fb.axial_spring(before, y_node, 2.0 * stiffness)
-    fb.axial_spring(y_node, after, 2.0 * stiffness)
-
-
-def _add_joint(
-    fb: FrameBuilder,
-    plan: _Planner,
-    before: str,
-    joint: Joint,
-    k_act: float,
-    label: str,
-) -> str:
-    """Add one joint after node ``before``; returns the node after it."""
-    point = _point(joint.point)
-    e1, e2, e3 = (_point(e) for e in joint.frame())
-    frame = (np.asarray(e1), np.asarray(e2), np.asarray(e3))
-    k = joint_stiffness(joint, k_act)
-    after = fb.node(point, "J")
-    _add_joint_rotations(fb, plan, before, after, point, frame, k[:3], label)
-    k_trans = np.where(np.isinf(k[3:]), _rigid(fb)[1], k[3:])
-    for i in range(3):
-        if k_trans[i] > 0:
-            _add_joint_translation(
-                fb, plan, before, after, point, frame[i], float(k_trans[i]), label
-            )
-    return after
-
-
-def _plan_segments(chain: Sequence[Element], plan: _Planner) -> None:
-    """Record the in-plane members of a chain (links, rigid offsets, platform)."""
-    pos: FloatArray | None = None
-    for element in chain:
-        if isinstance(element, Link):
-            start, end = _point(element.start), _point(element.end)
-            if pos is not None and np.linalg.norm(start - pos) > _SAME_POINT:
-                plan.segments.append((pos, start))
-            plan.segments.append((start, end))
-            pos = end
-        else:
-            point = _point(element.point)
-            if pos is not None and np.linalg.norm(point - pos) > _SAME_POINT:
-                plan.segments.append((pos, point))
-            pos = point
-    if pos is not None:
-        plan.segments.append((pos, np.zeros(3)))
+def _plan_structure(chains: Sequence[Sequence[Element]], plan: Placement) -> None:
+    """Record every structural member (links, rigid offsets) and node position of the
+    chains (the platform is added by :func:`build_model`)."""
+    for chain in chains:
+        pos: FloatArray | None = None
+        for element in chain:
+            if isinstance(element, Link):
+                start, end = _point(element.start), _point(element.end)
+                if pos is not None and not _same(start, pos):
+                    plan.add_segment(pos, start)
+                    plan.add_point(0.5 * (pos + start))
+                plan.add_segment(start, end)
+                plan.add_point(start)
+                plan.add_point(0.5 * (start + end))
+                plan.add_point(end)
+                pos = end
+            else:
+                point = _point(element.point)
+                if pos is not None and not _same(point, pos):
+                    plan.add_segment(pos, point)
+                    plan.add_point(0.5 * (pos + point))
+                plan.add_point(point)
+                pos = point
 
 
 def _add_leg(
     fb: FrameBuilder,
-    plan: _Planner,
+    plan: Placement,
     chain: Sequence[Element],
     k_act: float,
-    p_node: str,
+    platform_node: str,
     label: str,
 ) -> None:
-    """Add one leg's chain from the ground to node P (module doc)."""
+    """Add one leg's chain from the ground to its platform node (module doc)."""
     if not chain or not isinstance(chain[0], Joint):
         raise DesignError(f"FE model, {label}: the chain must start with a joint at the base")
     current: str | None = None
     pos = np.zeros(3)
+    last = len(chain) - 1
     for n, element in enumerate(chain):
         name = f"{label}, {element.name or type(element).__name__.lower()} (element {n + 1})"
+        out = platform_node if n == last else None
         if isinstance(element, Link):
             start, end = _point(element.start), _point(element.end)
-            if np.linalg.norm(end - start) <= _SAME_POINT:
+            if np.linalg.norm(end - start) <= SAME_POINT:
                 raise DesignError(f"FE model, {name}: zero-length link")
             if current is None:  # pragma: no cover - excluded above
                 raise DesignError(f"FE model, {label}: the chain must start with a joint")
-            if np.linalg.norm(start - pos) > _SAME_POINT:
+            if not _same(start, pos):
                 offset = fb.node(start, "O")
                 fb.rigid(current, offset)
                 current = offset
-            tip = fb.node(end, "L")
+            tip = fb.node(end, "L") if out is None else out
             fb.link(current, tip, element.section)
             current, pos = tip, end
         else:
             point = _point(element.point)
             if current is None:
                 before = fb.ground(point)
-            elif np.linalg.norm(point - pos) > _SAME_POINT:
+            elif not _same(point, pos):
                 before = fb.node(point, "O")
                 fb.rigid(current, before)
             else:
                 before = current
-            current = _add_joint(fb, plan, before, element, k_act, name)
+            current = add_joint(fb, plan, before, element, k_act, name, out)
             pos = point
-    assert current is not None
-    if np.linalg.norm(pos) <= _SAME_POINT:
-        raise DesignError(f"FE model, {label}: the platform point coincides with P")
-    fb.rigid(current, p_node)
 
 
 def build_model(
@@ -387,13 +219,15 @@ def build_model(
     settings: FESettings | None = None,
     legs: tuple[int, ...] | None = None,
 ) -> tuple[FrameBuilder, str]:
-    """The FE model of the manipulator (or of some legs) at ``pose``.
+    """The FE model of the manipulator (or of some legs) at ``pose``, without loads.
 
     Parameters
     ----------
     design : Design
-    pose : array_like, shape (3,)
-        (x [m], y [m], phi [rad]); the model is built with its origin at P.
+    pose : array_like, shape (n_task,) or (6,)
+        The design's task coordinates or a full pose (x, y, z [m], rx, ry, rz [rad])
+        (:func:`ppm_stiffness.poses.full_pose`); the model is built with its origin at
+        P and the axes of F_b.
     actuator_stiffness : array_like, shape (n_legs,) or scalar, optional
         Per-leg actuator stiffness [N/m, or N·m/rad for a rotary actuator]; the
         locked values when None.
@@ -408,12 +242,10 @@ def build_model(
 
     Raises
     ------
-    UnreachablePoseError, DesignError
+    InputDataError, UnreachablePoseError, DesignError
     """
     st = settings or FESettings()
-    p = np.asarray(pose, dtype=float)
-    if p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise DesignError(f"FE model: a pose is 3 finite numbers (x, y, phi), got {p}")
+    p = validate_pose(design, pose)
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
     chosen = range(len(design.legs)) if legs is None else legs
     for i in chosen:
@@ -421,14 +253,33 @@ def build_model(
             raise DesignError(f"FE model: no leg {i} (the design has {len(design.legs)})")
     leg_poses = solve_legs(design, p)
     chains = {i: design.legs[i].chain(leg_poses[i]) for i in chosen}
-    plan = _Planner()
-    for chain in chains.values():
-        _plan_segments(chain, plan)
-    fb = FrameBuilder(st)
-    p_node = fb.node(np.zeros(3), "P")
     for i, chain in chains.items():
-        _add_leg(fb, plan, chain, float(k_act[i]), p_node, leg_label(i))
-    return fb, p_node
+        if not chain:
+            raise DesignError(f"FE model, {leg_label(i)}: empty chain")
+    # the platform: distinct platform points (P first), their stiff members
+    ends: list[FloatArray] = [np.zeros(3)]
+    end_of: dict[int, int] = {}
+    for i, chain in chains.items():
+        q = _end_point(chain)
+        found = next((j for j, r in enumerate(ends) if _same(q, r)), None)
+        if found is None:
+            ends.append(q)
+            found = len(ends) - 1
+        end_of[i] = found
+    parents = _platform_parents(ends[1:])
+    plan = Placement(st.connector_length)
+    _plan_structure(list(chains.values()), plan)
+    for j, parent in enumerate(parents):
+        plan.add_segment(ends[j + 1], ends[parent + 1])
+        plan.add_point(0.5 * (ends[j + 1] + ends[parent + 1]))
+    plan.add_point(np.zeros(3))
+    fb = FrameBuilder(st)
+    nodes = [fb.node(np.zeros(3), "P")] + [fb.node(q, "B") for q in ends[1:]]
+    for j, parent in enumerate(parents):
+        fb.rigid(nodes[j + 1], nodes[parent + 1])
+    for i, chain in chains.items():
+        _add_leg(fb, plan, chain, float(k_act[i]), nodes[end_of[i]], leg_label(i))
+    return fb, nodes[0]
 
 
 def _balanced_asymmetry(c: FloatArray) -> float:
@@ -447,8 +298,8 @@ def fe_stiffness_at_pose(
     Parameters
     ----------
     design : Design
-    pose : array_like, shape (3,)
-        (x [m], y [m], phi [rad]).
+    pose : array_like, shape (n_task,) or (6,)
+        The design's task coordinates or a full pose [m, rad] (:func:`build_model`).
     actuator_stiffness : array_like, shape (n_legs,) or scalar, optional [N/m]
     settings : FESettings, optional
 
@@ -459,7 +310,7 @@ def fe_stiffness_at_pose(
 
     Raises
     ------
-    UnreachablePoseError, DesignError, SingularConfigurationError
+    InputDataError, UnreachablePoseError, DesignError, SingularConfigurationError
     """
     fb, p_node = build_model(design, pose, actuator_stiffness, settings)
     c = compliance_at_node(fb, p_node)

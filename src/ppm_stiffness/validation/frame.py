@@ -15,6 +15,10 @@ each exact in linear analysis:
   other degrees of freedom are held by supports or by grounded springs that act on
   nothing else.
 
+A link's section is turned about its axis so that its ``inertia_y`` and
+``inertia_z`` act about the link frame's y and z (:func:`link_y_axis`, the convention
+of :mod:`ppm_stiffness.legs.chain`), in any direction in space.
+
 The model can be solved in a length unit other than the metre (forces stay in N)
 to balance rotational and translational stiffness entries; inputs and outputs of
 this module are SI.
@@ -115,6 +119,17 @@ def unit_vector(v: ArrayLike) -> FloatArray:
     return np.asarray(a / np.linalg.norm(a))
 
 
+def link_y_axis(direction: ArrayLike) -> FloatArray:
+    """Local y of a link along ``direction`` (3,): ``unit(z x x)``, or ``unit(x x e_x)``
+    when the link is along z (the link frame of :mod:`ppm_stiffness.legs.chain`, in
+    which a section's ``inertia_y`` and ``inertia_z`` are given)."""
+    x = unit_vector(direction)
+    y = np.cross(Z_AXIS, x)
+    if np.linalg.norm(y) < 1e-12:
+        y = np.cross(x, np.array([1.0, 0.0, 0.0]))
+    return unit_vector(y)
+
+
 class FrameBuilder:
     """Adds nodes, members and exact lumped springs to a PyNite ``FEModel3D``.
 
@@ -176,9 +191,32 @@ class FrameBuilder:
     def beam(
         self, i_node: str, j_node: str, section: BeamSection | SectionModel, **releases: bool
     ) -> str:
-        """An Euler-Bernoulli link with the design's section (local z = global z)."""
+        """An Euler-Bernoulli link with the design's section, one member, its local y
+        along :func:`link_y_axis`."""
         mat = self.material(section)
-        return self.member(i_node, j_node, mat, mat, **releases)
+        name = self.member(i_node, j_node, mat, mat, **releases)
+        self.orient(name, link_y_axis(self.position(j_node) - self.position(i_node)))
+        return name
+
+    def orient(self, member: str, y_axis: ArrayLike) -> None:
+        """Turn ``member`` about its axis until its local y is ``y_axis`` (unit, normal
+        to the member; PyNite's ``rotation``).
+
+        Raises
+        ------
+        SingularConfigurationError
+            If PyNite's local axes do not follow (a change of PyNite).
+        """
+        y = np.asarray(y_axis, dtype=float)
+        m = self.model.members[member]
+        m.rotation = 0.0
+        rot = m.T()[:3, :3]
+        m.rotation = float(np.degrees(np.arctan2(float(y @ rot[2]), float(y @ rot[1]))))
+        rot = m.T()[:3, :3]
+        if abs(float(rot[1] @ y)) < 1.0 - 1e-9:
+            raise SingularConfigurationError(  # pragma: no cover - a PyNite change
+                f"FE model: cannot align the local axes of member {member}"
+            )
 
     # --- zero-length joints between coincident nodes ------------------------------
 
@@ -193,8 +231,11 @@ class FrameBuilder:
         n = self.model.nodes[node]
         return np.array([n.X, n.Y, n.Z]) * self.unit
 
-    def segment(self, a: str, b: str, section: str, material: str) -> str:
-        """A straight member a-b as two members from each end to a new midpoint node.
+    def segment(
+        self, a: str, b: str, section: str, material: str, y_axis: ArrayLike | None = None
+    ) -> str:
+        """A straight member a-b as two members from each end to a new midpoint node
+        (local y along ``y_axis`` if given, else PyNite's default).
 
         PyNite splits a member at any node it finds strictly inside it; a node
         coincident with the member's j-end may land at ``t < L`` after round-off, but
@@ -204,14 +245,18 @@ class FrameBuilder:
         midpoint node.
         """
         mid = self.node(0.5 * (self.position(a) + self.position(b)), "H")
-        self.member(a, mid, material, section)
-        self.member(b, mid, material, section)
+        for end in (a, b):
+            name = self.member(end, mid, material, section)
+            if y_axis is not None:
+                self.orient(name, y_axis)
         return mid
 
     def link(self, a: str, b: str, section: BeamSection | SectionModel) -> str:
-        """An Euler-Bernoulli link a-b with the design's section (:meth:`segment`)."""
+        """An Euler-Bernoulli link a-b with the design's section (:meth:`segment`), its
+        section axes those of the link frame (:func:`link_y_axis`)."""
         mat = self.material(section)
-        return self.segment(a, b, mat, mat)
+        y_axis = link_y_axis(self.position(b) - self.position(a))
+        return self.segment(a, b, mat, mat, y_axis)
 
     def rigid(self, a: str, b: str) -> str:
         """A stiff member a-b standing in for a rigid body (:meth:`segment`).
@@ -257,15 +302,11 @@ class FrameBuilder:
         # G = E = 1: J = k_x L, I = k L; A only conditions the condensation (EA/L = 1).
         self.model.add_section(section, ell, k[1] * ell, k[2] * ell, k[0] * ell)
         name = self.member(i_node, j_node, "unit", section)
-        member = self.model.members[name]
-        rot = member.T()[:3, :3]
-        theta = np.arctan2(float(y_axis @ rot[2]), float(y_axis @ rot[1]))
-        member.rotation = float(np.degrees(theta))
-        rot = member.T()[:3, :3]
-        if abs(float(rot[1] @ y_axis)) < 1.0 - 1e-9 or abs(float(rot[0] @ x_axis)) < 1.0 - 1e-9:
-            raise SingularConfigurationError(  # pragma: no cover - a PyNite change
-                f"FE model: cannot align the local axes of member {name}"
+        if abs(float(self.model.members[name].T()[0, :3] @ x_axis)) < 1.0 - 1e-9:
+            raise SingularConfigurationError(  # pragma: no cover - a caller's mistake
+                f"FE model: member {name} does not lie along its x axis"
             )
+        self.orient(name, y_axis)
         releases = {"Dxj": True, "Dyj": True, "Dzj": True}
         for dof, f in zip(("Rxj", "Ryj", "Rzj"), free, strict=True):
             if f:
@@ -318,8 +359,9 @@ def fe_cantilever_compliance(
 ) -> FloatArray:
     """Tip compliance of a single clamped link, one PyNite member, in the tip frame.
 
-    The tip frame has x along the link (root to tip), y = z x x and z = F_b's z; the
-    link must lie in the plane z = const (as the manipulator's links do).
+    The tip frame is the link frame: x along the link (root to tip), y =
+    :func:`link_y_axis` (``unit(z x x)``; ``unit(x x e_x)`` along z), z = x x y; the
+    link may point in any direction.
 
     Returns
     -------
@@ -334,7 +376,7 @@ def fe_cantilever_compliance(
     fb.beam(n0, n1, section)
     c_global = compliance_at_node(fb, n1)
     x = unit_vector(r1 - r0)
-    y = np.cross(Z_AXIS, x)
+    y = link_y_axis(x)
     rot = np.zeros((6, 6))
-    rot[:3, :3] = rot[3:, 3:] = np.stack([x, y, Z_AXIS])
+    rot[:3, :3] = rot[3:, 3:] = np.stack([x, y, np.cross(x, y)])
     return np.asarray(rot @ c_global @ rot.T)

@@ -1,4 +1,9 @@
-"""Deflection-load curves like the paper's Fig. 10, with measurements overlaid."""
+"""Deflection-load curves like the paper's Fig. 10, with measurements overlaid.
+
+Rotations in degrees, displacements in millimetres. A planar design's curves of the
+paper's modes show the components those modes move (Fig. 10); a spatial design's
+show all six (rotations about x, y, z; displacements along x, y, z).
+"""
 
 from __future__ import annotations
 
@@ -25,7 +30,9 @@ _STYLES = ("-", "--", ":", "-.")
 
 def _components(curves: list[DeflectionCurve], meas: list[Measurements]) -> tuple[list[int], ...]:
     mode = curves[0].mode
-    if mode in _RELEVANT:
+    if not all(c.planar for c in curves):
+        rot, pos = [0, 1, 2], [3, 4, 5]
+    elif mode in _RELEVANT:
         rot, pos = (list(c) for c in _RELEVANT[mode])
     else:
         big = np.max(np.abs(np.vstack([c.twists for c in curves])), axis=0)
@@ -56,16 +63,18 @@ def plot_deflection_curves(
     measurements: Sequence[Measurements | None] | Measurements | None = None,
     bands: Sequence[Any | None] | None = None,
 ) -> Any:
-    """Orientation [deg] and position [mm] of P against the load, one row per mode.
+    """Orientation [deg] and position [mm] of the tool point against the load, one row
+    per load direction.
 
     Components of the model (and of its bands) that are round-off are drawn as 0
-    (:func:`round_off_as_zero`).
+    (:func:`round_off_as_zero`); a spatial design's curves show all six components
+    (module doc).
 
     Parameters
     ----------
     curves : DeflectionCurve or sequence of them
-        Curves of the same mode and direction share a row (e.g. the integrated law
-        and the linear model), drawn with different line styles.
+        Curves of the same mode and load direction share a row (e.g. the integrated
+        law and the linear model), drawn with different line styles.
     measurements : Measurements, or a sequence aligned with ``curves``, optional
         Drawn as markers in the row of their curve.
     bands : sequence aligned with ``curves`` of Bands (twists (n_loads, 6)) or None
@@ -85,14 +94,14 @@ def plot_deflection_curves(
         ms: list[Measurements | None] = [measurements] + [None] * (len(cs) - 1)
     else:
         ms = list(measurements) + [None] * (len(cs) - len(measurements))
-    groups: dict[tuple[str, float], list[int]] = {}
+    groups: dict[tuple[str, tuple[float, ...]], list[int]] = {}
     for k, c in enumerate(cs):
-        key = (c.mode, round(c.alpha, 12) if math.isfinite(c.alpha) else math.nan)
+        key = (c.mode, tuple(np.round(c.unit_wrench, 12).tolist()))
         groups.setdefault(key, []).append(k)
     fig = Figure(figsize=(10, 3.4 * len(groups)), layout="constrained")
     axes = np.atleast_2d(fig.subplots(len(groups), 2, squeeze=False))
     colours = [f"C{i}" for i in range(10)]
-    for row, ((mode, alpha), idx) in enumerate(groups.items()):
+    for row, idx in enumerate(groups.values()):
         meas = [m for k in idx if (m := ms[k]) is not None]
         rot, pos = _components([cs[k] for k in idx], meas)
         unit = cs[idx[0]].load_unit
@@ -143,6 +152,17 @@ def plot_deflection_curves(
                 ax.legend(fontsize=7)
             else:
                 ax.text(0.5, 0.5, "(none)", ha="center", va="center", transform=ax.transAxes)
-        title = mode + (f", α = {math.degrees(alpha):g}°" if math.isfinite(alpha) else "")
-        axes[row, 0].set_title(title, loc="left", fontsize=10)
+        axes[row, 0].set_title(_title(cs[idx[0]]), loc="left", fontsize=10)
     return fig
+
+
+def _title(curve: DeflectionCurve) -> str:
+    """The mode, with the planar force's angle or the load per unit (f, m)."""
+    if math.isfinite(curve.alpha):
+        return f"{curve.mode}, α = {math.degrees(curve.alpha):g}°"
+    if curve.mode in ("direction", "wrench"):
+        w = curve.unit_wrench
+        f = ", ".join(f"{v:.3g}" for v in w[3:])
+        m = ", ".join(f"{v:.3g}" for v in w[:3])
+        return f"{curve.mode}: f = ({f}) N, m = ({m}) N·m per {curve.load_unit}"
+    return curve.mode

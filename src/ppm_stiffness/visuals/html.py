@@ -37,10 +37,12 @@ def cell(value: float, path: str, scale: float = 1.0, sig: int = 5, ref: float =
     """A <td> with the number (SI x scale), its data-path and data-scale.
 
     Values below ``1e-12 * ref`` in magnitude (round-off of structural zeros) show 0.
+    ``data-scale`` is the scale in full (the shortest text that reads back as the same
+    float), so that a reader recovers the SI value to the printed digits.
     """
     v = float(value)
     text = "0" if abs(v) < 1e-12 * ref else format_number(v * scale, sig)
-    return f'<td class="num" data-path="{path}" data-scale="{scale:g}">{text}</td>'
+    return f'<td class="num" data-path="{path}" data-scale="{float(scale)!r}">{text}</td>'
 
 
 def esc(text: Any) -> str:

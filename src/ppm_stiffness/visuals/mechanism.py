@@ -1,6 +1,10 @@
-"""Top view of a planar parallel manipulator at a pose: what the model contains.
+"""Picture of a parallel manipulator at a pose: what the model contains.
 
-Works for every leg type: everything drawn comes from the legs' inverse kinematics
+:func:`plot_mechanism` draws a planar design as a top view (this module) and a spatial
+one in 3-D (:mod:`ppm_stiffness.visuals.mechanism3d`); both draw the same leg geometry
+(:mod:`ppm_stiffness.visuals.leg_geometry`: points, joints with their kinds and axes,
+links, base features and violated limits). The top view works for every planar leg
+type: everything drawn comes from the legs' inverse kinematics
 (:meth:`~ppm_stiffness.legs.base.LegModel.solve`), joint chains
 (:meth:`~ppm_stiffness.legs.base.LegModel.chain`), base features
 (:meth:`~ppm_stiffness.legs.base.LegModel.base_feature`) and limits. Drawn in the base
@@ -34,9 +38,6 @@ Artists carry gids so the plotted data can be read back (mm): ``platform`` (poly
 
 from __future__ import annotations
 
-import textwrap
-from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,9 +45,18 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, as_poses, planar
-from ppm_stiffness.legs.chain import Element, Joint, Link
-from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.legs.base import BaseFeature
+from ppm_stiffness.visuals.leg_geometry import (
+    JOINT_NAMES,
+    JointView,
+    LegView,
+    LinkView,
+    MechanismView,
+    limit_violations,
+    mechanism_view,
+    platform_order,
+    title_text,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -55,7 +65,6 @@ MM = 1e3
 LEG_COLOURS = ("tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan")
 #: Marker of each joint kind: revolute, prismatic, cylindrical.
 JOINT_MARKERS = {"R": "o", "P": "s", "C": "D"}
-JOINT_NAMES = {"R": "revolute joint R", "P": "prismatic joint P", "C": "cylindrical joint C"}
 #: Styles of the links, by the order in which their names first appear.
 LINK_STYLES: tuple[dict[str, Any], ...] = (
     {"lw": 6.0, "alpha": 0.55, "solid_capstyle": "round"},
@@ -64,95 +73,16 @@ LINK_STYLES: tuple[dict[str, Any], ...] = (
 )
 
 
-@dataclass(frozen=True)
-class LegView:
-    """One leg at one pose, ready to draw (absolute positions in F_b, [m]).
-
-    Attributes
-    ----------
-    index : int
-        Leg number, from 1.
-    leg_pose : LegPose
-        The leg's inverse kinematics at the pose (points relative to P).
-    points : dict of str to ndarray (2,)
-        The named points of ``leg_pose`` in F_b, base to platform [m].
-    chain : sequence of Joint and Link, or None
-        The joint chain at the pose; None when the inverse kinematics has no solution.
-    base : BaseFeature
-    violations : list of str
-        The violated limits (display units), or the missing IK solution.
-    """
-
-    index: int
-    leg_pose: LegPose
-    points: dict[str, FloatArray]
-    chain: Sequence[Element] | None
-    base: BaseFeature
-    violations: list[str]
-
-    @property
-    def solvable(self) -> bool:
-        """The inverse kinematics has a solution (the leg is drawn)."""
-        return self.chain is not None
+def link_label(name: str) -> str:
+    """A link's legend entry, ``"rod link"``; a link named "link" (or nothing) is
+    ``"link"``."""
+    return "link" if name in ("", "link") else f"{name} link"
 
 
-def _display(value: float, si_unit: str) -> tuple[float, str]:
-    """An SI joint coordinate in the picture's units: m -> mm, rad -> deg."""
-    return (value * MM, "mm") if si_unit == "m" else (float(np.degrees(value)), "deg")
-
-
-def limit_violations(leg: LegModel, leg_pose: LegPose) -> list[str]:
-    """Every limit of ``leg`` violated at one pose, e.g. ``"rod free length 35.0 mm
-    outside [1.0, 30.0] mm"``; ``["no inverse-kinematics solution"]`` if unsolvable."""
-    if not bool(np.all(leg_pose.solvable)):
-        return ["no inverse-kinematics solution (not drawn)"]
-    out = []
-    for name, (lo, hi) in leg.limits().items():
-        q = float(leg_pose.coordinates[name])
-        if not lo <= q <= hi:
-            c = leg.COORDINATES[name]
-            v, unit = _display(q, c.unit)
-            a, _ = _display(lo, c.unit)
-            b, _ = _display(hi, c.unit)
-            out.append(f"{c.label} {v:.2f} {unit} outside [{a:.2f}, {b:.2f}] {unit}")
-    return out
-
-
-def mechanism_legs(design: Design, pose: ArrayLike) -> list[LegView]:
-    """Every leg of ``design`` at one pose (x [m], y [m], phi [rad]), reachable or not."""
-    p = np.asarray(pose, dtype=float)
-    origin = planar(p[:2])
-    out = []
-    for i, leg in enumerate(design.legs, start=1):
-        lp = leg.solve(p)
-        solvable = bool(np.all(lp.solvable))
-        out.append(
-            LegView(
-                index=i,
-                leg_pose=lp,
-                points={k: np.asarray(v + origin)[:2] for k, v in lp.points.items()},
-                chain=leg.chain(lp) if solvable else None,
-                base=leg.base_feature(lp),
-                violations=limit_violations(leg, lp),
-            )
-        )
-    return out
-
-
-def platform_order(d: FloatArray, centre: FloatArray) -> list[int]:
-    """Indices of the platform points D_i counter-clockwise around P, from D_1."""
-    rel = np.asarray(d) - np.asarray(centre)
-    order = [int(k) for k in np.argsort(np.arctan2(rel[:, 1], rel[:, 0]))]
-    start = order.index(0)
-    return order[start:] + order[:start]
-
-
-def tool_position(design: Design, pose: ArrayLike) -> FloatArray:
-    """The tool point in F_b at ``pose`` (x, y) [m]."""
-    p = np.asarray(pose, dtype=float)
-    c, s = np.cos(p[2]), np.sin(p[2])
-    t = np.asarray(design.tool_point[:2], dtype=float)
-    return np.asarray(p[:2] + np.array([c * t[0] - s * t[1], s * t[0] + c * t[1]]))
+def mechanism_legs(design: Design, pose: ArrayLike | None = None) -> list[LegView]:
+    """Every leg of ``design`` at one pose (task coordinates or a full pose [m, rad]),
+    reachable or not (:func:`~ppm_stiffness.visuals.leg_geometry.mechanism_view`)."""
+    return mechanism_view(design, pose).legs
 
 
 def _line_extent(
@@ -186,41 +116,53 @@ def plot_mechanism(
     title: str | None = None,
     ax: Any = None,
 ) -> Figure:
-    """Top view of the manipulator at ``pose`` (F_b, mm, equal aspect; module doc).
+    """The manipulator at ``pose``: a top view of a planar design (F_b, mm, equal aspect;
+    module doc), a 3-D view of a spatial one
+    (:func:`ppm_stiffness.visuals.mechanism3d.plot_mechanism_3d`).
 
     Parameters
     ----------
     design : Design
         Any architecture.
-    pose : array_like, shape (3,), optional
-        (x [m], y [m], phi [rad]); default the workspace centre. An unreachable pose
-        is drawn all the same and flagged in the title; legs without an
-        inverse-kinematics solution are left out and named.
+    pose : array_like, shape (n_task,) or (6,), optional
+        The design's task coordinates ((x [m], y [m], phi [rad]) for a planar design) or
+        a full pose (x, y, z [m], rx, ry, rz [rad]); default the home pose. An
+        unreachable pose is drawn all the same and flagged in the title; legs without
+        an inverse-kinematics solution are left out and named.
     title : str, optional
         First lines of the title (default: the design name and the pose).
     ax : matplotlib Axes, optional
-        Draw into this axes instead of a new figure.
+        Draw into this axes instead of a new figure (a 3-D axes for a spatial design).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    view = mechanism_view(design, pose)
+    if not design.planar:
+        from ppm_stiffness.visuals.mechanism3d import plot_mechanism_3d
+
+        return plot_mechanism_3d(view, title, ax)
+    return plot_top_view(view, title, ax)
+
+
+def plot_top_view(view: MechanismView, title: str | None = None, ax: Any = None) -> Figure:
+    """Top view of ``view`` (module doc): x-y of F_b [mm]."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import Polygon
 
-    p = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-    views = mechanism_legs(design, p)
+    views = view.legs
     if ax is None:
         fig = plt.figure(figsize=(11.0, 8.0))
         ax = fig.add_subplot()
     else:
         fig = ax.figure
-    centre = p[:2] * MM
-    tool = tool_position(design, p) * MM
-    has_tool = bool(np.any(np.asarray(design.tool_point[:2]) != 0.0))
+    centre = view.centre[:2] * MM
+    tool = view.tool[:2] * MM
+    has_tool = view.has_tool
 
     # the view: every point, base feature and stroke, P and O
-    pivot_r = 0.5 * max(leg.platform_radius for leg in design.legs)  # stroke arc [m]
+    pivot_r = 0.5 * float(np.max(np.linalg.norm(view.platform - view.centre, axis=1)))
     cloud = [centre[None], np.zeros((1, 2))]
     for v in views:
         cloud.append(np.asarray(v.base.point)[None, :2] * MM)
@@ -228,7 +170,7 @@ def plot_mechanism(
         if st is not None:
             cloud.append(st * MM)
         if v.solvable:
-            cloud.append(np.array(list(v.points.values())) * MM)
+            cloud.append(np.array(list(v.points.values()))[:, :2] * MM)
     if has_tool:
         cloud.append(tool[None])
     allp = np.vstack(cloud)
@@ -236,10 +178,9 @@ def plot_mechanism(
     lo, hi = allp.min(axis=0) - 0.1 * span, allp.max(axis=0) + 0.1 * span
     unit = 0.05 * span  # size of frame arrows, sliders and sleeves [mm]
 
-    # platform polygon (the legs' D points, counter-clockwise around P)
-    d_all = np.array([leg.platform_offset(as_poses(p))[:2] for leg in design.legs]) * MM
-    d_all = d_all + centre
-    order = platform_order(d_all, centre)
+    # platform polygon (the legs' platform points, counter-clockwise around P)
+    d_all = view.platform[:, :2] * MM
+    order = view.platform_order
     ax.add_patch(
         Polygon(
             d_all[order],
@@ -282,11 +223,10 @@ def plot_mechanism(
             va="center",
             zorder=9,
         )
-        if v.chain is None:
+        if not v.solvable:
             continue
-        links = [e for e in v.chain if isinstance(e, Link)]
-        pts = np.array(list(v.points.values())) * MM
-        rigid = [k for k in range(len(pts) - 1) if not _is_link(pts[k], pts[k + 1], links, centre)]
+        pts = np.array(list(v.points.values()))[:, :2] * MM
+        rigid = [k for k in range(len(pts) - 1) if not _is_link(pts[k], pts[k + 1], v.links)]
         for k in rigid:
             ax.plot(
                 *pts[k : k + 2].T,
@@ -296,25 +236,24 @@ def plot_mechanism(
                 gid=f"rigid-{i}-{k + 1}",
                 label=once("rigid connection (no link modelled)"),
             )
-        for j, link in enumerate(links, start=1):
+        for j, link in enumerate(v.links, start=1):
             if link.name not in link_names:
                 link_names.append(link.name)
             style = LINK_STYLES[link_names.index(link.name) % len(LINK_STYLES)]
-            seg = np.stack([np.asarray(link.start)[:2], np.asarray(link.end)[:2]]) * MM + centre
+            seg = np.stack([link.start[:2], link.end[:2]]) * MM
             colour = col if style["lw"] > 5 else "0.1"
             ax.plot(
                 *seg.T,
                 color=colour,
                 zorder=4,
                 gid=f"link-{i}-{j}",
-                label=once(f"{link.name or 'link'} link"),
+                label=once(link_label(link.name)),
                 **style,
             )
-        joints = [e for e in v.chain if isinstance(e, Joint)]
-        for j, joint in enumerate(joints, start=1):
-            _draw_joint(ax, joint, i, j, col, centre, unit, once)
+        for j, joint in enumerate(v.joints, start=1):
+            _draw_joint(ax, joint, i, j, col, unit, once)
         for name, pt in v.points.items():
-            q = pt * MM
+            q = pt[:2] * MM
             rel = q - centre
             off = (
                 (7.0, 7.0)
@@ -333,7 +272,7 @@ def plot_mechanism(
                 zorder=9,
             )
 
-    _draw_frames(ax, p, centre, unit)
+    _draw_frames(ax, view.rotation[:2, :2], centre, unit)
     ax.scatter(*centre, marker="+", s=90, color="k", zorder=8, gid="P", label="P")
     if has_tool:
         ax.scatter(
@@ -358,56 +297,24 @@ def plot_mechanism(
         loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.9, borderaxespad=0.0
     )
     ax.set_title(
-        _title(design, p, views, title),
+        title_text(view, title),
         fontsize=9,
-        color="tab:red" if any(v.violations for v in views) else "k",
+        color="tab:red" if view.violations else "k",
     )
     return fig
 
 
-def _is_link(a: FloatArray, b: FloatArray, links: list[Link], centre: FloatArray) -> bool:
-    """Whether the segment a-b [mm, F_b] is one of the links (either way round)."""
+def _is_link(a: FloatArray, b: FloatArray, links: list[LinkView]) -> bool:
+    """Whether the segment a-b [mm, F_b, x-y] is one of the links (either way round)."""
     for link in links:
-        s = np.asarray(link.start)[:2] * MM + centre
-        e = np.asarray(link.end)[:2] * MM + centre
+        s = link.start[:2] * MM
+        e = link.end[:2] * MM
         tol = 1e-9 * max(float(np.linalg.norm(e - s)), 1.0)
         if (np.allclose(a, s, atol=tol) and np.allclose(b, e, atol=tol)) or (
             np.allclose(a, e, atol=tol) and np.allclose(b, s, atol=tol)
         ):
             return True
     return False
-
-
-def _title(design: Design, p: FloatArray, views: list[LegView], head: str | None) -> str:
-    """Pose, the joint coordinates of every leg, and what is out of range."""
-    lines = [
-        head
-        or (
-            f"{design.name} ({design.architecture})\npose x = {p[0] * MM:.2f} mm, "
-            f"y = {p[1] * MM:.2f} mm, phi = {np.degrees(p[2]):.2f} deg"
-        )
-    ]
-    names: list[str] = []
-    units: dict[str, str] = {}
-    for leg in design.legs:
-        for name, c in leg.COORDINATES.items():
-            if name not in names:
-                names.append(name)
-                units[name] = c.unit
-    parts = []
-    for name in names:
-        vals = []
-        for v in views:
-            q = v.leg_pose.coordinates.get(name)
-            vals.append(
-                "–" if q is None or not v.solvable else f"{_display(float(q), units[name])[0]:.1f}"
-            )
-        parts.append(f"{name} [{_display(0.0, units[name])[1]}] = ({', '.join(vals)})")
-    lines.append("; ".join(parts))
-    bad = [f"leg {v.index}: " + ", ".join(v.violations) for v in views if v.violations]
-    if bad:
-        lines += textwrap.wrap("UNREACHABLE: " + "; ".join(bad), 110)
-    return "\n".join(lines)
 
 
 def _draw_base(
@@ -489,11 +396,11 @@ def _draw_base(
 
 
 def _draw_joint(
-    ax: Any, joint: Joint, i: int, j: int, col: str, centre: FloatArray, unit: float, once: Any
+    ax: Any, joint: JointView, i: int, j: int, col: str, unit: float, once: Any
 ) -> None:
     """A joint's symbol at its point [mm]: slider/sleeve along the axis, ring if actuated."""
-    q = np.asarray(joint.point, dtype=float)[:2] * MM + centre
-    e = np.asarray(joint.axis, dtype=float)[:2]
+    q = joint.point[:2] * MM
+    e = joint.axis[:2]
     if joint.kind in ("P", "C") and float(np.linalg.norm(e)) > 1e-9:
         e = e / np.linalg.norm(e)
         bar = np.stack([q - 0.45 * unit * e, q + 0.45 * unit * e])
@@ -531,10 +438,9 @@ def _draw_joint(
         )
 
 
-def _draw_frames(ax: Any, p: FloatArray, centre: FloatArray, unit: float) -> None:
-    """Platform axes at P and base axes at O (when apart) [mm]."""
-    phi = float(p[2])
-    rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+def _draw_frames(ax: Any, rot: FloatArray, centre: FloatArray, unit: float) -> None:
+    """Platform axes (the columns of ``rot`` (2, 2)) at P and base axes at O (when
+    apart) [mm]."""
     frames = [(centre, rot, "p", "k")]
     if float(np.linalg.norm(centre)) > 0.5 * unit:
         frames.insert(0, (np.zeros(2), np.eye(2), "b", "0.5"))
@@ -567,3 +473,14 @@ def _draw_frames(ax: Any, p: FloatArray, centre: FloatArray, unit: float) -> Non
         fontsize=9,
         ha="right",
     )
+
+
+__all__ = [
+    "LegView",
+    "limit_violations",
+    "mechanism_legs",
+    "mechanism_view",
+    "platform_order",
+    "plot_mechanism",
+    "plot_top_view",
+]

@@ -8,9 +8,14 @@ Each screw spring ``s_i`` (:mod:`ppm_stiffness.core.eigenscrews`) is drawn as
   for a negative one; its radius and colour grow with the spring constant ``k_i``;
 - a label ``s_i`` with ``k_i`` [kN/m] and the pitch ``h_i`` [mm/rad].
 
-The platform polygon D1..Dn and the legs (their links and joints, from each leg's
-joint chain, any architecture) are drawn in the plane z = 0 at the same pose. Everything is
-relative to P with the axes of F_b, in millimetres, like the stiffness matrix.
+The mechanism at the same pose is the backdrop, drawn from the same leg geometry as
+the mechanism pictures (:mod:`ppm_stiffness.visuals.leg_geometry`,
+:func:`ppm_stiffness.visuals.mechanism3d.draw_mechanism_3d`): the platform polygon and
+each leg's links and joints (by kind), any architecture. A planar design lies in the
+plane z = 0, its legs clipped to the box around the springs (its rails and guide
+blocks may lie far out); a spatial design is drawn whole, with its base and rails.
+Everything is relative to P with the axes of F_b, in millimetres, like the stiffness
+matrix.
 
 The spring-axis lines carry the gid ``"spring-axis-<i>"`` and the helices
 ``"spring-helix-<i>"`` (i from 1) so that tests and users can read back the plotted
@@ -27,8 +32,6 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.eigenscrews import ScrewSprings
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.chain import Joint, Link
-from ppm_stiffness.model import workspace_centre
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -38,10 +41,6 @@ MM = 1e3  # drawing unit: millimetre per metre
 AXIS_GID = "spring-axis-"
 #: gid prefix of the drawn helices
 HELIX_GID = "spring-helix-"
-
-
-#: Marker of each joint kind in the pictures (revolute, prismatic, cylindrical).
-_MARKERS = {"R": "o", "P": "s", "C": "D"}
 
 
 def spring_axis_segments(springs: ScrewSprings, length: float) -> FloatArray:
@@ -107,7 +106,7 @@ def _finite_constants(k: FloatArray) -> FloatArray:
     return np.where(finite, k, top)
 
 
-def _clip_segment(
+def clip_segment(
     p0: FloatArray, p1: FloatArray, lo: FloatArray, hi: FloatArray
 ) -> FloatArray | None:
     """The part of segment p0-p1 inside the box [lo, hi] (Liang-Barsky), or None."""
@@ -131,56 +130,6 @@ def _clip_segment(
     return np.stack([p0 + t0 * delta, p0 + t1 * delta])
 
 
-def _draw_mechanism_plane(
-    ax: Any, design: Design, pose: FloatArray, lo: FloatArray, hi: FloatArray, legs: bool
-) -> None:
-    """Platform polygon and legs (links, joints; relative to P, z = 0, mm), clipped."""
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
-    from ppm_stiffness.visuals.mechanism import platform_order
-
-    geoms = [leg.solve(pose) for leg in design.legs]
-    d = np.array([g.points["D"] for g in geoms]) * MM
-    order = platform_order(d[:, :2], np.zeros(2))
-    poly = d[order]
-    ring = np.vstack([poly, poly[:1]])
-    ax.add_collection3d(Poly3DCollection([poly], facecolor="0.8", alpha=0.35, edgecolor="none"))
-    ax.plot(
-        ring[:, 0],
-        ring[:, 1],
-        np.zeros(len(ring)),
-        color="0.2",
-        lw=2.0,
-        label="platform " + "-".join(f"D{k + 1}" for k in order),
-    )
-    styles = (
-        {"color": "tab:blue", "lw": 2.5, "alpha": 0.6},
-        {"color": "0.45", "lw": 1.5, "alpha": 0.9},
-    )
-    labelled: set[str] = set()
-    for i, (leg, g) in enumerate(zip(design.legs, geoms, strict=True), start=1):
-        dd = g.points["D"] * MM
-        ax.text(dd[0], dd[1], 0.0, f" D{i}", fontsize=7, color="0.2")
-        if not legs:
-            continue
-        links = [e for e in leg.chain(g) if isinstance(e, Link)]
-        for j, link in enumerate(links):
-            p0, p1 = np.asarray(link.start) * MM, np.asarray(link.end) * MM
-            seg = _clip_segment(p0, p1, lo, hi)
-            if seg is not None:
-                label = None if link.name in labelled else f"{link.name} link"
-                labelled.add(link.name)
-                ax.plot(*seg.T, label=label, **styles[min(j, 1)])
-        for joint in leg.chain(g):
-            # the joints at the platform point would hide its label
-            if isinstance(joint, Joint) and not np.allclose(joint.point, g.points["D"]):
-                point = np.asarray(joint.point) * MM
-                if np.all(point >= lo) and np.all(point <= hi):
-                    ax.scatter(*point, marker=_MARKERS[joint.kind], s=20, color="0.3")
-    ax.scatter([0.0], [0.0], [0.0], marker="+", s=60, color="k")
-    ax.text(0.0, 0.0, 0.0, " P", fontsize=8)
-
-
 def plot_screw_springs(
     springs: ScrewSprings,
     design: Design | None = None,
@@ -188,6 +137,7 @@ def plot_screw_springs(
     length: float | None = None,
     title: str | None = None,
     show_legs: bool = True,
+    tool_point: ArrayLike | None = None,
 ) -> Figure:
     """3D picture of the six screw springs, with the platform and legs in place.
 
@@ -196,29 +146,50 @@ def plot_screw_springs(
     springs : ScrewSprings
         From :func:`ppm_stiffness.core.eigenscrews.eigenscrews` of a matrix at P (F_b).
     design : Design, optional
-        Draws its platform and legs at ``pose`` in the plane z = 0; the legs are
-        clipped to the box around the springs (the guide blocks may lie outside).
-    pose : array_like, shape (3,), optional
-        (x [m], y [m], phi [rad]); default the design's workspace centre.
+        Draws its mechanism at ``pose`` (module doc): a planar design's platform and
+        legs in the plane z = 0, clipped to the box around the springs (the guide
+        blocks may lie outside); a spatial design's base, legs and platform whole.
+    pose : array_like, shape (n_task,) or (6,), optional
+        The design's task coordinates ((x [m], y [m], phi [rad]) for a planar design)
+        or a full pose [m, rad]; default the home pose. The springs must be those of
+        K at this pose (their positions are relative to P).
     length : float, optional
-        Drawn length of each spring [m]; default 2.5 times the largest platform
-        radius (75 mm for the paper's machine), 75 mm without a design.
+        Drawn length of each spring [m]; default 2.5 times the largest distance from
+        P to a leg's platform point (the platform radius: 75 mm for the paper's
+        machine), 75 mm without a design.
     title : str, optional
     show_legs : bool
         Draw the legs (links and joints) as well as the platform.
+    tool_point : array_like (3,), optional
+        The point of the platform K is given at (platform frame [m]), where the
+        springs' positions start: the picture's origin. Default P.
 
     Returns
     -------
     matplotlib.figure.Figure
-        One 3D axes in mm, origin P; spring axes have gid ``spring-axis-<i>``. The
-        legend marks the springs of a repeated eigenvalue ("repeated with s2"): inside
-        such a group they are one valid choice (:mod:`ppm_stiffness.core.eigenscrews`).
+        One 3D axes in mm, origin the point K is given at (P by default; the tool
+        point T, marked, otherwise); spring axes have gid ``spring-axis-<i>``; the
+        mechanism's artists carry the gids of
+        :mod:`ppm_stiffness.visuals.mechanism3d` (relative to P). The legend marks the
+        springs of a repeated eigenvalue ("repeated with s2"): inside such a group they
+        are one valid choice (:mod:`ppm_stiffness.core.eigenscrews`).
     """
     import matplotlib.pyplot as plt
     from matplotlib import colors as mcolors
 
+    from ppm_stiffness.visuals.leg_geometry import mechanism_view
+    from ppm_stiffness.visuals.mechanism3d import draw_mechanism_3d, view_extent
+
+    view = None if design is None else mechanism_view(design, pose)
+    # the origin of the picture: the point of K, in F_b (P, or the tool point)
+    t = np.zeros(3) if tool_point is None else np.asarray(tool_point, dtype=float)
+    origin = np.zeros(3) if view is None else view.centre + view.rotation @ t
     if length is None:
-        length = 2.5 * max(leg.platform_radius for leg in design.legs) if design else 0.075
+        length = (
+            2.5 * float(np.max(np.linalg.norm(view.platform - view.centre, axis=1)))
+            if view is not None
+            else 0.075
+        )
     k = np.asarray(springs.spring_constants, dtype=float)
     kf = _finite_constants(k)
     norm = mcolors.Normalize(vmin=0.0, vmax=float(np.max(kf)) / 1e3)
@@ -226,25 +197,42 @@ def plot_screw_springs(
     r_max = 0.08 * length * MM
     segments = spring_axis_segments(springs, length) * MM
 
-    # the box shown: springs, platform, P and each leg's point before the platform (the
-    # bearing C of a P-P-R, the elbow of an R-R-R), plus a margin
+    # the box shown: springs, P, the platform and, for a planar design, each leg's
+    # point before the platform (the bearing C of a P-P-R, the elbow of an R-R-R); a
+    # spatial design whole; plus a margin
     pts = [segments.reshape(-1, 3), np.zeros((1, 3))]
-    geoms = []
-    p0 = np.zeros(3)
-    if design is not None:
-        p0 = workspace_centre(design) if pose is None else np.asarray(pose, dtype=float)
-        geoms = [leg.solve(p0) for leg in design.legs]
-        pts += [np.array([g.points["D"] for g in geoms]) * MM]
-        if show_legs:
-            pts += [np.array([list(g.points.values())[-2] for g in geoms]) * MM]
-    allp = np.vstack(pts)
+    if view is not None:
+        pts.append((np.vstack([view.platform, view.centre]) - origin) * MM)
+        if not view.design.planar:
+            pts.append((np.stack(view_extent(view)) - origin) * MM)
+        elif show_legs:
+            solved = [v for v in view.legs if v.solvable]
+            pts += [np.array([list(v.points.values())[-2] - origin for v in solved]) * MM]
+    allp = np.vstack([q.reshape(-1, 3) for q in pts])
     margin = r_max + 0.1 * length * MM
     lo, hi = allp.min(axis=0) - margin, allp.max(axis=0) + margin
 
     fig = plt.figure(figsize=(10.0, 8.0))
     ax: Any = fig.add_subplot(projection="3d")
-    if design is not None:
-        _draw_mechanism_plane(ax, design, p0, lo, hi, show_legs)
+    if view is not None:
+        planar = view.design.planar
+        draw_mechanism_3d(
+            ax,
+            view,
+            0.03 * float(np.max(hi - lo)),
+            origin,
+            clip=(lo, hi) if planar else None,
+            bases=not planar,
+            legs=show_legs,
+            labels=False,
+            fade=1.0 if planar else 0.55,
+        )
+        p = (view.centre - origin) * MM
+        ax.plot(*p[:, None], marker="+", ms=8, color="k", ls="", gid="P")
+        ax.text(*p, " P", fontsize=8)
+        if np.any(t != 0.0):
+            ax.plot([0.0], [0.0], [0.0], marker="*", ms=11, mfc="gold", mec="k", ls="", gid="tool")
+            ax.text(0.0, 0.0, 0.0, " T", fontsize=8)
 
     for i in range(6):
         colour = cmap(norm(kf[i] / 1e3))
@@ -281,11 +269,22 @@ def plot_screw_springs(
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
     _equal_box(ax)
-    ax.view_init(elev=24, azim=-58)
+    if view is None or view.design.planar:
+        ax.view_init(elev=24, azim=-58)
+    else:
+        from ppm_stiffness.visuals.mechanism3d import best_azimuth
+
+        ax.view_init(elev=20, azim=best_azimuth(view))
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
-    cb = fig.colorbar(sm, ax=ax, shrink=0.5, pad=0.1)
-    cb.set_label("spring constant k [kN/m] (colour and helix radius)")
-    ax.legend(loc="upper left", bbox_to_anchor=(-0.05, 1.0), fontsize=8, framealpha=0.9)
+    label = "spring constant k [kN/m] (colour and helix radius)"
+    if view is None or view.design.planar:
+        cb = fig.colorbar(sm, ax=ax, shrink=0.5, pad=0.1)
+        ax.legend(loc="upper left", bbox_to_anchor=(-0.05, 1.0), fontsize=8, framealpha=0.9)
+    else:  # a spatial mechanism fills the box: the legend beside it, the colour bar below
+        fig.set_size_inches(13.0, 9.0)
+        cb = fig.colorbar(sm, ax=ax, shrink=0.45, pad=0.1, orientation="horizontal")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, framealpha=0.9)
+    cb.set_label(label)
     ax.set_title(
         title or "Six screw springs of K, relative to P with the axes of F_b",
         fontsize=11,

@@ -1,6 +1,10 @@
 """The report's "Uncertainty" section (``report --tolerances``): bands of the principal
 stiffnesses at the pose, the sensitivity ranking, the planar-force deflection curve
-with its band, and maps of the lower band and relative spread."""
+with its band, and maps of the lower band and relative spread.
+
+The bands are those of the planar outputs (k_phi, k_x, k_y, the planar maps): a
+spatial design is refused (:func:`check_supported`) until the propagation offers its
+outputs."""
 
 from __future__ import annotations
 
@@ -10,11 +14,28 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.visuals.html import esc, figure_block, figure_data_uri, format_number, table
 
 #: The deflection curve drawn with its band: planar force at 45 deg up to 10 N.
 CURVE_LOADS = np.linspace(0.0, 10.0, 21)
+
+
+def check_supported(design: Design) -> None:
+    """Refuse a design whose uncertainty bands the report cannot draw (module doc).
+
+    Raises
+    ------
+    InputDataError
+        For a spatial design, naming its task coordinates.
+    """
+    if not design.planar:
+        raise InputDataError(
+            "--tolerances: the report's uncertainty bands (k_phi, k_x, k_y, planar maps) "
+            "are for planar designs; this design's task coordinates are "
+            + ", ".join(design.task_coordinates)
+        )
 
 
 def uncertainty_section(
@@ -25,7 +46,14 @@ def uncertainty_section(
     method: str = "first-order",
     samples: int = 64,
 ) -> tuple[str, str, str]:
-    """``(id, title, html)`` of the section (see the module docstring)."""
+    """``(id, title, html)`` of the section (see the module docstring).
+
+    Raises
+    ------
+    InputDataError
+        For a spatial design (:func:`check_supported`).
+    """
+    check_supported(design)
     from ppm_stiffness.fit.band_outputs import deflection_output, map_output, pose_output
     from ppm_stiffness.fit.uncertainty import propagate
     from ppm_stiffness.maps.workspace import stiffness_map
@@ -102,4 +130,4 @@ def uncertainty_section(
     return "uncertainty", "Uncertainty from the tolerances", html
 
 
-__all__ = ["uncertainty_section"]
+__all__ = ["check_supported", "uncertainty_section"]

@@ -137,10 +137,30 @@ class PPRLeg(PlanarLegModel):
         u, w = self.directions()
         pts = leg_pose.points
         return [
-            Joint("P", u, pts["B"], self.guide.stiffnesses(), actuated=True, name="guide"),
-            Link(pts["B"], pts["C"], self.proximal.section(), name="proximal"),
+            Joint(
+                "P",
+                u,
+                pts["B"],
+                self.guide.stiffnesses(),
+                actuated=True,
+                name="guide",
+                mass=self.actuator.moving_parts(),
+            ),
+            Link(
+                pts["B"],
+                pts["C"],
+                self.proximal.section(),
+                name="proximal",
+                mass=self.proximal.link_mass(),
+            ),
             Joint("C", w, pts["C"], self.bearing.stiffnesses(), name="bearing"),
-            Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
+            Link(
+                pts["C"],
+                pts["D"],
+                self.distal.section(),
+                name="distal",
+                mass=self.distal.link_mass(),
+            ),
             Joint(
                 "R",
                 Z_AXIS,

@@ -121,7 +121,15 @@ class PRRLeg(PlanarLegModel):
         pts = leg_pose.points
         u = self.rail_direction()
         return [
-            Joint("P", u, pts["C"], self.guide.stiffnesses(), actuated=True, name="guide"),
+            Joint(
+                "P",
+                u,
+                pts["C"],
+                self.guide.stiffnesses(),
+                actuated=True,
+                name="guide",
+                mass=self.actuator.moving_parts(),
+            ),
             Joint(
                 "R",
                 Z_AXIS,
@@ -129,7 +137,13 @@ class PRRLeg(PlanarLegModel):
                 joint_springs(self.carriage_revolute),
                 name="carriage_revolute",
             ),
-            Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
+            Link(
+                pts["C"],
+                pts["D"],
+                self.distal.section(),
+                name="distal",
+                mass=self.distal.link_mass(),
+            ),
             Joint(
                 "R",
                 Z_AXIS,

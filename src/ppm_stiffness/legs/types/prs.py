@@ -157,12 +157,19 @@ class PRSLeg(LegModel):
         s = unit(pts["B"] - pts["C"])
         return [
             Joint(
-                "P", u, pts["C"], joint_springs(self.guide), actuated=True, name="guide", axis2=e
+                "P",
+                u,
+                pts["C"],
+                joint_springs(self.guide),
+                actuated=True,
+                name="guide",
+                mass=self.actuator.moving_parts(),
+                axis2=e,
             ),
             Joint(
                 "R", e, pts["C"], joint_springs(self.carriage_revolute), name="carriage_revolute"
             ),
-            Link(pts["C"], pts["B"], self.link.section(), name="link"),
+            Link(pts["C"], pts["B"], self.link.section(), name="link", mass=self.link.link_mass()),
             Joint("S", s, pts["B"], joint_springs(self.platform_joint), name="platform_joint"),
         ]
 

@@ -104,9 +104,29 @@ class RPRLeg(PlanarLegModel):
         e = unit(pts["D"] - pts["A"])
         return [
             Joint("R", Z_AXIS, pts["A"], joint_springs(self.base_revolute), name="base_revolute"),
-            Link(pts["A"], pts["C"], self.proximal.section(), name="proximal"),
-            Joint("P", e, pts["C"], self.guide.stiffnesses(), actuated=True, name="guide"),
-            Link(pts["C"], pts["D"], self.distal.section(), name="distal"),
+            Link(
+                pts["A"],
+                pts["C"],
+                self.proximal.section(),
+                name="proximal",
+                mass=self.proximal.link_mass(),
+            ),
+            Joint(
+                "P",
+                e,
+                pts["C"],
+                self.guide.stiffnesses(),
+                actuated=True,
+                name="guide",
+                mass=self.actuator.moving_parts(),
+            ),
+            Link(
+                pts["C"],
+                pts["D"],
+                self.distal.section(),
+                name="distal",
+                mass=self.distal.link_mass(),
+            ),
             Joint(
                 "R",
                 Z_AXIS,

@@ -145,9 +145,23 @@ class UPSLeg(LegModel):
         e1, e2 = universal_axes(n)
         return [
             Joint("U", e1, pts["A"], joint_springs(self.base_joint), name="base_joint", axis2=e2),
-            Link(pts["A"], pts["C"], self.cylinder.section(), name="cylinder"),
-            Joint("P", n, pts["C"], joint_springs(self.guide), actuated=True, name="guide"),
-            Link(pts["C"], pts["B"], self.rod.section(), name="rod"),
+            Link(
+                pts["A"],
+                pts["C"],
+                self.cylinder.section(),
+                name="cylinder",
+                mass=self.cylinder.link_mass(),
+            ),
+            Joint(
+                "P",
+                n,
+                pts["C"],
+                joint_springs(self.guide),
+                actuated=True,
+                name="guide",
+                mass=self.actuator.moving_parts(),
+            ),
+            Link(pts["C"], pts["B"], self.rod.section(), name="rod", mass=self.rod.link_mass()),
             Joint("S", n, pts["B"], joint_springs(self.platform_joint), name="platform_joint"),
         ]
 

@@ -1,0 +1,145 @@
+"""``ppm-stiffness modes``: natural frequencies and mode shapes at a pose."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+import numpy as np
+from rich.markup import escape
+from rich.table import Table
+
+from ppm_stiffness.cli.common import (
+    FIGURE_FORMATS,
+    add_design_argument,
+    add_overwrite_argument,
+    add_pose_arguments,
+    add_tool_point_argument,
+    add_wrench_argument,
+    check_output_path,
+    console,
+    err_console,
+    json_document,
+    load_design_arg,
+    parse_wrench,
+    pose_from_args,
+    tool_point_from_args,
+)
+from ppm_stiffness.cli.output_files import output_files
+from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_COMPONENTS
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design_argument(parser)
+    add_pose_arguments(parser)
+    add_wrench_argument(parser)
+    add_tool_point_argument(parser)
+    parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
+    parser.add_argument(
+        "--out",
+        metavar="FIG",
+        help="also draw the platform displaced along each mode; format from the suffix: "
+        + ", ".join(FIGURE_FORMATS),
+    )
+    add_overwrite_argument(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    out = check_output_path(args.out, "--out", FIGURE_FORMATS, overwrite=args.overwrite)
+    design = load_design_arg(args)
+    pose = pose_from_args(args, design)
+    wrench = parse_wrench(args.wrench)
+    tool = tool_point_from_args(args, design)
+    from ppm_stiffness.dynamics.analysis import MODES_UNITS, modal_analysis
+
+    result = modal_analysis(design, pose, wrench, tool)
+    if out is not None:
+        _figure(design, pose, tool, result, out, args.overwrite)
+    if args.json:
+        print(json_document("modes", result, MODES_UNITS))
+    else:
+        print_tables(result, design.name)
+    if out is not None:
+        (err_console if args.json else console).print(f"figure written to {escape(out)}")
+    return 0
+
+
+def _figure(
+    design: Any, pose: np.ndarray, tool: np.ndarray, result: dict[str, Any], out: str, over: bool
+) -> None:
+    """The mode-shape picture (shapes moved from the tool point to P)."""
+    from ppm_stiffness.core.conventions import twist_b_from_twist_a
+    from ppm_stiffness.model import tool_offset
+    from ppm_stiffness.visuals import save_figure, use_headless_backend
+
+    use_headless_backend()
+    from ppm_stiffness.visuals.modes import plot_modes
+
+    to_p = twist_b_from_twist_a(np.eye(3), tool_offset(pose, tool))
+    shapes = np.array([to_p @ np.asarray(m["shape"]) for m in result["modes"]])
+    state = "locked actuators" if result["state"] == "locked" else "under the wrench"
+    fig = plot_modes(
+        design,
+        pose,
+        result["frequencies"],
+        shapes,
+        [m["direction"] for m in result["modes"]],
+        title=f"{design.name}: vibration modes ({state})",
+    )
+    with output_files(over) as files:
+        save_figure(fig, files.temp(out, "--out"))
+
+
+def print_tables(result: dict[str, Any], title: str) -> None:
+    """Readable tables of a modal analysis (:mod:`ppm_stiffness.dynamics.analysis`)."""
+    from ppm_stiffness.poses import format_pose
+
+    c = console
+    c.print(f"[bold]{escape(title)}[/bold]")
+    p = result["pose"]
+    full = [p[n] for n in ("x", "y", "z", "rx", "ry", "rz")]
+    task = [("x", "y", "z", "rx", "ry", "rz").index(n) for n in result["task_coordinates"]]
+    c.print(f"pose: {format_pose(full, task)} (P in F_b)")
+    k_act = ", ".join(f"{v:.4g}" for v in result["actuator_stiffness"])
+    if result["state"] == "locked":
+        c.print(f"actuators locked (stiffness {k_act}, SI)")
+    else:
+        w = result["wrench"]
+        loads = ", ".join(f"{v:.4g}" for v in w[3:]), ", ".join(f"{v:.4g}" for v in w[:3])
+        c.print(
+            f"under the wrench f = ({loads[0]}) N, m = ({loads[1]}) N·m: the loaded tangent "
+            f"K, actuator stiffness {k_act} (SI)"
+        )
+    m = result["masses"]
+    c.print(
+        f"masses: platform {m['platform']:.4g} kg, links {m['links']:.4g} kg, "
+        f"carriages {m['carriages']:.4g} kg (total {m['total']:.4g} kg)"
+    )
+    at = "T" if any(result["tool_point"]) else "P"
+    t = Table(title=f"Natural frequencies, K v = omega^2 M v (at {at})", title_justify="left")
+    for col in ("mode", "f [Hz]", "dominant direction", "share"):
+        t.add_column(col, justify="right")
+    for j, mode in enumerate(result["modes"], start=1):
+        t.add_row(
+            str(j), f"{mode['frequency']:.5g}", mode["direction"], f"{mode['share'] * 100:.0f} %"
+        )
+    c.print(t)
+    s = Table(
+        title=f"Mode shapes: twists at {at} (rotations x {LENGTH_SCALE:g} m), unit norm",
+        title_justify="left",
+    )
+    s.add_column("mode", justify="right")
+    for name in TWIST_COMPONENTS:
+        s.add_column(name, justify="right")
+    scale = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+    for j, mode in enumerate(result["modes"], start=1):
+        b = np.asarray(mode["shape"]) * scale
+        s.add_row(str(j), *(f"{x + 0.0:+.3f}" for x in np.where(np.abs(b) < 5e-4, 0.0, b)))
+    c.print(s)
+    groups = result.get("modes_repeated") or []
+    if groups:
+        names = "; ".join(", ".join(str(i + 1) for i in g) for g in groups)
+        c.print(
+            f"note: repeated frequencies (modes {names}): their shapes are not unique; "
+            "shown: those closest to the coordinate axes"
+        )

@@ -1,0 +1,174 @@
+"""One modal analysis of a design at a pose, as plain data (``ppm-stiffness modes
+--json``), and the first natural frequency that ``analyze`` adds.
+
+K is the locked actuators' stiffness, or the loaded tangent one under a wrench
+(:func:`ppm_stiffness.statics.loading.loaded_state`); M is built with the same
+actuator stiffnesses (:mod:`ppm_stiffness.dynamics.mass`). Both are expressed at the
+tool point (P unless the design or the caller sets one): the frequencies do not depend
+on it, the mode shapes are the tool point's twists. SI: Hz, kg, kg·m^2, rad, m.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import FloatArray, wrench_b_from_wrench_a
+from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.pose import POSE_COORDINATES
+from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, moving_mass, require_mass_model
+from ppm_stiffness.dynamics.modes import Modes, mode_shapes
+from ppm_stiffness.model import (
+    actuator_stiffness_vector,
+    stiffness_at_pose,
+    stiffness_at_tool_point,
+    tool_offset,
+    validate_pose,
+)
+
+#: SI units of the values of :func:`modal_analysis` (keys, or ``a.b`` paths).
+MODES_UNITS = {
+    "pose": "x, y, z [m], rx, ry, rz [rad] (phi = rz)",
+    "tool_point": "m (platform frame)",
+    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
+    "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z), at the tool point",
+    "stiffness_matrix": "K_rr N·m/rad, K_rt N, K_tt N/m (order phi_x, phi_y, phi_z, x, y, z)",
+    "mass_matrix": "M_rr kg·m^2, M_rt kg·m, M_tt kg (order phi_x, phi_y, phi_z, x, y, z)",
+    "masses": "kg",
+    "frequencies": "Hz",
+    "modes.frequency": "Hz",
+    "modes.shape": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point, unit "
+    "length-balanced norm (rotations times 0.1 m)",
+    "modes.share": "1 (share of the balanced norm squared)",
+}
+
+
+def modes_dict(modes: Modes) -> dict[str, Any]:
+    """The frequencies and mode shapes as plain data."""
+    return {
+        "frequencies": modes.frequencies.tolist(),
+        "modes": [
+            {
+                "frequency": float(modes.frequencies[j]),
+                "shape": modes.shapes[j].tolist(),
+                "direction": modes.directions[j],
+                "share": float(modes.shares[j]),
+            }
+            for j in range(6)
+        ],
+        "modes_repeated": [list(g) for g in modes.repeated],
+    }
+
+
+def _state(
+    design: Design, p: FloatArray, wrench: ArrayLike | None, offset: FloatArray
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+    """K at P and the actuator stiffnesses, locked or loaded (the wrench acts at the
+    tool point, ``offset`` from P), and the keys the loaded state adds."""
+    if wrench is None:
+        k_act = actuator_stiffness_vector(design, None)
+        return stiffness_at_pose(design, p, k_act), k_act, {}
+    from ppm_stiffness.statics.loading import loaded_state, validate_wrench
+
+    w_tool = validate_wrench(wrench)
+    w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool
+    state = loaded_state(design, w_p, p)
+    return state.stiffness_matrix, state.actuator_stiffness, {"wrench": w_tool.tolist()}
+
+
+def modal_analysis(
+    design: Design,
+    pose: ArrayLike | None = None,
+    wrench: ArrayLike | None = None,
+    tool_point: ArrayLike | None = None,
+) -> dict[str, Any]:
+    """Natural frequencies and mode shapes at a pose, locked or under a wrench.
+
+    Parameters
+    ----------
+    design : Design
+        With a mass model.
+    pose : array_like (n_task,) or (6,), optional
+        Task coordinates or a full pose [m, rad]; the home pose if None.
+    wrench : array_like (6,), optional
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at the tool point, axes of F_b: the
+        loaded tangent K and the tangent actuator stiffnesses are used.
+    tool_point : array_like (3,), optional
+        [m, platform frame]; ``design.tool_point`` if None.
+
+    Returns
+    -------
+    dict
+        ``pose``, ``task_coordinates``, ``architecture``, ``tool_point``, ``state``
+        ("locked" or "loaded"), ``actuator_stiffness``, (``wrench``),
+        ``stiffness_matrix`` and ``mass_matrix`` at the tool point, ``masses``
+        (platform, links, carriages, total [kg]), ``frequencies`` [Hz, ascending],
+        ``modes`` (frequency, shape, direction, share each) and ``modes_repeated``.
+
+    Raises
+    ------
+    DesignError
+        No mass model.
+    InputDataError, UnreachablePoseError, SingularConfigurationError, EquilibriumError
+    """
+    require_mass_model(design)
+    p = validate_pose(design, pose)
+    tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
+    if tool.shape != (3,) or not np.all(np.isfinite(tool)):
+        raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
+    offset = tool_offset(p, tool)
+    k_p, k_act, loaded = _state(design, p, wrench, offset)
+    m_p = mass_matrix_at_pose(design, p, k_act)
+    k_t = stiffness_at_tool_point(k_p, p, tool)
+    m_t = stiffness_at_tool_point(m_p, p, tool)  # M transforms as K
+    out: dict[str, Any] = {
+        "pose": {
+            **{name: float(v) for name, v in zip(POSE_COORDINATES, p, strict=True)},
+            "phi": float(p[5]),
+        },
+        "task_coordinates": list(design.task_coordinates),
+        "architecture": design.architecture,
+        "tool_point": tool.tolist(),
+        "state": "loaded" if loaded else "locked",
+        "actuator_stiffness": np.asarray(k_act).tolist(),
+        **loaded,
+        "stiffness_matrix": k_t.tolist(),
+        "mass_matrix": m_t.tolist(),
+        "masses": moving_mass(design),
+    }
+    out.update(modes_dict(mode_shapes(k_t, m_t)))
+    return out
+
+
+def first_mode(
+    design: Design,
+    pose: ArrayLike,
+    stiffness_tool: ArrayLike,
+    actuator_stiffness: ArrayLike,
+    tool_point: ArrayLike,
+) -> dict[str, Any]:
+    """``first_frequency`` [Hz] and ``first_mode_direction`` for ``analyze``, or {} when
+    the design has no mass model.
+
+    Parameters
+    ----------
+    pose : array_like (6,)
+        A full pose, checked already.
+    stiffness_tool : array_like (6, 6)
+        K at the tool point (locked or loaded).
+    actuator_stiffness : array_like (n_legs,)
+        The actuator stiffnesses K was built with (the mass matrix uses them too).
+    tool_point : array_like (3,) [m, platform frame]
+    """
+    if not design.has_mass_model:
+        return {}
+    m_p = mass_matrix_at_pose(design, pose, actuator_stiffness)
+    m_t = stiffness_at_tool_point(m_p, pose, tool_point)
+    modes = mode_shapes(stiffness_tool, m_t)
+    return {
+        "first_frequency": float(modes.frequencies[0]),
+        "first_mode_direction": modes.directions[0],
+    }

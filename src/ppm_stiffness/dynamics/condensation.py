@@ -1,0 +1,303 @@
+"""A leg's moving bodies from the platform's twist, and the leg's mass matrix at P.
+
+The leg's springs (the actuator's among them) and passive joints are those of its
+stiffness (:func:`ppm_stiffness.legs.chain.leg_springs`): spring coordinates theta with
+unit twists J (6 x m) at P and compliance C, passive joint coordinates q with unit
+twists J_q (6 x p). When the platform moves by the twist t (at P, axes of F_b) the
+massless leg follows statically (Guyan condensation): the wrench it transmits is
+``lambda = K_leg t`` and the coordinates' rates solve the bordered system of its
+stiffness (eq. 1)
+
+    [[J C J^T, J_q], [J_q^T, 0]] [lambda; dq] = [t; 0],    d theta = C J^T lambda.
+
+Where the leg's joints can produce t this is its rigid-body kinematics (a motion that
+needs the actuator shared between the actuator spring and the structure in series);
+where they cannot (the constraint directions of a leg with fewer than six freedoms,
+the out-of-plane directions of a planar leg) it is the elastic pattern of its springs.
+It is evaluated as the stiffness is (:mod:`ppm_stiffness.core.solver`): with W a basis
+of the wrenches reciprocal to J_q and ``G_e = J_e^T W`` for each element e,
+``A = sum_e G_e^T C_e G_e``, ``lambda = W A^-1 W^T t`` and ``d theta_e = C_e G_e A^-1
+W^T t``; the passive rates are then the least-squares (exact) solution of
+``J_q dq = t - J d theta`` in length-balanced units.
+
+A body's twist is the sum of the unit twists of the coordinates upstream of it in the
+chain times their rates (a serial chain, twists at P at the current configuration):
+
+- a link's start moves with the chain before it, its end with its own tip springs
+  added, and the link between them takes the static shape of a cantilever loaded at
+  its tip (:mod:`ppm_stiffness.dynamics.links`: the Euler-Bernoulli cubic; a uniform
+  link's consistent mass, a body with a given centre of mass riding on that shape);
+  for a rigid motion of the link it is the rigid body's kinetic energy;
+- a joint's moving parts (:class:`~ppm_stiffness.legs.chain.JointMass`: an actuator's
+  carriage) move with the joint's output, downstream of all its coordinates; a rotor
+  turns with the rate of the joint's first coordinate (for the actuated joint: the
+  actuator spring's, i.e. the actuator compliance sits between the motor's command and
+  its rotor, as a servo's does), with kinetic energy ``rotor * rate^2 / 2``.
+
+The leg's mass matrix at P is ``M_leg = sum_b T_b^T M_b T_b`` with T_b (6 x 6) mapping
+the platform twist to body b's and M_b its spatial inertia at P
+(:mod:`ppm_stiffness.dynamics.inertia`; a link's term is the same form over its two
+ends' twists); the twists of the chain's last element add up to t itself (a check the
+tests make). Springs are massless.
+
+Every array has leading batch axes (...): the chain's points and axes (..., 3) or
+(3,), the actuator stiffness (...) or a scalar. A pose whose passive twists are
+dependent gives NaN.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.dynamics.inertia import spatial_inertia
+from ppm_stiffness.dynamics.links import link_mass_matrix
+from ppm_stiffness.legs import engine
+from ppm_stiffness.legs.chain import (
+    CONSTRAINED,
+    Element,
+    Joint,
+    Link,
+    check_chain,
+    constrained_screws,
+    freedom_count,
+    freedom_screws,
+    link_screws,
+)
+
+#: Length-balancing of twists for the passive rates' least squares: (omega L, v).
+_TWIST_BALANCE = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+
+
+@dataclass(frozen=True)
+class LegMotion:
+    """How a leg's chain follows the platform's twist (module doc).
+
+    Attributes
+    ----------
+    before, after : list of ndarray (..., 6, 6)
+        For each element of the chain, the maps from the platform twist (at P) to the
+        twist (at P) of the body just upstream of it (its input) and just downstream
+        of it (its output). ``after[-1]`` is the identity.
+    first_rates : list of ndarray (..., 6) or None
+        For each joint, the map from the platform twist to the rate of its first
+        coordinate (the actuator spring for the actuated joint, its first freedom for a
+        passive one; None for a rigid joint without freedoms, or a link).
+    """
+
+    before: list[FloatArray]
+    after: list[FloatArray]
+    first_rates: list[FloatArray | None]
+
+
+def _batch_shape(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> tuple[int, ...]:
+    shapes = [
+        np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1] for e in chain
+    ]
+    return np.broadcast_shapes(*shapes, np.shape(actuator_stiffness))
+
+
+def _solve(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a^-1 b`` for stacks (n, r, r) and (n, r, k); NaN where a is not finite or is
+    singular."""
+    out = np.full(np.broadcast_shapes(a.shape[:-2], b.shape[:-2]) + b.shape[-2:], np.nan)
+    good = np.isfinite(a).all(axis=(-1, -2)) & np.isfinite(b).all(axis=(-1, -2))
+    if not good.any():
+        return out
+    try:
+        out[good] = np.linalg.solve(a[good], b[good])
+    except np.linalg.LinAlgError:
+        for i in np.flatnonzero(good):
+            try:
+                out[i] = np.linalg.solve(a[i], b[i])
+            except np.linalg.LinAlgError:
+                continue
+    return out
+
+
+def _springs(
+    chain: Sequence[Element], batch: tuple[int, ...], k_act: FloatArray
+) -> tuple[list[tuple[FloatArray, FloatArray, bool] | None], list[FloatArray | None]]:
+    """Each element's springs ``(J_e (n, 6, m), C_e, diagonal)`` (C_e (n, m) diagonal
+    for a joint, (n, 6, 6) for a link) and passive twists (n, 6, p_e), or None."""
+    n = math.prod(batch)
+
+    def flat(a: ArrayLike, tail: tuple[int, ...]) -> FloatArray:
+        return np.broadcast_to(np.asarray(a, dtype=float), batch + tail).reshape((n,) + tail)
+
+    springs: list[tuple[FloatArray, FloatArray, bool] | None] = []
+    passive: list[FloatArray | None] = []
+    for element in chain:
+        if isinstance(element, Link):
+            screws, length = link_screws(element)
+            compliance = cantilever_compliance(element.section, length)
+            springs.append((flat(screws, (6, 6)), flat(compliance, (6, 6)), False))
+            passive.append(None)
+            continue
+        free = flat(freedom_screws(element), (6, freedom_count(element)))
+        cols: list[FloatArray] = []
+        comp: list[FloatArray] = []
+        if element.actuated:
+            cols.append(free[..., :1])
+            comp.append((1.0 / k_act)[:, None])
+            passive.append(None)
+        else:
+            passive.append(free)
+        if element.springs is not None:
+            k = np.asarray(element.springs, dtype=float)
+            cols.append(flat(constrained_screws(element), (6, CONSTRAINED[element.kind])))
+            comp.append(np.broadcast_to(1.0 / k, (n, k.size)))
+        springs.append(
+            (np.concatenate(cols, axis=-1), np.concatenate(comp, axis=-1), True) if cols else None
+        )
+    return springs, passive
+
+
+def leg_motion(
+    chain: Sequence[Element],
+    actuator_stiffness: ArrayLike,
+    elements: Sequence[int] | None = None,
+) -> LegMotion:
+    """The twists of a leg's bodies per unit platform twist (module doc).
+
+    Parameters
+    ----------
+    chain : sequence of Joint and Link
+        Base to platform; points and axes (..., 3) or (3,), relative to P, axes of F_b.
+    actuator_stiffness : array_like (...) or scalar
+        [N/m or N·m/rad]: the locked actuator's, or the tangent one of a loaded state.
+    elements : sequence of int, optional
+        The elements whose maps are wanted (the others are left as zeros); all if None.
+
+    Returns
+    -------
+    LegMotion
+
+    Notes
+    -----
+    With ``X_e = J_e C_e G_e`` (6 x r) the spring twists of the elements up to e add up
+    to ``(sum X) A^-1 W^T``: the running sum stays in the r-dimensional space of the
+    transmitted wrenches, and only the wanted elements' maps are formed.
+    """
+    check_chain(chain)
+    batch = _batch_shape(chain, actuator_stiffness)
+    n = math.prod(batch)
+    wanted = set(range(len(chain)) if elements is None else elements)
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch).reshape(n)
+    springs, passive = _springs(chain, batch, k_act)
+    q_all = [q[:, :, j] for q in passive if q is not None for j in range(q.shape[-1])]
+    w = engine.reciprocal_basis(q_all, n)  # (n, 6, r)
+    r = w.shape[-1]
+    a = np.zeros((n, r, r))
+    xs: list[FloatArray | None] = []  # X_e = J_e C_e G_e, (n, 6, r)
+    cgs: list[FloatArray | None] = []  # C_e G_e, (n, m, r)
+    with np.errstate(invalid="ignore", over="ignore"):
+        for block in springs:
+            if block is None:
+                xs.append(None)
+                cgs.append(None)
+                continue
+            j_e, c_e, diagonal = block
+            g = np.swapaxes(j_e, -1, -2) @ w  # (n, m, r)
+            cg = c_e[:, :, None] * g if diagonal else c_e @ g
+            a += np.swapaxes(g, -1, -2) @ cg
+            cgs.append(cg)
+            xs.append(j_e @ cg)
+        h = _solve(0.5 * (a + np.swapaxes(a, -1, -2)), np.swapaxes(w, -1, -2))  # (n, r, 6)
+        total = np.zeros((n, 6, r))
+        for x in xs:
+            if x is not None:
+                total = total + x
+        passive_rates: list[FloatArray | None] = [None] * len(chain)
+        if q_all:
+            residual = np.eye(6) - total @ h
+            jb = _TWIST_BALANCE[:, None] * np.stack(q_all, axis=-1)  # (n, 6, p)
+            jbt = np.swapaxes(jb, -1, -2)
+            dq = _solve(jbt @ jb, jbt @ (_TWIST_BALANCE[:, None] * residual))  # (n, p, 6)
+            i = 0
+            for e, q in enumerate(passive):
+                if q is not None:
+                    passive_rates[e] = dq[:, i : i + q.shape[-1], :]
+                    i += q.shape[-1]
+
+        zero = np.zeros(batch + (6, 6))
+        before: list[FloatArray] = []
+        after: list[FloatArray] = []
+        first: list[FloatArray | None] = []
+        springs_sum = np.zeros((n, 6, r))
+        passive_sum = np.zeros((n, 6, 6))
+        for e, element in enumerate(chain):
+            if e in wanted:
+                before.append((springs_sum @ h + passive_sum).reshape(batch + (6, 6)))
+            x_e, q, dq_e = xs[e], passive[e], passive_rates[e]
+            if x_e is not None:
+                springs_sum = springs_sum + x_e
+            if q is not None and dq_e is not None:
+                passive_sum = passive_sum + q @ dq_e
+            if e in wanted:
+                after.append((springs_sum @ h + passive_sum).reshape(batch + (6, 6)))
+            else:
+                before.append(zero)
+                after.append(zero)
+            rate: FloatArray | None = None
+            cg_e = cgs[e]
+            if isinstance(element, Joint) and e in wanted:
+                if element.actuated and cg_e is not None:
+                    rate = (cg_e[:, :1, :] @ h)[:, 0, :].reshape(batch + (6,))
+                elif dq_e is not None:
+                    rate = dq_e[:, 0, :].reshape(batch + (6,))
+            first.append(rate)
+    return LegMotion(before=before, after=after, first_rates=first)
+
+
+def point_inertia(mass: float, point: ArrayLike) -> FloatArray:
+    """The spatial inertia (..., 6, 6) at P of a point mass at ``point`` (..., 3)."""
+    p = np.asarray(point, dtype=float)
+    return spatial_inertia(mass, p, np.zeros(p.shape[:-1] + (3, 3)))
+
+
+def has_masses(chain: Sequence[Element]) -> bool:
+    """True if an element of the chain carries a mass or a rotor."""
+    return any(e.mass is not None for e in chain)
+
+
+def _congruence(t: FloatArray, m: FloatArray) -> FloatArray:
+    """``T^T M T`` for stacks (..., 6, 6)."""
+    return np.asarray(np.swapaxes(t, -1, -2) @ m @ t)
+
+
+def leg_mass_matrix(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> FloatArray:
+    """The leg's mass matrix (..., 6, 6) at P, axes of F_b, order (omega, v) [kg·m^2,
+    kg·m, kg] (module doc); zeros for a leg without masses.
+
+    Parameters
+    ----------
+    chain : sequence of Joint and Link
+    actuator_stiffness : array_like (...) or scalar [N/m or N·m/rad]
+    """
+    batch = _batch_shape(chain, actuator_stiffness)
+    total = np.zeros(batch + (6, 6))
+    if not has_masses(chain):
+        return total
+    carrying = [e for e, element in enumerate(chain) if element.mass is not None]
+    motion = leg_motion(chain, actuator_stiffness, carrying)
+    for e, element in enumerate(chain):
+        if isinstance(element, Link):
+            if element.mass is not None:
+                total = total + link_mass_matrix(element, motion.before[e], motion.after[e])
+            continue
+        parts = element.mass
+        if parts is None:
+            continue
+        if parts.mass > 0.0:
+            total = total + _congruence(motion.after[e], point_inertia(parts.mass, element.point))
+        rate = motion.first_rates[e]
+        if parts.rotor > 0.0 and rate is not None:
+            total = total + parts.rotor * rate[..., :, None] * rate[..., None, :]
+    return np.asarray(0.5 * (total + np.swapaxes(total, -1, -2)))

@@ -1,0 +1,178 @@
+"""The design's 6x6 mass matrix at P, at one pose or many.
+
+``M = M_platform + sum_legs M_leg`` at P, axes of F_b, order (omega, v), in kg·m^2
+(rotational block), kg·m (coupling) and kg (translational block): the kinetic energy of
+the machine moving with the platform twist t (the legs following statically,
+:mod:`ppm_stiffness.dynamics.condensation`) is ``t^T M t / 2``, so that
+``K v = omega^2 M v`` is consistent with ``w = K t``. The platform is a rigid body
+(:class:`~ppm_stiffness.design.platform.PlatformModel`: its centre of mass and inertia
+are given in the platform frame and turn with it, ``c = R c_p``, ``I = R I_p R^T``).
+M is symmetric positive definite (the platform's mass and inertia are positive, the
+legs add positive semi-definite terms), and transforms between reference points as K
+does (:func:`ppm_stiffness.model.stiffness_at_tool_point` applies to both).
+
+The legs' motion depends on their springs, the actuators' among them: the locked
+actuator stiffnesses by default, the tangent ones of a loaded state when given.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core import pose as pose6
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.condensation import leg_mass_matrix
+from ppm_stiffness.dynamics.inertia import rotated_inertia, spatial_inertia
+from ppm_stiffness.model import actuator_stiffness_vector, solve_legs
+from ppm_stiffness.poses import full_pose
+
+
+def require_mass_model(design: Design) -> None:
+    """Raise :class:`DesignError` if the design has no mass model."""
+    if design.platform is None:
+        raise DesignError(
+            f"{design.name!r} has no mass model: add a [platform] table (mass [kg] and "
+            "inertia [kg·m^2], or a shape) and, optionally, the masses of the legs' parts "
+            "(docs/dynamics.md)"
+        )
+
+
+def platform_mass_matrix(design: Design, poses: ArrayLike) -> FloatArray:
+    """The platform's spatial inertia (..., 6, 6) at P at full poses (..., 6).
+
+    Raises
+    ------
+    DesignError
+        If the design has no mass model.
+    """
+    require_mass_model(design)
+    assert design.platform is not None
+    q = np.asarray(poses, dtype=float)
+    body = design.platform
+    centre = pose6.platform_offset(q, body.centre())
+    inertia = rotated_inertia(body.inertia_tensor(), pose6.rotation(q))
+    return spatial_inertia(body.mass, centre, inertia)
+
+
+def mass_matrix(
+    design: Design, poses: ArrayLike, actuator_stiffness: ArrayLike | None = None
+) -> FloatArray:
+    """M (..., 6, 6) at P at full poses (..., 6), batched (module doc).
+
+    Parameters
+    ----------
+    design : Design
+        With a mass model.
+    poses : array_like (..., 6)
+        Full poses [m, rad] (:func:`ppm_stiffness.poses.full_poses`); the legs'
+        inverse kinematics is not checked here: a caller masks unreachable poses.
+    actuator_stiffness : array_like (..., n_legs) or (n_legs,), optional
+        [N/m or N·m/rad]; the locked values if None.
+
+    Returns
+    -------
+    ndarray (..., 6, 6)
+        Symmetric; NaN at poses where a leg's passive joints are dependent.
+
+    Raises
+    ------
+    DesignError
+        If the design has no mass model.
+    """
+    q = np.asarray(poses, dtype=float)
+    total = platform_mass_matrix(design, q)
+    if actuator_stiffness is None:
+        k_act = np.broadcast_to(
+            actuator_stiffness_vector(design, None), q.shape[:-1] + (len(design.legs),)
+        )
+    else:
+        k_act = np.broadcast_to(
+            np.asarray(actuator_stiffness, dtype=float), q.shape[:-1] + (len(design.legs),)
+        )
+    for i, leg in enumerate(design.legs):
+        total = total + leg_mass_matrix(leg.chain(leg.solve(q)), k_act[..., i])
+    return np.asarray(0.5 * (total + np.swapaxes(total, -1, -2)))
+
+
+def leg_mass_matrices(
+    design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
+) -> list[FloatArray]:
+    """Each leg's mass matrix (6, 6) at P at one pose (their sum plus the platform's is
+    :func:`mass_matrix_at_pose`).
+
+    Raises
+    ------
+    DesignError, InputDataError, UnreachablePoseError
+    """
+    require_mass_model(design)
+    p = full_pose(design, pose)
+    k_act = actuator_stiffness_vector(design, actuator_stiffness)
+    return [
+        leg_mass_matrix(leg.chain(lp), float(k))
+        for leg, lp, k in zip(design.legs, solve_legs(design, p), k_act, strict=True)
+    ]
+
+
+def mass_matrix_at_pose(
+    design: Design, pose: ArrayLike | None = None, actuator_stiffness: ArrayLike | None = None
+) -> FloatArray:
+    """M (6, 6) at P at one pose (the home pose if None), checked reachable.
+
+    Parameters
+    ----------
+    design : Design
+        With a mass model.
+    pose : array_like (n_task,) or (6,), optional
+        Task coordinates or a full pose [m, rad] (:mod:`ppm_stiffness.poses`).
+    actuator_stiffness : array_like (n_legs,) or scalar, optional
+        [N/m or N·m/rad]; the locked values if None.
+
+    Returns
+    -------
+    ndarray (6, 6)
+        [[M_rr, M_rt], [M_rt^T, M_tt]] in kg·m^2, kg·m, kg; at P, axes of F_b.
+
+    Raises
+    ------
+    DesignError
+        No mass model.
+    InputDataError, UnreachablePoseError, SingularConfigurationError
+        A bad pose, an unreachable one, or one where M is not finite.
+    """
+    require_mass_model(design)
+    p = full_pose(design, pose)
+    legs = leg_mass_matrices(design, p, actuator_stiffness)
+    m = platform_mass_matrix(design, p) + np.sum(legs, axis=0)
+    m = 0.5 * (m + m.T)
+    if not np.all(np.isfinite(m)):
+        from ppm_stiffness.core.errors import SingularConfigurationError
+        from ppm_stiffness.model import pose_label
+
+        raise SingularConfigurationError(
+            f"mass matrix not finite{pose_label(p)}: a leg's passive joints are dependent"
+        )
+    return m
+
+
+def moving_mass(design: Design) -> dict[str, float]:
+    """The physical masses of the mass model [kg]: ``platform``, ``links`` (every
+    link's), ``carriages`` (every actuator's carriage), and ``total``."""
+    require_mass_model(design)
+    assert design.platform is not None
+    links = carriages = 0.0
+    for leg in design.legs:
+        for _, part in leg:
+            mass = getattr(part, "mass", None)
+            if isinstance(mass, float) and hasattr(part, "young_modulus"):
+                links += mass
+        carriages += leg.actuator.carriage_mass or 0.0
+    platform = design.platform.mass
+    return {
+        "platform": platform,
+        "links": links,
+        "carriages": carriages,
+        "total": platform + links + carriages,
+    }

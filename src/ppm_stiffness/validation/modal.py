@@ -1,0 +1,350 @@
+"""Natural frequencies of the FE frame model, against the mass model's (issue 21).
+
+PyNite's own modal analysis cannot represent a rigid platform's 6x6 inertia (its
+masses come from loads in one direction and self-weight), and the FE model's
+auxiliary members (joint springs, stiff offsets, the platform members) carry no mass.
+So the FE stiffness is taken from PyNite (the assembled global matrix of
+:func:`ppm_stiffness.validation.fe_model.build_model`, on its free degrees of freedom)
+and the mass matrix is assembled here:
+
+- every design link (two frame members, :meth:`FrameBuilder.segment`) gets the
+  consistent 12x12 Euler-Bernoulli beam mass of a uniform bar of its mass per length
+  ``m / L`` (spin about its axis neglected, as the mass model's default); the FE
+  check takes uniform links only (a link with its own centre of mass or inertia is
+  refused);
+- the platform's rigid-body mass sits at its master node P (its spatial inertia at P,
+  :mod:`ppm_stiffness.dynamics.inertia`);
+- an actuator's carriage mass sits at the node after its joint (the joint's output),
+  a rotor's reflected inertia on that node's motion along (about) the joint's axis
+  (a base joint's: the node before it is the ground).
+
+The eigenproblem ``K x = omega^2 M x`` of the whole frame is solved as
+``M x = mu K x`` (K positive definite, M semi-definite: the massless degrees of
+freedom, mu = 0, are condensed statically without forming the condensation), its six
+largest mu = 1/omega^2 giving the six lowest frequencies. The frame reduced to P's
+six degrees of freedom by static (Guyan) condensation gives ``K_P`` and
+``M_P = T^T M T`` (T the static displacement of every node per unit displacement of
+P), to compare with this library's K and M (:mod:`ppm_stiffness.dynamics.mass`).
+
+``f_link,1``: the lowest natural frequency of the frame with P held fixed (the legs'
+own vibrations: each link in its joints). Where it is at least 10 times the first
+frequency f1, the reduced frame and the mass model agree within 1 %, and the full
+frame's f1 differs from the model's by about ``(f1 / f_link,1)^2`` (docs/dynamics.md).
+
+Planar designs only until the FE model builds spatial joints (the FE model's own
+limit). SI throughout.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.design import Design
+from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, platform_mass_matrix
+from ppm_stiffness.dynamics.modes import natural_frequencies
+from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, stiffness_at_pose
+from ppm_stiffness.poses import full_pose
+from ppm_stiffness.validation.fe_model import FESettings, build_model
+from ppm_stiffness.validation.frame import FrameBuilder, compliance_at_node
+
+#: PyNite's degrees of freedom of a node, in order, and their places in the library's
+#: twist order (phi_x, phi_y, phi_z, x, y, z).
+_FE_TO_TWIST = np.array([3, 4, 5, 0, 1, 2])
+_SAME_POINT = 1e-9
+
+
+@dataclass(frozen=True)
+class ModalComparison:
+    """The FE frame's vibrations against the mass model's at one pose.
+
+    Attributes
+    ----------
+    model_frequencies : ndarray (6,) [Hz]
+        This library's, from K and M at P.
+    reduced_frequencies : ndarray (6,) [Hz]
+        The FE frame reduced to P (Guyan), from ``fe_stiffness`` and ``fe_mass``.
+    full_frequencies : ndarray (6,) [Hz]
+        The six lowest of the whole FE frame with its distributed masses.
+    link_frequency : float [Hz]
+        f_link,1: the lowest frequency of the frame with P held fixed.
+    fe_stiffness, fe_mass : ndarray (6, 6)
+        K_P and M_P of the reduced frame, at P, library order (SI).
+    model_stiffness, model_mass : ndarray (6, 6)
+        This library's K and M at P.
+    mass_difference : float
+        ``max |M_FE - M| / max |M|`` (length-balanced, L = 0.1 m).
+    n_dofs : int
+        Free degrees of freedom of the FE frame.
+    """
+
+    model_frequencies: FloatArray
+    reduced_frequencies: FloatArray
+    full_frequencies: FloatArray
+    link_frequency: float
+    fe_stiffness: FloatArray
+    fe_mass: FloatArray
+    model_stiffness: FloatArray
+    model_mass: FloatArray
+    mass_difference: float
+    n_dofs: int
+
+
+def beam_mass(mass: float, length: float) -> FloatArray:
+    """Consistent mass (12, 12) of a uniform Euler-Bernoulli bar in its local axes,
+    PyNite's order (Dx, Dy, Dz, Rx, Ry, Rz at i, then at j), no rotary or torsional
+    inertia.
+
+    Parameters
+    ----------
+    mass : float [kg]
+    length : float [m]
+    """
+    m, ell = mass, length
+    out = np.zeros((12, 12))
+    out[0, 0] = out[6, 6] = m / 3.0
+    out[0, 6] = out[6, 0] = m / 6.0
+    # bending in the local x-y plane: v (1, 7) and theta_z (5, 11), dv/dx = theta_z
+    # bending in the local x-z plane: w (2, 8) and theta_y (4, 10), dw/dx = -theta_y
+    for v1, r1, v2, r2, s in ((1, 5, 7, 11, 1.0), (2, 4, 8, 10, -1.0)):
+        block = (
+            m
+            / 420.0
+            * np.array(
+                [
+                    [156.0, s * 22.0 * ell, 54.0, -s * 13.0 * ell],
+                    [s * 22.0 * ell, 4.0 * ell**2, s * 13.0 * ell, -3.0 * ell**2],
+                    [54.0, s * 13.0 * ell, 156.0, -s * 22.0 * ell],
+                    [-s * 13.0 * ell, -3.0 * ell**2, -s * 22.0 * ell, 4.0 * ell**2],
+                ]
+            )
+        )
+        idx = [v1, r1, v2, r2]
+        out[np.ix_(idx, idx)] += block
+    return out
+
+
+def _node_position(fb: FrameBuilder, name: str) -> FloatArray:
+    return fb.position(name)
+
+
+def _link_groups(fb: FrameBuilder) -> list[tuple[FloatArray, FloatArray, list[object]]]:
+    """The design links of the frame: (start, end) [m] and their two members."""
+    groups: dict[str, list[object]] = {}
+    for member in fb.model.members.values():
+        if str(member.material.name).startswith("link"):
+            groups.setdefault(str(member.material.name), []).append(member)
+    out = []
+    for members in groups.values():
+        ends = [_node_position(fb, m.i_node.name) for m in members]  # type: ignore[attr-defined]
+        out.append((ends[0], ends[1], members))
+    return out
+
+
+def _design_links(design: Design, pose: FloatArray) -> list[Link]:
+    links = []
+    for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
+        links += [e for e in leg.chain(lp) if isinstance(e, Link)]
+    return links
+
+
+def _joint_nodes(fb: FrameBuilder, chains: Sequence[Sequence[Element]]) -> dict[int, str]:
+    """The node after each joint (id of the Joint element -> node name): each joint adds
+    one ``J`` node at its point, in chain order."""
+    js = [
+        (int(name[1:]), name)
+        for name in fb.model.nodes
+        if name.startswith("J") and name[1:].isdigit()
+    ]
+    js.sort()
+    used: set[str] = set()
+    out: dict[int, str] = {}
+    for chain in chains:
+        for element in chain:
+            if not isinstance(element, Joint):
+                continue
+            point = np.asarray(element.point, dtype=float).reshape(3)
+            for _, name in js:
+                if name not in used and np.linalg.norm(fb.position(name) - point) <= 1e-7:
+                    used.add(name)
+                    out[id(element)] = name
+                    break
+    return out
+
+
+def _dof(fb: FrameBuilder, node: str) -> int:
+    return int(fb.model.nodes[node].ID) * 6
+
+
+def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: str) -> FloatArray:
+    """The frame's mass matrix over all its degrees of freedom (PyNite's numbering, SI:
+    m and rad) from the design's mass model (module doc).
+
+    Raises
+    ------
+    DesignError
+        A link with its own centre of mass or inertia (the FE check takes uniform
+        links), a rotor on a joint that is not a base joint, or a link the frame lacks.
+    """
+    n = 6 * len(fb.model.nodes)
+    out = np.zeros((n, n))
+    groups = _link_groups(fb)
+    for link in _design_links(design, pose):
+        if link.mass is None:
+            continue
+        body = link.mass
+        if body.centre is not None or body.transverse is not None or body.axial != 0.0:
+            raise DesignError(
+                f"FE modal check, link {link.name}: the frame models links as uniform bars; "
+                "give only the link's mass (no mass_centre or inertias)"
+            )
+        start = np.asarray(link.start, dtype=float).reshape(3)
+        end = np.asarray(link.end, dtype=float).reshape(3)
+        length = float(np.linalg.norm(end - start))
+        match = [
+            g
+            for g in groups
+            if {tuple(np.round(g[0] / _SAME_POINT)), tuple(np.round(g[1] / _SAME_POINT))}
+            == {tuple(np.round(start / _SAME_POINT)), tuple(np.round(end / _SAME_POINT))}
+        ]
+        if len(match) != 1:
+            raise DesignError(f"FE modal check: link {link.name} not found in the frame")
+        for member in match[0][2]:
+            sub = next(iter(member.sub_members.values()))  # type: ignore[attr-defined]
+            half = float(sub.L()) * fb.unit
+            local = beam_mass(body.mass * half / length, half)
+            t = np.asarray(sub.T(), dtype=float)
+            glob = t.T @ local @ t
+            dofs = np.r_[
+                _dof(fb, sub.i_node.name) + np.arange(6), _dof(fb, sub.j_node.name) + np.arange(6)
+            ]
+            out[np.ix_(dofs, dofs)] += glob
+    p = full_pose(design, pose)
+    m_platform = platform_mass_matrix(design, p)[np.ix_(_FE_TO_TWIST, _FE_TO_TWIST)]
+    dp = _dof(fb, p_node) + np.arange(6)
+    out[np.ix_(dp, dp)] += m_platform
+    chains = [leg.chain(lp) for leg, lp in zip(design.legs, solve_legs(design, p), strict=True)]
+    after = _joint_nodes(fb, chains)
+    for chain in chains:
+        for k, element in enumerate(chain):
+            if not isinstance(element, Joint) or element.mass is None:
+                continue
+            d = _dof(fb, after[id(element)])
+            out[d : d + 3, d : d + 3] += element.mass.mass * np.eye(3)
+            if element.mass.rotor > 0.0:
+                if k != 0:
+                    raise DesignError(
+                        "FE modal check: a rotor is taken on a base joint only (the node "
+                        "before it is the ground)"
+                    )
+                axis = np.asarray(element.axis, dtype=float).reshape(3)
+                axis = axis / np.linalg.norm(axis)
+                block = slice(d + 3, d + 6) if element.kind == "R" else slice(d, d + 3)
+                out[block, block] += element.mass.rotor * np.outer(axis, axis)
+    return 0.5 * (out + out.T)
+
+
+def _free_dofs(fb: FrameBuilder) -> FloatArray:
+    free = []
+    for node in fb.model.nodes.values():
+        supports = (
+            node.support_DX,
+            node.support_DY,
+            node.support_DZ,
+            node.support_RX,
+            node.support_RY,
+            node.support_RZ,
+        )
+        free += [node.ID * 6 + i for i, held in enumerate(supports) if not held]
+    return np.array(free, dtype=int)
+
+
+def _lowest(k: FloatArray, m: FloatArray, count: int) -> FloatArray:
+    """The ``count`` lowest frequencies [Hz] of ``K x = omega^2 M x`` (K positive
+    definite, M semi-definite) from the largest mu of ``M x = mu K x``."""
+    from scipy.linalg import eigh
+
+    n = k.shape[0]
+    mu = eigh(m, k, eigvals_only=True, subset_by_index=[n - count, n - 1])
+    return np.sort(1.0 / np.sqrt(mu[::-1])) / (2.0 * math.pi)
+
+
+def modal_comparison(
+    design: Design,
+    pose: ArrayLike | None = None,
+    settings: FESettings | None = None,
+) -> ModalComparison:
+    """The FE frame's frequencies and reduced M and K against the mass model's at one
+    pose, locked actuators (module doc).
+
+    Parameters
+    ----------
+    design : Design
+        A planar design with a mass model whose links are uniform.
+    pose : array_like (3,) or (6,), optional
+        The pose (the home pose if None).
+    settings : FESettings, optional
+
+    Raises
+    ------
+    DesignError, MissingExtraError, UnreachablePoseError, SingularConfigurationError
+    """
+    p = full_pose(design, pose)
+    if not design.planar:
+        raise DesignError("FE modal check: planar designs only (the FE model's joints)")
+    st = settings or FESettings()
+    k_act = actuator_stiffness_vector(design, None)
+    fb, p_node = build_model(design, p[[0, 1, 5]], k_act, st)
+    compliance_at_node(fb, p_node)  # prepares the model (numbering, sub-members)
+    model = fb.model
+    combo = next(iter(model.load_combos))
+    k_all = np.asarray(model.Ke(combo, sparse=False, check_stability=False), dtype=float)
+    # model units -> SI: lengths in units of fb.unit, forces in N, so energies in
+    # N·unit: K_SI = unit D K D with D = 1 / unit on translations, 1 on rotations
+    scale = np.tile(np.r_[np.full(3, 1.0 / fb.unit), np.ones(3)], len(model.nodes))
+    k_all = fb.unit * scale[:, None] * k_all * scale[None, :]
+    m_all = fe_mass_matrix(design, p, fb, p_node)
+    free = _free_dofs(fb)
+    k_ff = k_all[np.ix_(free, free)]
+    m_ff = m_all[np.ix_(free, free)]
+    k_ff = 0.5 * (k_ff + k_ff.T)
+    full = _lowest(k_ff, m_ff, 6)
+    # Guyan reduction to P
+    master = np.searchsorted(free, _dof(fb, p_node) + np.arange(6))
+    slave = np.setdiff1d(np.arange(free.size), master)
+    k_ss = k_ff[np.ix_(slave, slave)]
+    follow = -np.linalg.solve(k_ss, k_ff[np.ix_(slave, master)])
+    t = np.zeros((free.size, 6))
+    t[master] = np.eye(6)
+    t[slave] = follow
+    k_red = t.T @ k_ff @ t
+    m_red = t.T @ m_ff @ t
+    order = np.argsort(_FE_TO_TWIST)  # FE (D, R) -> library (R, D)
+    k_p = 0.5 * (k_red + k_red.T)[np.ix_(order, order)]
+    m_p = 0.5 * (m_red + m_red.T)[np.ix_(order, order)]
+    # the legs' own vibrations: P held
+    link = float(_lowest(k_ss, m_ff[np.ix_(slave, slave)], 1)[0])
+    k_model = stiffness_at_pose(design, p)
+    m_model = mass_matrix_at_pose(design, p)
+    balance = np.array([1.0 / LENGTH_SCALE] * 3 + [1.0] * 3)  # M_rr / L^2, M_rt / L
+    mb = balance[:, None] * m_model * balance[None, :]
+    fb_ = balance[:, None] * m_p * balance[None, :]
+    return ModalComparison(
+        model_frequencies=natural_frequencies(k_model, m_model),
+        reduced_frequencies=natural_frequencies(k_p, m_p),
+        full_frequencies=full,
+        link_frequency=link,
+        fe_stiffness=k_p,
+        fe_mass=m_p,
+        model_stiffness=k_model,
+        model_mass=m_model,
+        mass_difference=float(np.max(np.abs(fb_ - mb)) / np.max(np.abs(mb))),
+        n_dofs=int(free.size),
+    )

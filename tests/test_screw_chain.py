@@ -1,0 +1,126 @@
+"""A leg's chain as a product of exponentials (legs/screw_chain.py): its Jacobian and its
+second derivatives (Lie brackets) against finite differences of its own forward
+kinematics, the exponential against Rodrigues' rotation about a point, and, unloaded,
+the leg stiffness of today's model (core/solver.py) exactly."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+from tests.helpers import design_named
+
+from ppm_stiffness.core.solver import leg_stiffness
+from ppm_stiffness.legs.chain import leg_springs
+from ppm_stiffness.legs.screw_chain import (
+    bracket,
+    bracket_form,
+    forward,
+    screw_chain,
+    se3_exp,
+)
+from ppm_stiffness.model import solve_legs
+from ppm_stiffness.poses import home_pose
+from ppm_stiffness.statics.moving_core import PlatformChains, linearize, zero_state
+
+DESIGNS = [
+    "paper",
+    "3rpr",
+    "3prr",
+    "3rrr",
+    "symmetric_3ppr",
+    "redundant_4ppr",
+    "hexapod_6ups",
+    "3prs",
+    "3rps",
+]
+
+
+def _chain(name: str, leg: int = 0, offset: tuple[float, float, float] = (0.01, -0.02, 0.03)):
+    design = design_named(name)
+    lp = solve_legs(design, home_pose(design))[leg]
+    return screw_chain(design.legs[leg].chain(lp), design.legs[leg].actuator, 1, offset)
+
+
+def _twist_of(rot_dot: np.ndarray, rot: np.ndarray, pos_dot: np.ndarray, pos: np.ndarray):
+    """The spatial twist (w, v at the origin) of a motion from the rates of (R, p)."""
+    w_hat = rot_dot @ rot.T
+    w = np.array([w_hat[2, 1], w_hat[0, 2], w_hat[1, 0]])
+    return np.concatenate([w, pos_dot - np.cross(w, pos)])
+
+
+@pytest.mark.parametrize("name", ["3rpr", "hexapod_6ups", "3prs"])
+def test_jacobian_and_its_derivative_are_those_of_the_product_of_exponentials(name: str) -> None:
+    """Central differences (h = 1e-6) of forward() at a random configuration: the
+    Jacobian's columns are the twists of the coordinates (largest residual measured
+    8e-11, of unit twists) and dJ_k/dx_l = [J_l, J_k] for l < k, 0 otherwise (measured
+    3e-10)."""
+    chain = _chain(name)
+    x = np.random.default_rng(3).normal(size=(1, chain.n)) * 0.05
+    kin = forward(chain.screws, x)
+    h = 1e-6
+    worst_j, worst_h = 0.0, 0.0
+    for i in range(chain.n):
+        xp, xm = x.copy(), x.copy()
+        xp[0, i] += h
+        xm[0, i] -= h
+        kp, km = forward(chain.screws, xp), forward(chain.screws, xm)
+        fd = _twist_of(
+            (kp.rotation - km.rotation)[0] / (2 * h),
+            kin.rotation[0],
+            (kp.translation - km.translation)[0] / (2 * h),
+            kin.translation[0],
+        )
+        worst_j = max(worst_j, float(np.abs(fd - kin.jacobian[0, :, i]).max()))
+        d_jac = (kp.jacobian - km.jacobian)[0] / (2 * h)
+        for k in range(chain.n):
+            expected = (
+                bracket(kin.jacobian[0, :, i], kin.jacobian[0, :, k]) if i < k else np.zeros(6)
+            )
+            worst_h = max(worst_h, float(np.abs(d_jac[:, k] - expected).max()))
+    assert worst_j < 5e-10
+    assert worst_h < 2e-9
+
+
+def test_bracket_form_is_the_wrench_on_the_brackets() -> None:
+    chain = _chain("hexapod_6ups")
+    rng = np.random.default_rng(5)
+    kin = forward(chain.screws, rng.normal(size=(1, chain.n)) * 0.05)
+    w = rng.normal(size=(1, 6))
+    q = bracket_form(kin.jacobian, w)[0]
+    jac = kin.jacobian[0]
+    expected = np.array(
+        [[w[0] @ bracket(jac[:, a], jac[:, b]) for b in range(chain.n)] for a in range(chain.n)]
+    )
+    np.testing.assert_allclose(q, expected, rtol=0, atol=1e-14 * np.abs(expected).max())
+
+
+def test_exponential_of_a_rotation_screw_turns_about_its_axis_point() -> None:
+    """exp of theta (a, c x a): R = Rodrigues(a theta) (scipy), p = (I - R) c."""
+    rng = np.random.default_rng(7)
+    a = rng.normal(size=3)
+    a /= np.linalg.norm(a)
+    c = rng.normal(size=3) * 0.2
+    for theta in (1e-7, 0.3, 2.5):
+        rot, p = se3_exp(np.concatenate([a, np.cross(c, a)]) * theta)
+        expected = Rotation.from_rotvec(a * theta).as_matrix()
+        np.testing.assert_allclose(rot, expected, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(p, (np.eye(3) - expected) @ c, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_unloaded_chain_gives_todays_leg_stiffness(name: str) -> None:
+    """The chain's coordinates at rest are the leg's virtual springs and passive joints
+    (reordered): each leg's loaded tangent at zero load equals today's bordered
+    inverse (core.solver.leg_stiffness) to round-off (largest measured 4e-14 of the
+    largest length-balanced entry)."""
+    design = design_named(name)
+    pose = home_pose(design)
+    for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
+        chain = screw_chain(leg.chain(lp), leg.actuator, 1)
+        system = PlatformChains((chain,))
+        k_chain = linearize(system, zero_state(system), np.zeros((1, 6))).stiffness[0]
+        k_today = leg_stiffness(leg_springs(leg.chain(lp), leg.actuator.locked_stiffness))
+        scale = np.array([10.0] * 3 + [1.0] * 3)
+        err = np.abs((k_chain - k_today) * scale[:, None] * scale).max()
+        assert err <= 2e-13 * np.abs(k_today * scale[:, None] * scale).max()

@@ -1,0 +1,271 @@
+"""The report of each spatial example (6-UPS hexapod, 3-PRS, 3-RPS): the sections that
+make sense for a spatial design, its embedded analyses equal to ``analyze_design``, its
+numbers equal to the library's to their printed digits, a real page in Chromium.
+
+The 3-PRS report is written by the CLI at a tilted pose given in mm and deg (its tool
+point is 150 mm below P: K, its springs, the loaded case and the deflection refer to
+it); the other two are built at their home poses by :func:`build_report`.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import math
+import re
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.image as mpimg  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from helpers import ROOT, colour_count, design_named, half_unit  # noqa: E402
+from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # noqa: E402
+from ppm_stiffness.cli import main  # noqa: E402
+from ppm_stiffness.core.principal import principal_compliance  # noqa: E402
+from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
+from ppm_stiffness.poses import full_pose, home_pose  # noqa: E402
+from ppm_stiffness.statics.deflection import deflection_path  # noqa: E402
+from ppm_stiffness.visuals.report import DEFAULT_WRENCH, build_report, embedded_json  # noqa: E402
+from ppm_stiffness.visuals.report_spatial import DEFLECTION_SCALES  # noqa: E402
+from report_cells import check_cells, parse, screenshot  # noqa: E402
+
+SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+PRS_OPTIONS = ["--z", "420", "--rx", "8", "--ry", "-5"]
+PRS_TASK = np.array([0.42, math.radians(8.0), math.radians(-5.0)])
+SECTIONS = (
+    "design",
+    "mechanism",
+    "stiffness",
+    "screw-springs",
+    "principal",
+    "decoupling",
+    "loaded",
+    "deflection",
+)
+FIGURES = ("fig-mechanism", "fig-springs", "fig-springs-loaded", "fig-deflection")
+
+
+def _pose(name: str) -> np.ndarray:
+    design = design_named(name)
+    return full_pose(design, PRS_TASK) if name == "3prs" else home_pose(design)
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for name in SPATIAL:
+        if name == "3prs":
+            where = tmp_path_factory.mktemp("report")
+            design_file = ROOT / "examples" / "3prs.toml"
+            argv = ["report", "--design", str(design_file), *PRS_OPTIONS, "--quiet"]
+            assert main([*argv, "--out", str(where)]) == 0
+            out[name] = (where / "report.html").read_text(encoding="utf-8")
+        else:
+            out[name] = build_report(design_named(name))
+    return out
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_sections_figures_and_no_maps(pages: dict[str, str], name: str) -> None:
+    """The spatial sections and figures are there, each image a drawing; no stiffness
+    maps (the maps are planar) and none of the paper's planar k_phi, k_x, k_y cards."""
+    page = pages[name]
+    cells = parse(page)
+    for sid in SECTIONS + FIGURES + ("analysis-unloaded", "analysis-loaded"):
+        assert sid in cells.ids, sid
+    assert 'id="maps"' not in page and "fig-map-" not in page
+    assert "k<sub>φ</sub>" not in page
+    assert len(cells.images) == len(FIGURES)
+    for src in cells.images:
+        raw = base64.b64decode(src.split(",", 1)[1], validate=True)
+        img = mpimg.imread(io.BytesIO(raw), format="png")
+        assert img.shape[0] > 300 and img.shape[1] > 700
+        assert colour_count(img) > 100
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_embedded_analyses_are_analyze_design(pages: dict[str, str], name: str) -> None:
+    """Both blocks are analyze_design's output at the pose, unloaded and under the
+    default wrench (at the tool point)."""
+    design = design_named(name)
+    pose = _pose(name)
+    for block, wrench in (("analysis-unloaded", None), ("analysis-loaded", DEFAULT_WRENCH)):
+        expected = json.loads(dump_json(analyze_design(design, pose, wrench)))
+        embedded = embedded_json(pages[name], block)
+        assert {k: v for k, v in embedded.items() if k not in ENVELOPE_KEYS} == expected
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_every_number_is_the_analysis(pages: dict[str, str], name: str) -> None:
+    """Every traced number equals its JSON value to its printed digits; the pose table,
+    K, all springs, the spatial principal stiffnesses and the loaded twist are among
+    them."""
+    page = pages[name]
+    blocks = {
+        "unloaded": embedded_json(page, "analysis-unloaded"),
+        "loaded": embedded_json(page, "analysis-loaded"),
+    }
+    cells = parse(page).cells
+    paths = {c[0] for c in cells}
+    for key in ("unloaded", "loaded"):
+        assert all(f"{key}/stiffness_matrix/{i}/{j}" in paths for i in range(6) for j in range(6))
+        assert all(f"{key}/eigenscrews/{i}/spring_constant" in paths for i in range(6))
+        assert f"{key}/principal_compliance/worst_translational" in paths
+    assert all(f"unloaded/pose/{c}" in paths for c in ("x", "y", "z", "rx", "ry", "rz"))
+    assert all(f"unloaded/principal_compliance/rotational/values/{j}" in paths for j in range(3))
+    assert all(f"loaded/twist/{j}" in paths for j in range(6))
+    check_cells(cells, blocks)
+
+
+def _printed(page: str, path: str) -> tuple[float, str]:
+    found = re.search(rf'data-path="{re.escape(path)}" data-scale="([^"]+)">([^<]+)<', page)
+    assert found is not None, path
+    return float(found.group(1)), found.group(2)
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_principal_stiffnesses_are_the_library_s(pages: dict[str, str], name: str) -> None:
+    """The printed spatial principal stiffnesses equal core.principal's of K at the tool
+    point (computed here from the model, not from the page's JSON), to their digits."""
+    design = design_named(name)
+    pose = _pose(name)
+    k = stiffness_at_tool_point(stiffness_at_pose(design, pose), pose, design.tool_point)
+    pc = principal_compliance(k)
+    base = "unloaded/principal_compliance"
+    expected = {
+        f"{base}/worst_rotational": pc.worst_rotational,
+        f"{base}/worst_translational": pc.worst_translational,
+        **{f"{base}/rotational/values/{j}": pc.rotational_values[j] for j in range(3)},
+        **{f"{base}/translational/values/{j}": pc.translational_values[j] for j in range(3)},
+    }
+    for path, value in expected.items():
+        scale, text = _printed(pages[name], path)
+        assert abs(float(text) - value * scale) <= half_unit(text) * (1 + 1e-9), (path, text)
+
+
+def test_pose_table_names_task_and_parasitic_coordinates(pages: dict[str, str]) -> None:
+    """The 3-PRS at z = 420 mm, rx = 8, ry = -5 deg: z, rx, ry are task coordinates
+    printed as given; x, y, rz are parasitic and printed as the completed pose's."""
+    page = pages["3prs"]
+    table = re.search(r"<caption>The pose of P.*?</table>", page, re.S)
+    assert table is not None
+    rows = re.findall(
+        r"<tr><td>(\w+)</td>(<td[^>]*>[^<]*</td>)<td>(\w+)</td><td>([^<]*)</td>", table.group(0)
+    )
+    kinds = {name: kind for name, _, _, kind in rows}
+    assert kinds == {
+        "x": "parasitic (imposed by the legs)",
+        "y": "parasitic (imposed by the legs)",
+        "z": "task",
+        "rx": "task",
+        "ry": "task",
+        "rz": "parasitic (imposed by the legs)",
+    }
+    pose = _pose("3prs")
+    for i, name in enumerate(("x", "y", "z", "rx", "ry", "rz")):
+        scale, text = _printed(page, f"unloaded/pose/{name}")
+        assert scale == (180 / math.pi if name.startswith("r") else 1e3)
+        assert abs(float(text) - pose[i] * scale) <= half_unit(text) * (1 + 1e-9)
+    assert abs(float(_printed(page, "unloaded/pose/z")[1]) - 420.0) < 1e-9
+    assert abs(float(_printed(page, "unloaded/pose/x")[1])) > 0.1  # parasitic x is ~0.9 mm
+
+
+def test_mechanism_captions_name_what_each_design_has(pages: dict[str, str]) -> None:
+    """The 3-D view's caption names the joints, rails and tool point a design has and
+    nothing else: U for the hexapod, rails and a tool point for the 3-PRS."""
+    captions = {
+        name: re.search(r'id="fig-mechanism".*?<figcaption>(.*?)</figcaption>', page, re.S)
+        for name, page in pages.items()
+    }
+    text = {name: m.group(1) for name, m in captions.items() if m is not None}
+    assert "U a cross" in text["hexapod_6ups"] and "rail" not in text["hexapod_6ups"]
+    assert "tool point" not in text["hexapod_6ups"]
+    assert "rail over the actuator stroke" in text["3prs"] and "tool point T" in text["3prs"]
+    assert "R a circle" in text["3rps"] and "U a cross" not in text["3rps"]
+
+
+def test_repeated_springs_are_named(pages: dict[str, str]) -> None:
+    """The hexapod at its 3-fold symmetric home pose has repeated eigenvalues: the note
+    names the groups of analyze's eigenscrews_repeated."""
+    page = pages["hexapod_6ups"]
+    groups = embedded_json(page, "analysis-unloaded")["eigenscrews_repeated"]
+    assert groups
+    names = "; ".join(", ".join(f"s{i + 1}" for i in g) for g in groups)
+    assert f"Repeated eigenvalues ({names})" in page
+
+
+def test_deflection_follows_the_loaded_wrench() -> None:
+    """The spatial deflection curve is the load path along the loaded case's wrench: at
+    its full scale (1) it reaches the loaded analysis's tool-point twist (the
+    equilibrium, an independent solution) to 1e-6 of its size."""
+    design = design_named("3prs")
+    pose = _pose("3prs")
+    curve = deflection_path(design, DEFAULT_WRENCH, DEFLECTION_SCALES, pose, method="integrate")
+    twist = np.asarray(analyze_design(design, pose, DEFAULT_WRENCH)["twist"])
+    assert DEFLECTION_SCALES[0] == 0.0 and DEFLECTION_SCALES[-1] == 1.0
+    np.testing.assert_allclose(curve.twists[-1], twist, rtol=0, atol=1e-6 * np.max(np.abs(twist)))
+
+
+def test_tolerances_on_a_spatial_design_are_refused(tmp_path: Path, capsys) -> None:
+    """``report --tolerances`` on a spatial design: one line naming its task coordinates,
+    exit 2, nothing written (the bands are planar)."""
+    tol = tmp_path / "tol.toml"
+    tol.write_text('["leg*.actuator.locked_stiffness"]\npm = "10%"\n', encoding="utf-8")
+    out = tmp_path / "rep"
+    argv = ["report", "--design", str(ROOT / "examples" / "3rps.toml"), "--tolerances", str(tol)]
+    assert main([*argv, "--quiet", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "z, rx, ry" in err and "--tolerances" in err
+    assert not out.exists()
+
+
+def test_spatial_report_renders_in_headless_chromium(pages: dict[str, str], tmp_path: Path) -> None:
+    """The hexapod's page in headless Chromium: the requested size, many colours, a
+    sensible share of non-background pixels."""
+    page = tmp_path / "report.html"
+    page.write_text(pages["hexapod_6ups"], encoding="utf-8")
+    img = mpimg.imread(screenshot(page, tmp_path, height=2400))
+    assert img.shape[:2] == (2400, 1280)
+    rgb = np.round(img[..., :3] * 255).astype(np.uint8).reshape(-1, 3)
+    assert colour_count(rgb) > 50
+    background = np.all(rgb >= 240, axis=1)
+    assert 0.02 < 1.0 - background.mean() < 0.9
+
+
+def _leg_row(page: str, key: str) -> tuple[list[str], str]:
+    """The per-leg texts and the unit of one row of the leg-parameter table."""
+    row = re.search(
+        rf"<tr><td>{re.escape(key)}</td>((?:<td class=\"num\">[^<]*</td>)+)<td>([^<]*)</td></tr>",
+        page,
+    )
+    assert row is not None, key
+    return re.findall(r'<td class="num">([^<]*)</td>', row.group(1)), row.group(2)
+
+
+def test_design_parameters_in_display_units(pages: dict[str, str]) -> None:
+    """The hexapod's leg fields and joint parts, one column per leg, in display units:
+    points in mm (each component of the design's, to its 6 printed digits), joint
+    angle limits in deg, spring constants in N/m and N·m/rad, directions unitless; the
+    required region over the six task coordinates in mm and deg."""
+    page = pages["hexapod_6ups"]
+    design = design_named("hexapod_6ups")
+    texts, unit = _leg_row(page, "base_point")
+    assert unit == "mm" and len(texts) == 6
+    for text, leg in zip(texts, design.legs, strict=True):
+        shown = [float(v) for v in text.strip("()").split(",")]
+        for v, si in zip(shown, leg.base_point, strict=True):
+            assert abs(v - si * 1e3) <= 5e-6 * max(abs(si * 1e3), 1e-300) or v == si == 0
+    texts, unit = _leg_row(page, "base_joint.max_angle")
+    assert unit == "deg" and all(abs(float(t) - 30.0) < 5e-5 for t in texts)
+    assert _leg_row(page, "base_joint.torsion")[1] == "N·m/rad"
+    assert _leg_row(page, "platform_joint.radial")[1] == "N/m"
+    assert _leg_row(page, "platform_joint_axis")[1] == "–"
+    for coord, unit in (("x", "mm"), ("z", "mm"), ("rx", "deg"), ("rz", "deg")):
+        cells = rf'<td class="num">\([^<]+\)</td><td>{unit}</td>'
+        assert re.search(rf"<td>workspace\.required\.{coord}</td>{cells}", page), coord
