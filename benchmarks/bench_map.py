@@ -1,31 +1,44 @@
 """Benchmark of the stiffness map: batched path against a loop over the single-pose API.
 
-Measured side by side in one run, on the built-in design (or ``--design FILE``) at
-phi = 0 with locked actuators:
+Measured side by side in one run, on the built-in design (or ``--design FILE``, any
+design: the hexapod and tripods too) on its default map (a planar design: x-y at
+phi = 0; a spatial one: x-y, or its first two task coordinates, at the home pose's
+other coordinates) with locked actuators; the machine's load (``os.getloadavg``) is
+printed before and after:
 
-- poses per second of ``workspace.stiffness_map`` (K, paper decoupling, k_phi, k_x,
-  k_y, reachability and singularity masks) on a 1000 x 1000 grid (``--quick``: 300 x 300),
-  median of three runs, on the path ``"auto"`` takes (the P-P-R reduced form, else the
-  planar engine);
+- poses per second of ``workspace.stiffness_map`` (K, the principal stiffnesses of the
+  design's default quantities: the paper's k_phi, k_x, k_y for a planar design, the six
+  spatial ones for others; reachability and singularity masks) on a 1000 x 1000 grid
+  (``--quick``: 300 x 300), median of three runs, by the wall clock and by the process's
+  CPU time (``batched_cpu_poses_per_s``), on the path ``"auto"`` takes (the P-P-R reduced
+  form, else the planar engine, else the general engine);
 - on a design whose legs all offer the reduced form (P-P-R): the same map by the planar
   engine (``path="planar"``), the general engine of any architecture, and its rate
   over the reduced form's (``general_vs_reduced``), measured alternately in the same run;
 - poses per second of a loop of ``model.stiffness_at_pose`` + ``decoupling.decouple``
+  (a planar design) or + ``principal.principal_compliance`` at the tool point (others)
   on a subset of the same grid poses (every k-th one; 2000 poses, ``--quick``: 200), and
-  the largest relative difference between the two paths on that subset;
+  the largest relative difference of the map's quantities to the loop's on that subset
+  (``max_rel_diff``, relative to the largest value of each quantity set) and of the
+  batched K (``batch.evaluate_poses`` with the matrices, length-balanced, relative to
+  its largest entry: ``max_rel_diff_k``); both must be at most 1e-12 (else the exit
+  status is 1);
 - for context: the scattered-pose batched path (``batch.evaluate_poses`` on random
   poses with random phi) and the general 22-spring model batched with numpy
   (``chain.leg_springs`` + ``solver.bordered_stiffness``), which is what the reduced form
   replaces;
-- the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses)
-  map of the design, and of the same process before the map (imports only);
+- the peak resident memory of a fresh process computing a 3163 x 3163 (> 10^7 poses;
+  ``--memory-grid N``: N x N) map of the design, and of the same process before the
+  map (imports only);
 - for context, without ``--design``: ``batch.evaluate_poses`` on random poses over each
   shipped design's workspace box at phi = 0 by the planar engine
   (``planar_<design>_poses_per_s``) and by the general reference path (IK, chain
   springs, bordered inverse: ``general_<design>_poses_per_s``), 20 000 poses
   (``--quick``: 4000), best of two.
 
-The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N peak_mb_1e7=N
+The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N
+batched_cpu_poses_per_s=N max_rel_diff=X max_rel_diff_k=X peak_mb_1e7=N (peak_mb_gridN with
+--memory-grid N)
 [general_poses_per_s=N general_vs_reduced=R] [planar_<design>_poses_per_s=N
 general_<design>_poses_per_s=N ...]``.
 Run: ``.venv/bin/python benchmarks/bench_map.py [--design FILE] [--quick]``.
@@ -44,14 +57,19 @@ import time
 import numpy as np
 
 from ppm_stiffness.core import solver
+from ppm_stiffness.core.conventions import length_balanced
 from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import SingularConfigurationError, UnreachablePoseError
+from ppm_stiffness.core.principal import principal_compliance
 from ppm_stiffness.design import Design, default_design, load_design
 from ppm_stiffness.legs.chain import leg_springs
 from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.reduced_leg import reduced_design
 from ppm_stiffness.maps.workspace import StiffnessMap, stiffness_map, workspace_bounds
-from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point, validate_pose
+
+#: Largest admissible difference between the batched and the single-pose path.
+AGREEMENT = 1e-12
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
 GENERAL_DESIGNS = ("paper_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr")
@@ -85,13 +103,15 @@ print(json.dumps({"before_kb": before, "peak_kb": peak_kb(), "seconds": elapsed,
 
 def time_map(
     design: Design, grid: int, repeats: int = 3, path: batch.Path = "auto"
-) -> tuple[float, StiffnessMap]:
-    times = []
+) -> tuple[float, float, StiffnessMap]:
+    """Median wall-clock and CPU seconds of the design's default map, and the map."""
+    times, cpu = [], []
     for _ in range(repeats):
-        t = time.perf_counter()
-        smap = stiffness_map(design, phi=0.0, actuators="max", grid=grid, path=path)
+        t, c = time.perf_counter(), time.process_time()
+        smap = stiffness_map(design, actuators="max", grid=grid, path=path)
         times.append(time.perf_counter() - t)
-    return statistics.median(times), smap
+        cpu.append(time.process_time() - c)
+    return statistics.median(times), statistics.median(cpu), smap
 
 
 def time_paths(design: Design, grid: int, repeats: int = 3) -> tuple[float, float]:
@@ -103,32 +123,62 @@ def time_paths(design: Design, grid: int, repeats: int = 3) -> tuple[float, floa
     return statistics.median(reduced), statistics.median(planar)
 
 
-def time_loop(design: Design, smap: StiffnessMap, n_loop: int) -> tuple[float, int, float]:
-    """Seconds for the single-pose loop on ``n_loop`` grid poses, count, max rel diff."""
-    xs, ys = smap.x, smap.y
-    total = xs.size * ys.size
+def grid_pose(design: Design, smap: StiffnessMap, i: int, j: int) -> np.ndarray:
+    """The task values of grid point (j, i)."""
+    values = dict(smap.fixed) | {smap.axes[0]: smap.u[i], smap.axes[1]: smap.v[j]}
+    return np.array([values[name] for name in design.task_coordinates])
+
+
+def single_quantities(design: Design, k: np.ndarray, pose: np.ndarray) -> list[np.ndarray]:
+    """The map's default quantities by the single-pose path, as sets compared each to
+    their largest value: [k_phi], [k_x, k_y] (planar); rotational, translational at the
+    tool point (ascending; others)."""
+    if design.planar:
+        tool = np.asarray(design.tool_point, dtype=float)
+        dec = decouple(stiffness_at_tool_point(k, pose, tool) if np.any(tool) else k, "paper")
+        return [np.array([dec.rotational_values[2]]), np.asarray(dec.translational_values[:2])]
+    k_t = stiffness_at_tool_point(k, validate_pose(design, pose), design.tool_point)
+    pc = principal_compliance(k_t)
+    return [np.sort(pc.rotational_values), np.sort(pc.translational_values)]
+
+
+def time_loop(design: Design, smap: StiffnessMap, n_loop: int) -> tuple[float, int, float, float]:
+    """Seconds for the single-pose loop on ``n_loop`` grid poses, their count, the largest
+    relative difference of the map's quantities and of the batched K (module doc)."""
+    us, vs = smap.u, smap.v
+    total = us.size * vs.size
     step = max(total // n_loop, 1)
     flat = np.arange(0, total, step)[:n_loop]
-    worst = 0.0
     results = []
     t = time.perf_counter()
     for n in flat:
-        j, i = divmod(int(n), xs.size)
+        j, i = divmod(int(n), us.size)
+        pose = grid_pose(design, smap, i, j)
         try:
-            k = stiffness_at_pose(design, np.array([xs[i], ys[j], 0.0]))
+            k = stiffness_at_pose(design, pose)
         except (UnreachablePoseError, SingularConfigurationError):
-            results.append((j, i, None))
+            results.append((j, i, pose, None, None))
             continue
-        dec = decouple(k, "paper")
-        results.append((j, i, dec.rotational_values[2], *dec.translational_values[:2]))
+        results.append((j, i, pose, k, single_quantities(design, k, pose)))
     elapsed = time.perf_counter() - t
-    for j, i, *ref in results:
-        if ref[0] is None:
+    names = list(smap.quantities)
+    sets = [names[:1], names[1:3]] if design.planar else [names[:3], names[3:6]]
+    worst = 0.0
+    valid = [r for r in results if r[3] is not None]
+    for j, i, _, k, ref in results:
+        if k is None:
             assert not smap.reachable[j, i]
             continue
-        got = [smap.k_phi[j, i], smap.k_x[j, i], smap.k_y[j, i]]
-        worst = max(worst, float(np.max(np.abs(np.subtract(got, ref)) / np.abs(ref))))
-    return elapsed, len(flat), worst
+        assert smap.reachable[j, i]
+        for group, values in zip(sets, ref, strict=True):
+            got = np.array([float(smap.quantities[q][j, i]) for q in group])
+            worst = max(worst, float(np.max(np.abs(got - values)) / np.max(np.abs(values))))
+    poses = np.array([r[2] for r in valid])
+    res = batch.evaluate_poses(design, poses, matrices=True)
+    assert res.stiffness is not None and res.valid.all()
+    a, b = length_balanced(res.stiffness), length_balanced(np.array([r[3] for r in valid]))
+    worst_k = float(np.max(np.max(np.abs(a - b), axis=(1, 2)) / np.max(np.abs(b), axis=(1, 2))))
+    return elapsed, len(flat), worst, worst_k
 
 
 def time_scattered(n: int) -> float:
@@ -188,35 +238,56 @@ def peak_memory(grid: int, design_file: str | None) -> dict[str, float]:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def load_text() -> str:
+    try:
+        one, five, fifteen = os.getloadavg()
+    except OSError:
+        return "load average unknown"
+    return f"load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--design", help="design file (default: the built-in 3-PPR)")
     parser.add_argument("--quick", action="store_true", help="smaller grid and loop (< 1 min)")
+    parser.add_argument(
+        "--memory-grid",
+        type=int,
+        default=3163,
+        metavar="N",
+        help="N x N poses of the peak-memory run (default 3163: > 10^7 poses)",
+    )
     args = parser.parse_args(argv)
     grid, n_loop = (300, 200) if args.quick else (1000, 2000)
     design = load_design(args.design) if args.design else default_design()
     cores = os.cpu_count()
     print(
         f"machine: {cores} cores, numpy {np.__version__}, python {sys.version.split()[0]}; "
-        f"design {design.name} ({design.architecture})"
+        f"design {design.name} ({design.architecture}); {load_text()}"
     )
 
-    seconds, smap = time_map(design, grid)
+    seconds, cpu_seconds, smap = time_map(design, grid)
     n_map = grid * grid
     batched_rate = n_map / seconds
+    cpu_rate = n_map / cpu_seconds
     reduced = reduced_design(design) is not None
+    kind = "reduced" if reduced else ("planar" if design.planar else "general")
+    slice_text = ", ".join(f"{k} = {v:.4g}" for k, v in smap.fixed.items())
     print(
-        f"batched map {grid} x {grid} = {n_map} poses ({'reduced' if reduced else 'planar'} "
-        f"path): {seconds:.3f} s (median of 3), {batched_rate:,.0f} poses/s, "
-        f"{int(smap.reachable.sum())} in the workspace"
+        f"batched map {smap.axes[0]}-{smap.axes[1]} at {slice_text} (SI), {grid} x {grid} = "
+        f"{n_map} poses ({kind} path; {', '.join(smap.quantities)}): {seconds:.3f} s "
+        f"(median of 3), {batched_rate:,.0f} poses/s ({cpu_rate:,.0f} poses/s of CPU "
+        f"time), {int(smap.reachable.sum())} in the workspace"
     )
 
-    loop_s, n_done, worst = time_loop(design, smap, n_loop)
+    loop_s, n_done, worst, worst_k = time_loop(design, smap, n_loop)
     loop_rate = n_done / loop_s
+    what = "decouple" if design.planar else "principal_compliance"
     print(
-        f"single-pose loop (stiffness_at_pose + decouple) on {n_done} of the same poses: "
+        f"single-pose loop (stiffness_at_pose + {what}) on {n_done} of the same poses: "
         f"{loop_s:.3f} s, {loop_rate:,.0f} poses/s ({1e6 / loop_rate:.0f} us/pose); "
-        f"largest relative difference to the map {worst:.1e}"
+        f"largest relative difference to the map {worst:.1e}, of the batched K "
+        f"(length-balanced) {worst_k:.1e}"
     )
     ratio = batched_rate / loop_rate
     print(f"ratio batched / loop: {ratio:,.0f}x")
@@ -234,10 +305,11 @@ def main(argv: list[str] | None = None) -> int:
             f"general_vs_reduced={general_rate / reduced_rate:.3f}"
         )
 
-    mem = peak_memory(3163, args.design)
+    mem = peak_memory(args.memory_grid, args.design)
     peak_mb = mem["peak_kb"] / 1024.0
     print(
-        f"memory: 3163 x 3163 = {mem['poses']} poses map in a fresh process: "
+        f"memory: {args.memory_grid} x {args.memory_grid} = {mem['poses']} poses map in a "
+        "fresh process: "
         f"{mem['seconds']:.2f} s, peak RSS {peak_mb:.0f} MB "
         f"(imports alone {mem['before_kb'] / 1024.0:.0f} MB)"
     )
@@ -266,10 +338,16 @@ def main(argv: list[str] | None = None) -> int:
                 f"reference path {rates[f'general_{name}']:,.0f} poses/s ({n_gen} poses)"
             )
         context = " " + " ".join(f"{k}_poses_per_s={v:.0f}" for k, v in rates.items())
+    memory_key = "peak_mb_1e7" if args.memory_grid == 3163 else f"peak_mb_grid{args.memory_grid}"
+    print(f"after the runs: {load_text()}")
     print(
         f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
-        f"ratio={ratio:.0f} peak_mb_1e7={peak_mb:.0f}" + extra + context
+        f"ratio={ratio:.0f} batched_cpu_poses_per_s={cpu_rate:.0f} max_rel_diff={worst:.1e} "
+        f"max_rel_diff_k={worst_k:.1e} {memory_key}={peak_mb:.0f}" + extra + context
     )
+    if max(worst, worst_k) > AGREEMENT:
+        print(f"batched and single-pose paths differ by more than {AGREEMENT:g}")
+        return 1
     return 0
 
 

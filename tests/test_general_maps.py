@@ -1,5 +1,6 @@
-"""The general batched path (any architecture) against the single-pose API, the
-P-P-R reduced path against the general path, and maps of every shipped design."""
+"""The general batched path (the engine of legs/engine.py, any architecture) against
+the single-pose API, the P-P-R reduced path against the general path, and maps of every
+shipped planar design (spatial designs: test_spatial_maps.py)."""
 
 from __future__ import annotations
 

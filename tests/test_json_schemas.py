@@ -54,6 +54,21 @@ CASES = [
     ("modes", ["modes", "--json"]),
     ("modes", ["modes", "--json", "--wrench", "5,5,20,0,0,0.1", "--tool-point", "10,0,5"]),
     ("modes", ["modes", "--json", "--design", str(ROOT / "examples/3prs.toml")]),
+    ("map", ["map", "--json", "--grid", "6", "--design", str(ROOT / "examples/hexapod_6ups.toml")]),
+    (
+        "map",
+        [
+            "map",
+            "--json",
+            "--grid",
+            "6",
+            "--design",
+            str(ROOT / "examples/3prs.toml"),
+            "--axes",
+            "rx,ry",
+        ],
+    ),
+    ("map", ["map", "--json", "--grid", "6", "--quantities", "all"]),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (
         "compare",

@@ -15,6 +15,14 @@ Before, the wrench
 map of a 3-leg P-P-R design skipped the rotation check and checked the stroke with the
 bare actuator law: ``map --actuators=0,0,0,0,0,1`` printed 25 of 25 points where
 ``analyze --wrench 0,0,0,0,0,1`` refused (52.9 deg).
+
+Spatial designs (issue 20): the hexapod, 3-PRS and 3-RPS on slices over two task
+coordinates (x-y, rx-ry, z-rx), locked and soft actuators, the asymmetric wrench and a
+vertical force at the tool point, scaled until the platform rotates beyond the model
+(the wrench, 1e3-1e5 times) and an actuator runs beyond its stroke (the force, 3e7-1e9
+N); the U and S joints' angle limits refuse poses as joint limits. Singular: the
+hexapod with its joint limits opened, at rz = 90 deg, where it is singular (its
+transmission index crosses 1e-6 within 0.1 deg of it).
 """
 
 from __future__ import annotations
@@ -36,11 +44,11 @@ from ppm_stiffness.core.errors import (
 from ppm_stiffness.core.refusals import Refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.loaded import loaded_poses
+from ppm_stiffness.maps.slices import map_slice, slice_bounds
 from ppm_stiffness.maps.workspace import (
     StiffnessMap,
     minimum_actuator_stiffness,
     stiffness_map,
-    workspace_bounds,
 )
 from ppm_stiffness.model import locked_actuator_stiffness, stiffness_at_pose
 from ppm_stiffness.statics import equilibrium as statics
@@ -80,11 +88,22 @@ def code_of(call: Callable[[np.ndarray], object], pose: np.ndarray) -> int:
 def single_pose_codes(
     smap: StiffnessMap, design: Design, call: Callable[[np.ndarray], object]
 ) -> np.ndarray:
-    return np.array([[code_of(call, np.array([x, y, smap.phi])) for x in smap.x] for y in smap.y])
+    """The single-pose call's code at every grid point (its task coordinates)."""
+
+    def pose(u: float, v: float) -> np.ndarray:
+        values = dict(smap.fixed) | {smap.axes[0]: u, smap.axes[1]: v}
+        return np.array([values[name] for name in design.task_coordinates])
+
+    return np.array([[code_of(call, pose(u, v)) for u in smap.u] for v in smap.v])
 
 
-def wide_bounds(design: Design, phi: float) -> np.ndarray:
-    box = workspace_bounds(design, phi)
+def wide_bounds(
+    design: Design,
+    phi: float | None = None,
+    axes: tuple[str, str] | None = None,
+    fixed: dict[str, float] | None = None,
+) -> np.ndarray:
+    box = slice_bounds(design, map_slice(design, axes, fixed, phi))
     pad = 0.15 * np.array([box[1] - box[0], box[3] - box[2]])
     return box + np.array([-pad[0], pad[0], -pad[1], pad[1]])
 
@@ -112,6 +131,122 @@ def test_maps_mask_exactly_where_the_single_pose_api_raises(name: str) -> None:
         np.testing.assert_array_equal(smap.reachable, expected == 0)
         seen |= set(np.unique(expected).tolist())
     assert {Refusal.NONE, Refusal.UNREACHABLE} | wanted <= seen
+
+
+#: Spatial slices (design, axes, fixed [m, rad]), wrench scales, force scales [N], and
+#: the codes their maps must show.
+SPATIAL_CASES: dict[
+    str,
+    tuple[str, tuple[str, str] | None, dict[str, float], list[float], list[float], set[Refusal]],
+] = {
+    "hexapod x-y": (
+        "hexapod_6ups",
+        None,
+        {"rz": 0.05},
+        [1.0, 1e5],
+        [1e7],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+    "hexapod rx-ry": (
+        "hexapod_6ups",
+        ("rx", "ry"),
+        {"z": 0.21},
+        [1e5],
+        [3e7],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+    "3-PRS rx-ry": (
+        "3prs",
+        ("rx", "ry"),
+        {"z": 0.39},
+        [1.0, 1e3],
+        [1e8],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+    "3-PRS z-rx": (
+        "3prs",
+        None,
+        {"ry": -0.1},
+        [1e3],
+        [1e9],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+    "3-RPS rx-ry": (
+        "3rps",
+        ("rx", "ry"),
+        {},
+        [1e3],
+        [3e7],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(SPATIAL_CASES))
+def test_spatial_maps_mask_exactly_where_the_single_pose_api_raises(case: str) -> None:
+    name, axes, fixed, scales, forces, wanted = SPATIAL_CASES[case]
+    design = design_named(name)
+    bounds = wide_bounds(design, axes=axes, fixed=fixed)
+    k_min = minimum_actuator_stiffness(design, 10.0)
+    states: list[tuple[str, np.ndarray | None, Callable[[np.ndarray], object]]] = [
+        ("max", None, lambda p: stiffness_at_pose(design, p)),
+        ("min", None, lambda p: stiffness_at_pose(design, p, k_min)),
+    ]
+    loads = [s * WRENCH for s in scales] + [np.array([0, 0, 0, 0, 0, -f]) for f in forces]
+    for w in loads:
+        states.append(("wrench", w, lambda p, w=w: loaded_state_at_tool(design, w, p)))
+    seen: set[int] = set()
+    for actuators, wrench, call in states:
+        smap = stiffness_map(
+            design, None, actuators, (7, 6), wrench, axes=axes, fixed=fixed, bounds=bounds
+        )
+        assert smap.refusal is not None
+        expected = single_pose_codes(smap, design, call)
+        np.testing.assert_array_equal(smap.refusal, expected, err_msg=f"{actuators} {wrench}")
+        np.testing.assert_array_equal(smap.reachable, expected == 0)
+        seen |= set(np.unique(expected).tolist())
+    assert {Refusal.NONE, Refusal.UNREACHABLE} | wanted <= seen
+
+
+def loaded_state_at_tool(design: Design, wrench_tool: np.ndarray, pose: np.ndarray) -> object:
+    """``loaded_state`` under a wrench acting at the design's tool point (moved to P at
+    the pose's orientation, as the map does)."""
+    from ppm_stiffness.model import tool_offset, validate_pose
+
+    r = tool_offset(validate_pose(design, pose), design.tool_point)
+    w_p = np.asarray(wrench_tool, dtype=float).copy()
+    w_p[:3] += np.cross(r, w_p[3:])
+    return loaded_state(design, w_p, pose)
+
+
+def test_a_singular_hexapod_map_is_masked_like_the_single_pose_api() -> None:
+    """The hexapod with its strokes and joint angles opened is singular at rz = 90 deg
+    (measured: the transmission index falls below 1e-6 at rz = 90 +- 0.1 deg at the
+    home position); an x-rz map across it masks the same singular poses as
+    stiffness_at_pose and loaded_state (under the load, near-singular poses also
+    rotate beyond the model)."""
+    from ppm_stiffness.design import design_from_dict
+
+    data = design_named("hexapod_6ups").model_dump()
+    for leg in data["legs"]:
+        leg["stroke"] = (1.001 * leg["cylinder_length"], 10.0)
+        leg["base_joint"]["max_angle"] = None
+        leg["platform_joint"]["max_angle"] = None
+    design = design_from_dict(data)
+    bounds = [-0.01, 0.01, np.radians(89.7), np.radians(90.3)]
+    for actuators, wrench, call in (
+        ("max", None, lambda p: stiffness_at_pose(design, p)),
+        ("wrench", WRENCH, lambda p: loaded_state(design, WRENCH, p)),
+    ):
+        smap = stiffness_map(
+            design, None, actuators, (5, 7), wrench, axes=("x", "rz"), bounds=bounds
+        )
+        assert smap.refusal is not None
+        expected = single_pose_codes(smap, design, call)
+        np.testing.assert_array_equal(smap.refusal, expected)
+        assert np.any(expected == Refusal.SINGULAR)
+        if actuators == "max":
+            assert np.any(expected == Refusal.NONE)
 
 
 @pytest.mark.parametrize(("offset", "singular"), [(0.0, 10), (0.06, 8), (0.1, 1), (0.2, 0)])

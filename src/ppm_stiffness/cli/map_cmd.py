@@ -1,4 +1,7 @@
-"""``ppm-stiffness map``: k_phi, k_x, k_y over the workspace (paper Figures 6-7)."""
+"""``ppm-stiffness map``: principal stiffnesses over a 2-D slice of the workspace (paper
+Figures 6-7): k_phi, k_x, k_y of a planar design over x-y at a given phi, the spatial
+principal stiffnesses of any design over any two task coordinates (``--axes``) with the
+others fixed by the pose options (``--z``, ``--rx``, ...)."""
 
 from __future__ import annotations
 
@@ -13,8 +16,10 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    POSE_OPTIONS,
     add_design_argument,
     add_overwrite_argument,
+    add_pose_arguments,
     add_tool_point_argument,
     check_output_path,
     console,
@@ -35,7 +40,15 @@ from ppm_stiffness.cli.tolerances import (
 )
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.design import Design
-from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, StiffnessMap, stiffness_map
+from ppm_stiffness.maps.result import QUANTITIES
+from ppm_stiffness.maps.slices import cli_scale, map_slice, unit_of
+from ppm_stiffness.maps.workspace import (
+    DEFAULT_REFERENCE_FORCE,
+    QUANTITY_SETS,
+    StiffnessMap,
+    quantity_names,
+    stiffness_map,
+)
 
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
@@ -43,19 +56,31 @@ MAX_GRID = 10_000
 #: Peak memory per map pose [bytes], for --max-memory: measured with
 #: ``/usr/bin/time -f %M ppm-stiffness map --grid 1000 [--data m.csv]``, 100 MB on the
 #: built-in design and 160 MB on examples/3rrr.toml for 10^6 poses, of which about
-#: 65 MB are the imports; rounded up.
+#: 65 MB are the imports; rounded up. A map of the six spatial principal stiffnesses
+#: needs :data:`BYTES_PER_QUANTITY` more per quantity beyond three: measured likewise
+#: 156 MB (175 MB with --data m.csv) on examples/hexapod_6ups.toml and 177 MB (197 MB)
+#: on an rx-ry map of examples/3prs.toml (with its three dependent coordinates).
 BYTES_PER_POSE = 110
-_UNITS = {"k_phi": "N·m/rad", "k_x": "N/m", "k_y": "N/m"}
+BYTES_PER_QUANTITY = 15
+#: Quantities per table of the summary (so that it fits 80 columns).
+_PER_TABLE = 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_overwrite_argument(parser)
     add_design_argument(parser)
     parser.add_argument(
-        "--phi",
-        type=float,
-        metavar="DEG",
-        help="platform orientation [deg] (default: the design's workspace phi)",
+        "--axes",
+        metavar="A,B",
+        help="the two task coordinates of the grid, e.g. x,y or rx,ry (default: x,y when "
+        "the design has them, else its first two task coordinates)",
+    )
+    add_pose_arguments(parser)
+    parser.add_argument(
+        "--quantities",
+        choices=QUANTITY_SETS,
+        help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
+        "spatial principal stiffnesses (any design, the others' default); all: both",
     )
     parser.add_argument(
         "--actuators",
@@ -79,9 +104,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--bounds",
-        metavar="XMIN,XMAX,YMIN,YMAX",
-        help="grid extent [mm] (default: the workspace's bounding box at --phi); write "
-        "--bounds=-20,10,-30,30 when the first number is negative",
+        metavar="AMIN,AMAX,BMIN,BMAX",
+        help="grid extent along the two axes [mm or deg] (default: the reachable extent "
+        "of the slice); write --bounds=-20,10,-30,30 when the first number is negative",
     )
     add_tool_point_argument(parser)
     add_tolerance_arguments(parser)
@@ -102,31 +127,101 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _parse_bounds(text: str | None) -> np.ndarray | None:
+def _axes(text: str | None) -> tuple[str, str] | None:
     if text is None:
         return None
-    return np.array(parse_floats(text, 4, "--bounds", "XMIN,XMAX,YMIN,YMAX [mm]")) * 1e-3
+    names = [n.strip() for n in text.split(",")]
+    if len(names) != 2 or not all(names):
+        raise InputDataError(f"--axes must be two task coordinates A,B (e.g. rx,ry), got {text!r}")
+    return names[0], names[1]
 
 
-def _summary_table(smap: StiffnessMap) -> Table:
-    """One column per principal stiffness; rows: extremes, where they are, their ratio."""
+def _fixed(args: argparse.Namespace, design: Design, axes: tuple[str, str]) -> dict[str, float]:
+    """The pose options given [mm, deg] as fixed coordinates [m, rad]: task coordinates
+    that are not axes (a non-task coordinate is refused, naming the task coordinates)."""
+    task = design.task_coordinates
+    fixed: dict[str, float] = {}
+    for option, (name, factor, _unit) in POSE_OPTIONS.items():
+        value = getattr(args, option, None)
+        if value is None:
+            continue
+        if not math.isfinite(value):
+            raise InputDataError(f"--{option} must be finite")
+        if name not in task:
+            raise InputDataError(
+                f"--{option}: {name} is not a task coordinate of this design; give "
+                + ", ".join(f"--{n}" for n in task if n not in axes)
+                + " (the other coordinates follow from the legs)"
+            )
+        if name in axes:
+            raise InputDataError(
+                f"--{option}: {name} is an axis of the map (--axes {','.join(axes)}); fix "
+                "only the other task coordinates"
+            )
+        if name in fixed:
+            raise InputDataError("--phi and --rz are the same coordinate: give one")
+        fixed[name] = value * factor
+    return fixed
+
+
+def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:
+    if text is None:
+        return None
+    (fa, ua), (fb, ub) = cli_scale(axes[0]), cli_scale(axes[1])
+    spec = f"{axes[0]}_min,{axes[0]}_max [{ua}],{axes[1]}_min,{axes[1]}_max [{ub}]"
+    values = np.array(parse_floats(text, 4, "--bounds", spec))
+    return values / np.array([fa, fa, fb, fb])
+
+
+def _header(name: str) -> str:
+    text = f"{name} [{QUANTITIES[name][0]}]"
+    return text if len(text) <= 16 else f"{name}\n[{QUANTITIES[name][0]}]"
+
+
+def _summary_tables(smap: StiffnessMap) -> list[Table]:
+    """Per table up to three quantities, one column each; rows: the extremes, where
+    they are (in mm or deg), their ratio."""
     summary = smap.summary()
-    table = Table(title="principal stiffness over the workspace", title_justify="left")
-    table.add_column("")
-    for name in summary:
-        table.add_column(escape(f"{name} [{_UNITS[name]}]"), justify="right")
+    names = list(summary)
+    a, b = smap.axes
+    (fa, ua), (fb, ub) = cli_scale(a), cli_scale(b)
     rows = (
         ("min", "min", 1.0),
-        ("  at x [mm]", "x_at_min", 1e3),
-        ("  at y [mm]", "y_at_min", 1e3),
+        (f"  at {a} [{ua}]", f"{a}_at_min", fa),
+        (f"  at {b} [{ub}]", f"{b}_at_min", fb),
         ("max", "max", 1.0),
-        ("  at x [mm]", "x_at_max", 1e3),
-        ("  at y [mm]", "y_at_max", 1e3),
+        (f"  at {a} [{ua}]", f"{a}_at_max", fa),
+        (f"  at {b} [{ub}]", f"{b}_at_max", fb),
         ("max/min", "ratio", 1.0),
     )
-    for label, key, factor in rows:
-        table.add_row(escape(label), *(eng(s[key] * factor, 5) for s in summary.values()))
-    return table
+    tables = []
+    for start in range(0, len(names), _PER_TABLE):
+        group = names[start : start + _PER_TABLE]
+        title = "principal stiffness over the workspace" if start == 0 else None
+        table = Table(title=title, title_justify="left")
+        table.add_column("")
+        for name in group:
+            table.add_column(escape(_header(name)), justify="right")
+        for label, key, factor in rows:
+            cells = [eng(summary[name][key] * factor, 5) for name in group]
+            table.add_row(escape(label), *cells)
+        tables.append(table)
+    return tables
+
+
+def _estimate(args: argparse.Namespace, design: Design) -> None:
+    """Refuse a grid whose estimated peak memory exceeds --max-memory."""
+    n_quantities = len(quantity_names(design, args.quantities))
+    per_pose = BYTES_PER_POSE + BYTES_PER_QUANTITY * max(n_quantities - 3, 0)
+    estimate = per_pose * args.grid**2 / 1e9
+    if not args.max_memory > 0:
+        raise InputDataError(f"--max-memory must be > 0 GB, got {args.max_memory:g}")
+    if estimate > args.max_memory:
+        raise InputDataError(
+            f"--grid {args.grid}: about {estimate:.3g} GB of memory estimated "
+            f"({per_pose} bytes per pose), above --max-memory {args.max_memory:g} GB; "
+            "use a smaller grid or raise --max-memory"
+        )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -135,18 +230,10 @@ def run(args: argparse.Namespace) -> int:
     check_output_path(args.data, "--data", DATA_SUFFIXES, overwrite=args.overwrite)
     if not 2 <= args.grid <= MAX_GRID:
         raise InputDataError(f"--grid must be between 2 and {MAX_GRID}, got {args.grid}")
-    estimate = BYTES_PER_POSE * args.grid**2 / 1e9
-    if not args.max_memory > 0:
-        raise InputDataError(f"--max-memory must be > 0 GB, got {args.max_memory:g}")
-    if estimate > args.max_memory:
-        raise InputDataError(
-            f"--grid {args.grid}: about {estimate:.3g} GB of memory estimated "
-            f"({BYTES_PER_POSE} bytes per pose), above --max-memory {args.max_memory:g} GB; "
-            "use a smaller grid or raise --max-memory"
-        )
-    phi = design.workspace.phi if args.phi is None else args.phi * math.pi / 180
-    if not math.isfinite(phi):
-        raise InputDataError("--phi must be finite")
+    _estimate(args, design)
+    axes = map_slice(design, _axes(args.axes)).axes
+    # the fixed coordinates: the home pose's, replaced by the pose options given
+    fixed = _home_fixed(design, axes) | _fixed(args, design, axes)
     state = args.actuators.strip().lower()
     wrench = None
     if state not in ("max", "min"):
@@ -159,7 +246,7 @@ def run(args: argparse.Namespace) -> int:
         except InputDataError as exc:
             raise InputDataError(f"--actuators: {exc}") from None
         state = "wrench"
-    bounds = _parse_bounds(args.bounds)
+    bounds = _parse_bounds(args.bounds, axes)
     variables = read_tolerance_args(args, design)
 
     show = not (args.quiet or args.json)
@@ -172,20 +259,24 @@ def run(args: argparse.Namespace) -> int:
 
         smap = stiffness_map(
             design,
-            phi=phi,
             actuators=state,
             grid=args.grid,
             wrench=wrench,
             progress=report,
+            axes=axes,
+            fixed=fixed,
             bounds=bounds,
             reference_force=args.reference_force,
             tool_point=tool_point_from_args(args, design),
+            quantities=args.quantities,
         )
 
     if not np.any(smap.reachable):
+        where = _slice_text(smap)
         raise UnreachablePoseError(
-            f"no grid point of the map is in the workspace at phi = "
-            f"{math.degrees(smap.phi):.4g} deg: {smap.masked_text()}"
+            "no grid point of the map is in the workspace"
+            + (f" at {where}" if where else "")
+            + f": {smap.masked_text()}"
             + (" (check --bounds)" if args.bounds else "")
         )
     bands, unc = map_uncertainty(args, design, variables, smap, wrench)
@@ -209,7 +300,7 @@ def run(args: argparse.Namespace) -> int:
             save_map_figure(fig, out.temp(args.out, "--out"))
     if args.json:
         doc = _json(smap, design, args) | ({} if unc is None else {"uncertainty": unc})
-        print(json_document("map", doc, _JSON_UNITS))
+        print(json_document("map", doc, _json_units(smap)))
         return 0
     _print(smap, design, state, args)
     if unc is not None:
@@ -221,33 +312,70 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-_JSON_UNITS = {
-    "phi": "rad",
-    "grid.x_range": "m",
-    "grid.y_range": "m",
-    "actuator_stiffness": "N/m (N·m/rad for a rotary actuator): [lowest, highest] per leg",
-    "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
-    "tool_point": "m (platform frame)",
-    "summary.k_phi": "N·m/rad (positions x_at_*, y_at_* in m; ratio 1)",
-    "summary.k_x": "N/m (positions in m; ratio 1)",
-    "summary.k_y": "N/m (positions in m; ratio 1)",
-}
+def _home_fixed(design: Design, axes: tuple[str, str]) -> dict[str, float]:
+    """The home pose's values of the task coordinates that are not axes [m, rad]."""
+    from ppm_stiffness.core.pose import POSE_INDEX
+    from ppm_stiffness.poses import home_pose
+
+    home = home_pose(design)
+    return {n: float(home[POSE_INDEX[n]]) for n in design.task_coordinates if n not in axes}
+
+
+def _slice_text(smap: StiffnessMap) -> str:
+    """``"rz = 0 deg"``: the fixed coordinates in mm and deg."""
+    parts = []
+    for name, value in smap.fixed.items():
+        scale, unit = cli_scale(name)
+        parts.append(f"{name} = {value * scale:.4g} {unit}")
+    return ", ".join(parts)
+
+
+def _json_units(smap: StiffnessMap) -> dict[str, str]:
+    ua, ub = smap.units()
+    units = {
+        "phi": "rad",
+        "axes.range": "the axis' unit (m or rad)",
+        "fixed": "m (x, y, z), rad (rx, ry, rz)",
+        "grid.x_range": f"{ua} (the first axis, {smap.axes[0]})",
+        "grid.y_range": f"{ub} (the second axis, {smap.axes[1]})",
+        "actuator_stiffness": "N/m (N·m/rad for a rotary actuator): [lowest, highest] per leg",
+        "wrench": "N·m, N (m_x, m_y, m_z, f_x, f_y, f_z) at the tool point",
+        "tool_point": "m (platform frame)",
+    }
+    a, b = smap.axes
+    for name in smap.quantities:
+        units[f"summary.{name}"] = (
+            f"{QUANTITIES[name][0]} (positions {a}_at_* in {ua}, {b}_at_* in {ub}; ratio 1)"
+        )
+    return units
 
 
 def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[str, Any]:
     return {
         "design": design.name,
         "architecture": design.architecture,
-        "phi": smap.phi,
+        "axes": [
+            {
+                "name": name,
+                "unit": unit_of(name),
+                "points": int(values.size),
+                "range": [float(values[0]), float(values[-1])],
+            }
+            for name, values in zip(smap.axes, (smap.u, smap.v), strict=True)
+        ],
+        "fixed": dict(smap.fixed),
+        "dependent_coordinates": list(smap.dependent),
+        "quantities": {name: QUANTITIES[name][0] for name in smap.quantities},
+        "phi": smap.fixed.get("rz"),
         "actuators": smap.actuators,
         "actuator_stiffness": np.asarray(smap.actuator_stiffness).T.tolist(),
         "wrench": None if smap.wrench is None else smap.wrench,
         "tool_point": tool_point_from_args(args, design),
         "grid": {
-            "nx": int(smap.x.size),
-            "ny": int(smap.y.size),
-            "x_range": [float(smap.x[0]), float(smap.x[-1])],
-            "y_range": [float(smap.y[0]), float(smap.y[-1])],
+            "nx": int(smap.u.size),
+            "ny": int(smap.v.size),
+            "x_range": [float(smap.u[0]), float(smap.u[-1])],
+            "y_range": [float(smap.v[0]), float(smap.v[-1])],
         },
         "reachable_fraction": float(np.mean(smap.reachable)),
         "masked": smap.refusal_counts(),
@@ -268,8 +396,10 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
     reference = f"{args.reference_force:g} {' or '.join(load_units)}" + (
         " (each leg in its actuator's unit)" if len(load_units) > 1 else ""
     )
+    where = _slice_text(smap)
     console.print(
-        f"φ = {math.degrees(smap.phi):.4g}°, actuators: {state}"
+        escape(f"{smap.axes[0]}-{smap.axes[1]} map" + (f" at {where}" if where else ""))
+        + f", actuators: {state}"
         + (f" (reference load {reference})" if state == "min" else "")
     )
     console.print(
@@ -277,11 +407,16 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
         + _values(k_lo)
         + ("" if np.allclose(k_lo, k_hi, equal_nan=True) else f" to {_values(k_hi)}")
     )
-    x, y = smap.x * 1e3, smap.y * 1e3
+    (fa, ua), (fb, ub) = cli_scale(smap.axes[0]), cli_scale(smap.axes[1])
+    a, b = smap.u * fa, smap.v * fb
     console.print(
-        f"grid {x.size} x {y.size}: x in [{x[0]:.3f}, {x[-1]:.3f}] mm, y in "
-        f"[{y[0]:.3f}, {y[-1]:.3f}] mm; {100 * np.mean(smap.reachable):.1f}% in the workspace"
+        f"grid {a.size} x {b.size}: {smap.axes[0]} in [{a[0]:.3f}, {a[-1]:.3f}] {ua}, "
+        f"{smap.axes[1]} in [{b[0]:.3f}, {b[-1]:.3f}] {ub}; "
+        f"{100 * np.mean(smap.reachable):.1f}% in the workspace"
     )
+    if np.any(smap.tool_point):
+        console.print(f"at the tool point {np.round(1e3 * smap.tool_point, 4).tolist()} mm")
     if not np.all(smap.reachable):
         console.print(escape(smap.masked_text()))
-    console.print(_summary_table(smap))
+    for table in _summary_tables(smap):
+        console.print(table)

@@ -266,38 +266,31 @@ def map_uncertainty(
     smap: Any,
     wrench: Any | None,
 ) -> tuple[Any, dict[str, Any] | None]:
-    """Bands of k_phi, k_x, k_y over the map's grid (3, ny, nx) and a JSON summary
-    ((None, None) without tolerances)."""
+    """Bands of the map's quantities over its grid (n_quantities, nv, nu) and a JSON
+    summary ((None, None) without tolerances)."""
     if variables is None:
         return None, None
-    from ppm_stiffness.cli.common import tool_point_from_args
     from ppm_stiffness.fit.band_outputs import MAP_FAILED_VALUE, map_output
+    from ppm_stiffness.maps.result import QUANTITIES
 
-    output = map_output(
-        phi=smap.phi,
-        actuators=smap.actuators,
-        grid=(len(smap.x), len(smap.y)),
-        wrench=wrench,
-        bounds=(smap.x[0], smap.x[-1], smap.y[0], smap.y[-1]),
-        reference_force=args.reference_force,
-        tool_point=tool_point_from_args(args, design),
-    )
+    output = map_output(**smap.grid_arguments())
     bands = compute_bands(args, design, variables, output, MAP_FAILED_VALUE)
     out = _head(bands)
     summary = {}
-    for i, (name, unit) in enumerate(RANKED):
+    names = list(smap.quantities)
+    for i, name in enumerate(names):
         nominal = bands.nominal[i]
         ok = np.isfinite(nominal) & np.isfinite(bands.lower[i])
         spread = (bands.upper[i] - bands.lower[i])[ok] / nominal[ok]
         summary[name] = {
-            "unit": unit,
+            "unit": QUANTITIES[name][0],
             "min_nominal": float(np.nanmin(nominal)) if np.any(ok) else None,
             "min_lower": float(np.min(bands.lower[i][ok])) if np.any(ok) else None,
             "median_relative_spread": float(np.median(spread)) if spread.size else None,
             "max_relative_spread": float(np.max(spread)) if spread.size else None,
         }
     out["summary"] = summary
-    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(RANKED)}
+    out["sensitivity"] = {name: _ranking(bands, i) for i, name in enumerate(names)}
     return bands, _json_safe(out)
 
 

@@ -189,18 +189,20 @@ MAP_FAILED_VALUE = 0.0
 
 
 def map_output(**map_arguments: object) -> Callable[[Design], FloatArray]:
-    """k_phi, k_x, k_y over a map's grid, shape (3, ny, nx), NaN outside the workspace.
+    """The map's quantities over its grid, shape (n_quantities, nv, nu), NaN where the
+    design gives no value: k_phi, k_x, k_y (3, ny, nx) for a planar design by default,
+    the spatial principal stiffnesses for others (or those ``quantities`` names).
 
     ``map_arguments`` are those of :func:`ppm_stiffness.maps.workspace.stiffness_map`
-    (give ``bounds``, so that every design is evaluated on the same grid).
+    (give ``bounds``, so that every design is evaluated on the same grid:
+    :meth:`~ppm_stiffness.maps.result.StiffnessMap.grid_arguments` of a nominal map
+    gives them all).
     """
     from ppm_stiffness.maps.workspace import stiffness_map
 
     def output(design: Design) -> FloatArray:
         smap = stiffness_map(design, **map_arguments)  # type: ignore[arg-type]
-        return np.stack(
-            [np.ma.filled(k.astype(float), np.nan) for k in (smap.k_phi, smap.k_x, smap.k_y)]
-        )
+        return np.stack([np.ma.filled(k.astype(float), np.nan) for k in smap.fields().values()])
 
     return output
 

@@ -9,7 +9,11 @@ is the batch of one) and gives each pose its refusal code
 principal stiffnesses of the loaded K (the paper's decoupling,
 :func:`ppm_stiffness.maps.batch.principal_from_matrices`) and turns the codes into
 masks: where the single-pose call raises, the batch masks, by construction.
-Wrenches and twists at P, axes of F_b, SI.
+Any design: poses are task coordinates or full poses (:mod:`ppm_stiffness.poses`), and
+the principal stiffnesses are the paper's k_phi, k_x, k_y for a planar design and the
+spatial rotational and translational ones (:mod:`ppm_stiffness.maps.principal_batch`)
+when asked for (by default for a design that is not planar). Wrenches and twists at P,
+axes of F_b, SI.
 """
 
 from __future__ import annotations
@@ -20,11 +24,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.core.refusals import Refusal, RefusalArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.base import as_poses
-from ppm_stiffness.maps.batch import PLANAR_CHUNK, _masked, principal_from_matrices
+from ppm_stiffness.maps.batch import PaperFields, check_poses
+from ppm_stiffness.maps.chunks import masked
+from ppm_stiffness.maps.paper_principal import principal_from_matrices
+from ppm_stiffness.maps.planar_path import PLANAR_CHUNK
+from ppm_stiffness.maps.principal_batch import principal_values, stiffness_at_points, tool_offsets
 from ppm_stiffness.statics.equilibrium import loaded_states
 
 
@@ -58,14 +65,20 @@ class LoadedBatch:
     actuator_forces, actuator_displacements, actuator_stiffness : numpy.ma.MaskedArray
         (..., n_legs): G_i [N or N·m], delta_i(G_i) [m or rad], the tangent stiffness
         of eq. (21) [N/m or N·m/rad]; masked where not ``solved``.
-    k_phi, k_x, k_y : numpy.ma.MaskedArray (...)
-        Principal stiffnesses of the loaded tangent K (paper decoupling), masked where
-        not ``valid``.
+    paper : PaperFields or None
+        The paper's k_phi, k_x, k_y and shift d of the loaded tangent K (planar designs;
+        at the tool point), masked where not ``valid``; also as the properties
+        ``k_phi``, ``k_x``, ``k_y``.
+    rotational, translational : numpy.ma.MaskedArray (..., 3) or None
+        The spatial principal stiffnesses of the loaded tangent K (ascending;
+        translational at the tool point), masked where not ``valid``, if asked for.
     stiffness : ndarray (..., 6, 6) or None
-        The loaded tangent K (zero where not valid), when asked for.
+        The loaded tangent K at P (zero where not valid), when asked for.
     iterations : ndarray of int (...)
         Newton iterations (0 for statically determinate forces; -1 where not solved).
     refusal : ndarray of int8 (...)
+    poses : ndarray (..., 6)
+        The full poses (completed).
     """
 
     reachable: BoolArray
@@ -76,12 +89,36 @@ class LoadedBatch:
     actuator_forces: np.ma.MaskedArray
     actuator_displacements: np.ma.MaskedArray
     actuator_stiffness: np.ma.MaskedArray
-    k_phi: np.ma.MaskedArray
-    k_x: np.ma.MaskedArray
-    k_y: np.ma.MaskedArray
+    paper: PaperFields | None
+    rotational: np.ma.MaskedArray | None
+    translational: np.ma.MaskedArray | None
     stiffness: FloatArray | None
     iterations: np.ndarray
     refusal: RefusalArray
+    poses: FloatArray
+
+    def _paper(self) -> PaperFields:
+        if self.paper is None:
+            raise DesignError(
+                "k_phi, k_x, k_y are the paper's planar principal stiffnesses: this design "
+                "is not planar; use rotational and translational"
+            )
+        return self.paper
+
+    @property
+    def k_phi(self) -> np.ma.MaskedArray:
+        """[N·m/rad] of the loaded K (planar designs)."""
+        return self._paper().k_phi
+
+    @property
+    def k_x(self) -> np.ma.MaskedArray:
+        """[N/m] of the loaded K (planar designs)."""
+        return self._paper().k_x
+
+    @property
+    def k_y(self) -> np.ma.MaskedArray:
+        """[N/m] of the loaded K (planar designs)."""
+        return self._paper().k_y
 
 
 def loaded_poses(
@@ -91,6 +128,8 @@ def loaded_poses(
     *,
     matrices: bool = False,
     chunk_size: int | None = None,
+    tool_point: ArrayLike | None = None,
+    principal: bool | None = None,
 ) -> LoadedBatch:
     """The loaded state under ``wrench`` at many poses (module doc).
 
@@ -98,8 +137,9 @@ def loaded_poses(
     ----------
     design : Design
         Any architecture, redundant designs included.
-    poses : array_like, shape (..., 3)
-        (x [m], y [m], phi [rad]) of P in F_b.
+    poses : array_like, shape (..., n_task) or (..., 6)
+        Task coordinates ((x [m], y [m], phi [rad]) for a planar design) or full poses
+        of P in F_b (:mod:`ppm_stiffness.poses`).
     wrench : array_like, shape (6,)
         (m_x, m_y, m_z [N·m], f_x, f_y, f_z [N]) at P, axes of F_b, the same at every
         pose (move a wrench given at a tool point with
@@ -107,7 +147,14 @@ def loaded_poses(
     matrices : bool
         Also return the loaded tangent K (288 bytes per pose).
     chunk_size : int, optional
-        Poses evaluated at once; default :data:`~ppm_stiffness.maps.batch.PLANAR_CHUNK`.
+        Poses evaluated at once; default
+        :data:`~ppm_stiffness.maps.planar_path.PLANAR_CHUNK`.
+    tool_point : array_like (3,), optional
+        [m, platform frame]: the principal stiffnesses are those of the loaded K there
+        (the wrench stays at P); P if None.
+    principal : bool, optional
+        Also give ``rotational`` and ``translational``; default: for a design that is not
+        planar.
 
     Returns
     -------
@@ -118,35 +165,45 @@ def loaded_poses(
     Raises
     ------
     InputDataError
-        Poses not of shape (..., 3) or not finite; a wrench not of 6 finite values.
+        Poses of another width or not finite; a wrench not of 6 finite values.
     """
     from ppm_stiffness.statics.loading import validate_wrench
 
     w = validate_wrench(wrench)
-    p = np.asarray(poses, dtype=float)
-    if p.shape[-1:] != (3,):
-        raise InputDataError(f"poses must have shape (..., 3), got {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise InputDataError("poses must be finite")
+    p = check_poses(design, poses)
+    tool = np.zeros(3) if tool_point is None else np.asarray(tool_point, dtype=float)
+    if tool.shape != (3,) or not np.all(np.isfinite(tool)):
+        raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
+    paper = design.planar
+    spatial = (not design.planar) if principal is None else bool(principal)
     batch = p.shape[:-1]
-    flat = p.reshape(-1, 3)
+    flat = p.reshape(-1, p.shape[-1])
     n, n_legs = flat.shape[0], len(design.legs)
     step = max(int(chunk_size or PLANAR_CHUNK), 1)
     refusal = np.zeros(n, dtype=np.int8)
     twist = np.zeros((n, 6))
+    full = np.zeros((n, 6))
     per_leg = np.zeros((3, n, n_legs))
-    fields = np.zeros((3, n))
+    fields = np.zeros((5, n))
+    values = np.zeros((2, n, 3))
     iterations = np.full(n, -1)
     mats = np.zeros((n, 6, 6)) if matrices else None
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
-        st = loaded_states(design, as_poses(flat[sl]), w)
+        st = loaded_states(design, flat[sl], w)
         ok = st.refusal == 0
         refusal[sl] = st.refusal
         twist[sl] = st.twist
+        full[sl] = st.poses
         per_leg[:, sl] = st.forces, st.displacements, st.actuator_stiffness
-        pr = principal_from_matrices(np.where(ok[:, None, None], st.stiffness, np.eye(6)))
-        fields[:, sl] = pr.k_phi, pr.k_x, pr.k_y
+        k = np.where(ok[:, None, None], st.stiffness, np.eye(6))
+        if np.any(tool):
+            k = stiffness_at_points(k, tool_offsets(st.poses, tool))
+        if paper:
+            pr = principal_from_matrices(k)
+            fields[:, sl] = pr.k_phi, pr.k_x, pr.k_y, pr.d_x, pr.d_y
+        if spatial:
+            values[0, sl], values[1, sl] = principal_values(k)
         iterations[sl] = st.iterations
         if mats is not None:
             mats[sl] = np.where(ok[:, None, None], st.stiffness, 0.0)
@@ -159,6 +216,12 @@ def loaded_poses(
         out = np.ma.MaskedArray(data, mask=mask.copy(), fill_value=np.nan)
         return out.reshape(batch + values.shape[1:])
 
+    paper_fields = None
+    if paper:
+        d = np.zeros((n, 3))
+        d[:, :2] = np.where(valid[:, None], fields[3:].T, 0.0)
+        k_phi, k_x, k_y = (masked(fields[i], valid).reshape(batch) for i in range(3))
+        paper_fields = PaperFields(k_phi, k_x, k_y, d.reshape(batch + (3,)))
     return LoadedBatch(
         reachable=(refusal != Refusal.UNREACHABLE).reshape(batch),
         singular=(refusal == Refusal.SINGULAR).reshape(batch),
@@ -168,10 +231,11 @@ def loaded_poses(
         actuator_forces=by_solved(per_leg[0]),
         actuator_displacements=by_solved(per_leg[1]),
         actuator_stiffness=by_solved(per_leg[2]),
-        k_phi=_masked(fields[0], valid).reshape(batch),
-        k_x=_masked(fields[1], valid).reshape(batch),
-        k_y=_masked(fields[2], valid).reshape(batch),
+        paper=paper_fields,
+        rotational=masked(values[0], valid).reshape(batch + (3,)) if spatial else None,
+        translational=masked(values[1], valid).reshape(batch + (3,)) if spatial else None,
         stiffness=None if mats is None else mats.reshape(batch + (6, 6)),
         iterations=iterations.reshape(batch),
         refusal=refusal.reshape(batch),
+        poses=full.reshape(batch + (6,)),
     )

@@ -1,8 +1,13 @@
-"""Contour maps of the principal stiffnesses over the workspace (paper Figures 6-7).
+"""Contour maps of the principal stiffnesses over a slice of the workspace (paper
+Figures 6-7).
 
-One row of three panels (k_phi, k_x, k_y) per :class:`~ppm_stiffness.maps.workspace.StiffnessMap`,
-positions in mm, colour bars in N·m/rad and N/m. Poses outside the workspace (masked)
-are left blank.
+Rows of up to three panels per :class:`~ppm_stiffness.maps.result.StiffnessMap`, one
+panel per quantity of the map in its order (k_phi, k_x, k_y for a planar design's map:
+one row, the paper's layout; the rotational then the translational principal
+stiffnesses of a spatial design's: two rows), the axes in the CLI's units (mm for
+lengths, degrees for angles) with the map's axis names, colour bars in the quantities'
+units, the fixed coordinates and the actuator state in the title. Poses outside the
+workspace (masked) are left blank.
 """
 
 from __future__ import annotations
@@ -13,15 +18,15 @@ from typing import Any
 
 import numpy as np
 
+from ppm_stiffness.maps.result import QUANTITIES
+from ppm_stiffness.maps.slices import cli_scale
 from ppm_stiffness.maps.workspace import StiffnessMap
 
-#: (field, symbol, unit) of the three panels.
-PANELS = (
-    ("k_phi", r"$k_\phi$", "N·m/rad"),
-    ("k_x", r"$k_x$", "N/m"),
-    ("k_y", r"$k_y$", "N/m"),
-)
-#: Height of one row of panels [inch]; the width follows the workspace's aspect ratio.
+#: (field, symbol, unit) of the paper's three panels.
+PANELS = tuple((name, QUANTITIES[name][2], QUANTITIES[name][0]) for name in ("k_phi", "k_x", "k_y"))
+#: Panels per row.
+PER_ROW = 3
+#: Height of one row of panels [inch]; the width follows the grid's aspect ratio.
 ROW_HEIGHT = 4.0
 #: Width added to each panel for its colour bar and labels [inch].
 _PANEL_EXTRA = 1.9
@@ -39,6 +44,29 @@ def _state_label(smap: StiffnessMap) -> str:
     return _STATE_TEXT.get(smap.actuators, smap.actuators)
 
 
+def slice_label(smap: StiffnessMap) -> str:
+    """``"rz = 30°"``, ``"z = 200 mm, rx = 0°, ..."``: the fixed coordinates."""
+    parts = []
+    for name, value in smap.fixed.items():
+        scale, unit = cli_scale(name)
+        parts.append(f"{name} = {value * scale:.4g}" + ("°" if unit == "deg" else f" {unit}"))
+    return ", ".join(parts)
+
+
+def axis_grid(smap: StiffnessMap) -> tuple[np.ndarray, np.ndarray, str, str]:
+    """The grid values in the CLI's units and the axis labels (``"x [mm]"``)."""
+    (fa, ua), (fb, ub) = cli_scale(smap.axes[0]), cli_scale(smap.axes[1])
+    return smap.u * fa, smap.v * fb, f"{smap.axes[0]} [{ua}]", f"{smap.axes[1]} [{ub}]"
+
+
+def aspect_ratio(smap: StiffnessMap) -> float:
+    """Width over height of a panel: the grid's (axes of one unit at the same scale),
+    1 for axes of different units; within [0.5, 3]."""
+    a, b, _, _ = axis_grid(smap)
+    same = cli_scale(smap.axes[0])[1] == cli_scale(smap.axes[1])[1]
+    return min(max(float(np.ptp(a) / np.ptp(b)) if same else 1.0, 0.5), 3.0)
+
+
 def _levels(values: np.ma.MaskedArray, n: int = 14) -> Any:
     lo, hi = float(values.min()), float(values.max())
     if not np.isfinite(lo) or not np.isfinite(hi):
@@ -49,41 +77,48 @@ def _levels(values: np.ma.MaskedArray, n: int = 14) -> Any:
     return np.linspace(lo, hi, n)
 
 
+def rows_of(smap: StiffnessMap) -> int:
+    """Rows of panels of one map."""
+    return -(-len(smap.quantities) // PER_ROW)
+
+
 def plot_stiffness_maps(
     smap: StiffnessMap | Sequence[StiffnessMap], title: str | None = None
 ) -> Any:
-    """Figure with k_phi, k_x and k_y contour maps of one or several maps (one row each).
+    """Figure with a contour map of each quantity of one or several maps.
 
     Parameters
     ----------
     smap : StiffnessMap or sequence of StiffnessMap
         E.g. ``[max_map, min_map]`` for the layout of Figure 6 (a)/(b).
     title : str, optional
-        Figure title; by default the orientation and actuator state.
+        Figure title; by default the slice and actuator state.
 
     Returns
     -------
     matplotlib.figure.Figure
-        ``ROW_HEIGHT`` inches per row, panel widths following the grid's aspect
-        ratio (x and y at about the same scale), constrained layout.
+        ``ROW_HEIGHT`` inches per row of panels, panel widths following the grid's
+        aspect ratio, constrained layout.
     """
     from matplotlib.figure import Figure
 
     maps = [smap] if isinstance(smap, StiffnessMap) else list(smap)
     if not maps:
         raise ValueError("no stiffness map to plot")
-    aspect = max(float(np.ptp(m.x) / np.ptp(m.y)) for m in maps)
-    panel = (ROW_HEIGHT - 1.0) * min(max(aspect, 0.5), 3.0)
+    panel = (ROW_HEIGHT - 1.0) * max(aspect_ratio(m) for m in maps)
+    rows = [rows_of(m) for m in maps]
     fig = Figure(
-        figsize=(3 * (panel + _PANEL_EXTRA), ROW_HEIGHT * len(maps) + 0.4),
+        figsize=(PER_ROW * (panel + _PANEL_EXTRA), ROW_HEIGHT * sum(rows) + 0.4),
         layout="constrained",
     )
-    subfigs = fig.subfigures(len(maps), 1, squeeze=False)[:, 0]
-    for sub, m in zip(subfigs, maps, strict=True):
-        xs, ys = m.x * 1e3, m.y * 1e3
-        axes = sub.subplots(1, 3)
-        for ax, (name, symbol, unit) in zip(axes, PANELS, strict=True):
-            values = m.fields()[name]
+    subfigs = fig.subfigures(len(maps), 1, squeeze=False, height_ratios=rows)[:, 0]
+    for sub, m, n_rows in zip(subfigs, maps, rows, strict=True):
+        xs, ys, xlabel, ylabel = axis_grid(m)
+        axes = sub.subplots(n_rows, PER_ROW, squeeze=False).ravel()
+        for ax in axes[len(m.quantities) :]:
+            ax.set_axis_off()
+        for ax, (name, values) in zip(axes, m.quantities.items(), strict=False):
+            unit, symbol = QUANTITIES[name][0], QUANTITIES[name][2]
             if np.any(m.reachable):
                 cs = ax.contourf(xs, ys, values, levels=_levels(values), cmap="viridis")
                 cbar = sub.colorbar(cs, ax=ax, shrink=0.9)
@@ -96,10 +131,11 @@ def plot_stiffness_maps(
                 )
             ax.set_xlim(xs[0], xs[-1])
             ax.set_ylim(ys[0], ys[-1])
-            ax.set_xlabel("x [mm]")
-            ax.set_ylabel("y [mm]")
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel(ylabel)
             ax.set_title(symbol, fontsize=11)
-        sub.suptitle(f"φ = {np.degrees(m.phi):.4g}°, {_state_label(m)}", fontsize=10)
+        label = slice_label(m)
+        sub.suptitle((f"{label}, " if label else "") + _state_label(m), fontsize=10)
     fig.suptitle(title if title is not None else "Principal stiffness over the workspace")
     return fig
 
