@@ -272,7 +272,7 @@ def test_oblique_rod_geometry_against_line_intersection(beta_deg: float) -> None
 
 
 # --------------------------------------------------------------------- tool point
-@pytest.mark.parametrize("name", ["paper_3ppr", "3rrr", "3prr"])
+@pytest.mark.parametrize("name", ["paper_3ppr", "3rrr", "3prr", "hexapod_6ups", "3prs", "3rps"])
 def test_tool_point_power_invariance_and_transport(name: str) -> None:
     """K at a tool point T is the same spring seen from T: for any small platform
     motion the stored energy t_T . K_T t_T equals t_P . K_P t_P (t_T = X t_P, the
