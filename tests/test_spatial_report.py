@@ -72,16 +72,19 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
 
 
 @pytest.mark.parametrize("name", SPATIAL)
-def test_sections_figures_and_no_maps(pages: dict[str, str], name: str) -> None:
-    """The spatial sections and figures are there, each image a drawing; no stiffness
-    maps (the maps are planar) and none of the paper's planar k_phi, k_x, k_y cards."""
+def test_sections_figures_and_maps(pages: dict[str, str], name: str) -> None:
+    """The spatial sections and figures are there, each image a drawing; the maps of the
+    spatial principal stiffnesses over the default slice (the design's first two task
+    coordinates, x-y for the hexapod), locked and at the minimum actuator stiffness; none
+    of the paper's planar k_phi, k_x, k_y."""
     page = pages[name]
     cells = parse(page)
-    for sid in SECTIONS + FIGURES + ("analysis-unloaded", "analysis-loaded"):
+    axes = "x-y" if name == "hexapod_6ups" else "z-rx"
+    maps = tuple(f"fig-map-{axes}-{state}" for state in ("max", "min"))
+    for sid in SECTIONS + FIGURES + maps + ("maps", "analysis-unloaded", "analysis-loaded"):
         assert sid in cells.ids, sid
-    assert 'id="maps"' not in page and "fig-map-" not in page
     assert "k<sub>φ</sub>" not in page
-    assert len(cells.images) == len(FIGURES)
+    assert len(cells.images) == len(FIGURES) + len(maps)
     for src in cells.images:
         raw = base64.b64decode(src.split(",", 1)[1], validate=True)
         img = mpimg.imread(io.BytesIO(raw), format="png")
@@ -212,17 +215,34 @@ def test_deflection_follows_the_loaded_wrench() -> None:
     np.testing.assert_allclose(curve.twists[-1], twist, rtol=0, atol=1e-6 * np.max(np.abs(twist)))
 
 
-def test_tolerances_on_a_spatial_design_are_refused(tmp_path: Path, capsys) -> None:
-    """``report --tolerances`` on a spatial design: one line naming its task coordinates,
-    exit 2, nothing written (the bands are planar)."""
-    tol = tmp_path / "tol.toml"
-    tol.write_text('["leg*.actuator.locked_stiffness"]\npm = "10%"\n', encoding="utf-8")
-    out = tmp_path / "rep"
-    argv = ["report", "--design", str(ROOT / "examples" / "3rps.toml"), "--tolerances", str(tol)]
-    assert main([*argv, "--quiet", "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "z, rx, ry" in err and "--tolerances" in err
-    assert not out.exists()
+def test_tolerance_bands_of_a_spatial_design(tmp_path: Path) -> None:
+    """``report --tolerances`` on a spatial design: the section's nominal principal
+    stiffnesses are the spatial ones of the pose (k_rot_1..3, k_trans_1..3 ascending, as
+    principal_compliance gives them, to the 5 printed digits), each band contains its
+    nominal, and the tolerance of a leg's actuator stiffness widens the axial (largest)
+    translational stiffness."""
+    from ppm_stiffness.fit.tolerances import parse_tolerances, tolerance_variables
+    from ppm_stiffness.visuals.html import format_number
+    from ppm_stiffness.visuals.uncertainty_report import uncertainty_section
+
+    design = design_named("3rps")
+    pose = _pose("3rps")
+    entries = parse_tolerances('["leg*.actuator.locked_stiffness"]\npm = "10%"\n')
+    variables = tolerance_variables(design, entries)
+    _, _, page = uncertainty_section(design, variables, pose, grid=4)
+    pc = principal_compliance(stiffness_at_pose(design, pose))
+    nominal = [*sorted(pc.rotational_values), *sorted(pc.translational_values)]
+    rows = re.findall(r"<tr><td>(k_(?:rot|trans)_\d)</td>(.*?)</tr>", page)
+    assert [name for name, _ in rows] == [
+        *(f"k_rot_{j}" for j in (1, 2, 3)),
+        *(f"k_trans_{j}" for j in (1, 2, 3)),
+    ]
+    for (_, cells), value in zip(rows, nominal, strict=True):
+        nom, low, up = (float(c) for c in re.findall(r"<td>([^<]+)</td>", cells)[:3])
+        assert nom == float(format_number(value))
+        assert low <= nom <= up
+    low, up = (float(c) for c in re.findall(r"<td>([^<]+)</td>", rows[5][1])[1:3])
+    assert up - low > 0.01 * nominal[5]
 
 
 def test_spatial_report_renders_in_headless_chromium(pages: dict[str, str], tmp_path: Path) -> None:

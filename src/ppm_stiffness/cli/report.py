@@ -63,10 +63,6 @@ def run(args: argparse.Namespace) -> int:
     pose = pose_from_args(args, design)  # refuses an unreachable pose
     wrench = parse_wrench(args.wrench)
     variables = read_tolerance_args(args, design)
-    if variables is not None:
-        from ppm_stiffness.visuals.uncertainty_report import check_supported
-
-        check_supported(design)  # before any work
 
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 

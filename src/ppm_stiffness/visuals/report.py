@@ -29,7 +29,9 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.pose import POSE_INDEX
 from ppm_stiffness.design import Design
+from ppm_stiffness.maps.slices import cli_scale, map_slice
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.visuals import report_spatial as spatial
 from ppm_stiffness.visuals import report_tables as tables
@@ -166,30 +168,42 @@ def build_report(
     defl_uri = figure_data_uri(plot_deflection_curves(curves))
     finish(3)
 
-    map_figs: list[tuple[float, str, str, str]] = []
-    n_maps = len(MAP_PHIS_DEG) * len(MAP_ACTUATORS)
-    map_cases = [(ph, ac) for ph in MAP_PHIS_DEG for ac in MAP_ACTUATORS]
-    if not spatial.maps_available(design):
-        map_cases = []
-    for m, (phi_deg, acts) in enumerate(map_cases):
+    map_figs: list[tuple[str, str, str, str]] = []
+    # planar: the paper's x-y maps at two orientations; else the default slice (the
+    # first two task coordinates at the home values of the others)
+    slices: list[float | None] = (
+        [math.radians(d) for d in MAP_PHIS_DEG] if design.planar else [None]
+    )
+    map_cases = [(ph, ac) for ph in slices for ac in MAP_ACTUATORS]
+    n_maps = len(map_cases)
+    for m, (phi, acts) in enumerate(map_cases):
         step(4, m / n_maps)
 
         def inner(done_poses: int, total_poses: int, m: int = m) -> None:
             step(4, (m + done_poses / max(total_poses, 1)) / n_maps)
 
+        state = f"actuators at their {'maximum' if acts == 'max' else 'minimum'} stiffness"
+        key = f"{math.degrees(phi):g}" if phi is not None else ""
+        where: dict[str, Any] = {"phi": phi}
+        if phi is None:  # the default axes, the other task coordinates at the pose
+            axes = map_slice(design).axes
+            others = [n for n in design.task_coordinates if n not in axes]
+            where = {"axes": axes, "fixed": {n: float(p[POSE_INDEX[n]]) for n in others}}
         try:
-            smap = stiffness_map(
-                design, phi=math.radians(phi_deg), actuators=acts, grid=grid, progress=inner
-            )
+            smap = stiffness_map(design, actuators=acts, grid=grid, progress=inner, **where)
         except UnreachablePoseError as exc:
-            map_figs.append((phi_deg, acts, "", f"no map: {_esc(exc)}"))
+            map_figs.append((key or "slice", f"{acts}", "", f"no map: {_esc(exc)}"))
             continue
-        title = (
-            f"φ = {phi_deg:g}°, actuators at the {'maximum' if acts == 'max' else 'minimum'}"
-            " stiffness"
-        )
-        uri = figure_data_uri(plot_stiffness_maps(smap, title=title))
-        map_figs.append((phi_deg, acts, uri, tables.map_summary(design, smap)))
+        if phi is None:
+            key = "-".join(smap.axes)
+            fixed = ", ".join(
+                f"{n} = {v * cli_scale(n)[0]:.4g} {cli_scale(n)[1]}" for n, v in smap.fixed.items()
+            )
+            caption = f"{key} slice at {fixed}, {state}."
+        else:
+            caption = f"φ = {key}°, {state}."
+        uri = figure_data_uri(plot_stiffness_maps(smap, title=caption.rstrip(".")))
+        map_figs.append((f"{key}-{acts}", caption, uri, tables.map_summary(design, smap)))
     finish(4)
     if progress is not None:
         progress("done", 1.0)
@@ -216,7 +230,7 @@ def _assemble(
     mech_uri: str,
     spring_uris: list[str],
     defl_uri: str,
-    map_figs: list[tuple[float, str, str, str]],
+    map_figs: list[tuple[str, str, str, str]],
     grid: int,
     source: str | None,
     extra_sections: list[tuple[str, str, str]] | None = None,
@@ -329,26 +343,26 @@ def _assemble(
             ),
         ),
     ]
-    if spatial.maps_available(design):
+    if map_figs:
+        what = (
+            "Principal stiffnesses k<sub>φ</sub>, k<sub>x</sub>, k<sub>y</sub> (eq. 19)"
+            if planar
+            else "Spatial principal stiffnesses (eigenvalues of C<sub>rr</sub><sup>-1</sup> "
+            "and C<sub>tt</sub><sup>-1</sup>, ascending)"
+        )
         sections.append(
             (
                 "maps",
-                "Stiffness maps (Figs. 6–7)",
-                f"<p>Principal stiffnesses k<sub>φ</sub>, k<sub>x</sub>, k<sub>y</sub> over "
-                f"the reachable workspace, {grid} × {grid} grid.</p>"
+                "Stiffness maps (Figs. 6–7)" if planar else "Stiffness maps",
+                f"<p>{what} over the reachable workspace, {grid} × {grid} grid.</p>"
                 + "".join(
                     (
-                        _figure(
-                            uri,
-                            f"φ = {ph:g}°, actuators at their "
-                            f"{'maximum' if ac == 'max' else 'minimum'} stiffness.",
-                            f"fig-map-{ph:g}-{ac}",
-                        )
+                        _figure(uri, caption, f"fig-map-{key}")
                         if uri
                         else f'<p class="note">{note}</p>'
                     )
                     + (note if uri else "")
-                    for ph, ac, uri, note in map_figs
+                    for key, caption, uri, note in map_figs
                 ),
             )
         )

@@ -12,7 +12,8 @@ loaded case):
   of K (the tool point), the worst direction of each;
 - the **deflection of the tool point under the loaded case's wrench** (the tool-point
   twist table, and the curve as the wrench grows, :data:`DEFLECTION_SCALES`);
-- no stiffness maps yet (:func:`maps_available`).
+- the stiffness maps (the spatial principal stiffnesses over the default slice of
+  two task coordinates) are drawn by :mod:`ppm_stiffness.visuals.report`.
 
 Every number cell carries ``data-path``/``data-scale`` into the embedded analyses, as
 in the rest of the report.
@@ -39,16 +40,6 @@ POSE_DISPLAY = {
     name: ("deg", 180 / math.pi) if name in ANGLE_COORDINATES else ("mm", 1e3)
     for name in POSE_COORDINATES
 }
-
-
-def maps_available(design: Design) -> bool:
-    """Whether the report draws stiffness maps of ``design``.
-
-    The maps of :func:`ppm_stiffness.maps.workspace.stiffness_map` are planar (x-y at a
-    constant orientation, k_phi, k_x, k_y): a planar design has them; a spatial design
-    has no map section until the maps offer slices over its task coordinates.
-    """
-    return bool(design.planar)
 
 
 #: How the 3-D view draws each joint kind (the caption's words).
@@ -213,7 +204,6 @@ __all__ = [
     "compliance_cards",
     "compliance_section",
     "deflection_curves",
-    "maps_available",
     "mechanism_caption",
     "pose_section",
     "twist_table",

@@ -18,6 +18,8 @@ import numpy as np
 from ppm_stiffness.core.pose import ANGLE_COORDINATES
 from ppm_stiffness.design import Design, dump_design
 from ppm_stiffness.design.schema import leg_parameter_rows
+from ppm_stiffness.maps.result import QUANTITIES
+from ppm_stiffness.maps.slices import cli_scale
 from ppm_stiffness.visuals.html import cell as _cell
 from ppm_stiffness.visuals.html import esc as _esc
 from ppm_stiffness.visuals.html import format_number
@@ -349,8 +351,12 @@ def loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, A
     return "".join(parts)
 
 
+#: HTML names of the paper's map quantities (others by their name).
+_QUANTITY_HTML = {"k_phi": "k<sub>φ</sub>", "k_x": "k<sub>x</sub>", "k_y": "k<sub>y</sub>"}
+
+
 def map_summary(design: Design, smap: Any) -> str:
-    """Actuator stiffness of the map and the range of k_phi, k_x, k_y over it."""
+    """Actuator stiffness of the map and the range of each of its quantities over it."""
     k_act = np.asarray(smap.actuator_stiffness, dtype=float).reshape(-1, len(design.legs))
     by_unit: dict[str, list[float]] = {}
     for i, (_, _, _, stiff) in enumerate(actuator_units(design)):
@@ -366,27 +372,24 @@ def map_summary(design: Design, smap: Any) -> str:
     )
     rows = []
     summary = smap.summary()
-    for key, name, unit in (
-        ("k_phi", "k<sub>φ</sub>", "N·m/rad"),
-        ("k_x", "k<sub>x</sub>", "N/m"),
-        ("k_y", "k<sub>y</sub>", "N/m"),
-    ):
+    for key in smap.quantities:
         st = summary[key]
         rows.append(
             [
-                name,
+                _QUANTITY_HTML.get(key, key.replace("_", " ")),
                 f'<td class="num">{format_number(st["min"])}</td>',
                 f'<td class="num">{format_number(st["max"])}</td>',
                 f'<td class="num">{format_number(st["ratio"], 3)}</td>',
-                unit,
+                QUANTITIES[key][0] if key in QUANTITIES else "",
             ]
         )
-    x, y = np.asarray(smap.x) * 1e3, np.asarray(smap.y) * 1e3
+    ranges = []
+    for name, values in zip(smap.axes, (smap.u, smap.v), strict=True):
+        scale, unit = cli_scale(name)
+        v = np.asarray(values) * scale
+        ranges.append(f"{name} ∈ [{v[0]:.1f}, {v[-1]:.1f}] {unit}")
     reach = float(np.mean(np.asarray(smap.reachable)))
-    cap = (
-        f"{act_txt}; grid x ∈ [{x[0]:.1f}, {x[-1]:.1f}] mm, y ∈ [{y[0]:.1f}, {y[-1]:.1f}] "
-        f"mm, {reach * 100:.0f}% reachable"
-    )
+    cap = f"{act_txt}; grid {', '.join(ranges)}, {reach * 100:.0f}% reachable"
     return f'<p class="meta">{cap}</p>' + _table(["", "min", "max", "max/min", "unit"], rows)
 
 

@@ -2,9 +2,11 @@
 stiffnesses at the pose, the sensitivity ranking, the planar-force deflection curve
 with its band, and maps of the lower band and relative spread.
 
-The bands are those of the planar outputs (k_phi, k_x, k_y, the planar maps): a
-spatial design is refused (:func:`check_supported`) until the propagation offers its
-outputs."""
+Every design: the principal stiffnesses are the paper's k_phi, k_x, k_y for a planar
+design and the spatial principal stiffnesses (k_rot_1..3, k_trans_1..3, ascending, at
+the tool point) for others (:func:`~ppm_stiffness.fit.band_outputs.pose_labels`); the
+maps are the design's default slice and quantities (:func:`~ppm_stiffness.maps.workspace
+.stiffness_map`)."""
 
 from __future__ import annotations
 
@@ -14,28 +16,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.visuals.html import esc, figure_block, figure_data_uri, format_number, table
 
+#: Display names of the paper's principal stiffnesses.
+_SYMBOLS = {"k_phi": "k_φ"}
+
 #: The deflection curve drawn with its band: planar force at 45 deg up to 10 N.
 CURVE_LOADS = np.linspace(0.0, 10.0, 21)
-
-
-def check_supported(design: Design) -> None:
-    """Refuse a design whose uncertainty bands the report cannot draw (module doc).
-
-    Raises
-    ------
-    InputDataError
-        For a spatial design, naming its task coordinates.
-    """
-    if not design.planar:
-        raise InputDataError(
-            "--tolerances: the report's uncertainty bands (k_phi, k_x, k_y, planar maps) "
-            "are for planar designs; this design's task coordinates are "
-            + ", ".join(design.task_coordinates)
-        )
 
 
 def uncertainty_section(
@@ -46,15 +34,13 @@ def uncertainty_section(
     method: str = "first-order",
     samples: int = 64,
 ) -> tuple[str, str, str]:
-    """``(id, title, html)`` of the section (see the module docstring).
-
-    Raises
-    ------
-    InputDataError
-        For a spatial design (:func:`check_supported`).
-    """
-    check_supported(design)
-    from ppm_stiffness.fit.band_outputs import deflection_output, map_output, pose_output
+    """``(id, title, html)`` of the section (see the module docstring), any design."""
+    from ppm_stiffness.fit.band_outputs import (
+        deflection_output,
+        map_output,
+        pose_output,
+        principal_quantities,
+    )
     from ppm_stiffness.fit.uncertainty import propagate
     from ppm_stiffness.maps.workspace import stiffness_map
     from ppm_stiffness.statics.deflection import deflection_curve
@@ -65,13 +51,13 @@ def uncertainty_section(
     tool = np.asarray(design.tool_point, dtype=float)
     at_pose = propagate(design, variables, pose_output(p, tool), method, samples)
     rows = []
-    for i, (name, unit) in enumerate((("k_φ", "N·m/rad"), ("k_x", "N/m"), ("k_y", "N/m"))):
+    for i, (name, unit) in enumerate(principal_quantities(design)):
         ranking = ", ".join(
             f"{esc(n)} {100 * s:.0f} %" for n, s in at_pose.ranking(i)[:3] if s > 0.005
         )
         rows.append(
             [
-                name,
+                _SYMBOLS.get(name, name),
                 format_number(at_pose.nominal[i]),
                 format_number(at_pose.lower[i]),
                 format_number(at_pose.upper[i]),
@@ -108,18 +94,10 @@ def uncertainty_section(
         f"Deflection under a planar force at 45°, shaded: {esc(curve_bands.label)}.",
         "fig-deflection-bands",
     )
-    smap = stiffness_map(design, phi=design.workspace.phi, grid=grid)
+    smap = stiffness_map(design, grid=grid)
     if np.any(smap.reachable):
         map_bands = propagate(
-            design,
-            variables,
-            map_output(
-                phi=smap.phi,
-                grid=(len(smap.x), len(smap.y)),
-                bounds=(smap.x[0], smap.x[-1], smap.y[0], smap.y[-1]),
-            ),
-            method,
-            samples,
+            design, variables, map_output(**smap.grid_arguments()), method, samples
         )
         html += figure_block(
             figure_data_uri(plot_map_bands(smap, map_bands)),
@@ -130,4 +108,4 @@ def uncertainty_section(
     return "uncertainty", "Uncertainty from the tolerances", html
 
 
-__all__ = ["check_supported", "uncertainty_section"]
+__all__ = ["uncertainty_section"]
