@@ -50,7 +50,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "mechanism": (
         "ppm_stiffness.cli.mechanism",
-        "top view of the manipulator at a pose: base rails or pivots, links, joints, platform",
+        "the manipulator at a pose (top view of a planar design, 3-D of a spatial one)",
     ),
     "report": (
         "ppm_stiffness.cli.report",
