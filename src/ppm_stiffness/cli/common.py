@@ -226,17 +226,18 @@ def load_design_arg(args: argparse.Namespace) -> Design:
     return load_design(check_input_path(path, "--design"))
 
 
-def pose_from_args(
-    args: argparse.Namespace, design: Design, check_reach: bool = True
-) -> np.ndarray:
-    """The full pose (6,) [m, rad] from the pose options (mm, deg): the home pose with the
-    task coordinates given replaced, completed (:mod:`ppm_stiffness.poses`). An option
-    for a coordinate that is not a task coordinate is refused, naming the task
-    coordinates; unless ``check_reach`` is False, a pose out of reach is refused with
-    what is reachable near it."""
-    from ppm_stiffness.poses import full_pose, home_pose, task_indices
+def pose_options_given(
+    args: argparse.Namespace, design: Design, axes: tuple[str, ...] = ()
+) -> dict[str, float]:
+    """The pose options given [mm, deg] as task coordinates [m, rad] by name.
 
-    values = home_pose(design)
+    Raises
+    ------
+    InputDataError
+        A value that is not finite, a coordinate that is not a task coordinate of
+        ``design`` (naming those the user may give: the task coordinates that are not in
+        ``axes``), one of ``axes`` (the axes of a map vary), or --phi and --rz together.
+    """
     task = design.task_coordinates
     given: dict[str, float] = {}
     for option, (name, factor, _unit) in POSE_OPTIONS.items():
@@ -248,12 +249,32 @@ def pose_from_args(
         if name not in task:
             raise InputDataError(
                 f"--{option}: {name} is not a task coordinate of this design; give "
-                + ", ".join(f"--{n}" for n in task)
+                + ", ".join(f"--{n}" for n in task if n not in axes)
                 + " (the other coordinates follow from the legs)"
+            )
+        if name in axes:
+            raise InputDataError(
+                f"--{option}: {name} is an axis of the map (--axes {','.join(axes)}); fix "
+                "only the other task coordinates"
             )
         if name in given:
             raise InputDataError("--phi and --rz are the same coordinate: give one")
         given[name] = value * factor
+    return given
+
+
+def pose_from_args(
+    args: argparse.Namespace, design: Design, check_reach: bool = True
+) -> np.ndarray:
+    """The full pose (6,) [m, rad] from the pose options (mm, deg): the home pose with the
+    task coordinates given replaced, completed (:mod:`ppm_stiffness.poses`). An option
+    for a coordinate that is not a task coordinate is refused, naming the task
+    coordinates; unless ``check_reach`` is False, a pose out of reach is refused with
+    what is reachable near it."""
+    from ppm_stiffness.poses import full_pose, home_pose, task_indices
+
+    values = home_pose(design)
+    given = pose_options_given(args, design)
     for name, value in given.items():
         values[POSE_INDEX[name]] = value
     pose = values[list(task_indices(design))]

@@ -6,7 +6,6 @@ others fixed by the pose options (``--z``, ``--rx``, ...)."""
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +15,6 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
-    POSE_OPTIONS,
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
@@ -28,6 +26,7 @@ from ppm_stiffness.cli.common import (
     load_design_arg,
     parse_floats,
     parse_wrench,
+    pose_options_given,
     progress,
     tool_point_from_args,
 )
@@ -138,30 +137,8 @@ def _axes(text: str | None) -> tuple[str, str] | None:
 
 def _fixed(args: argparse.Namespace, design: Design, axes: tuple[str, str]) -> dict[str, float]:
     """The pose options given [mm, deg] as fixed coordinates [m, rad]: task coordinates
-    that are not axes (a non-task coordinate is refused, naming the task coordinates)."""
-    task = design.task_coordinates
-    fixed: dict[str, float] = {}
-    for option, (name, factor, _unit) in POSE_OPTIONS.items():
-        value = getattr(args, option, None)
-        if value is None:
-            continue
-        if not math.isfinite(value):
-            raise InputDataError(f"--{option} must be finite")
-        if name not in task:
-            raise InputDataError(
-                f"--{option}: {name} is not a task coordinate of this design; give "
-                + ", ".join(f"--{n}" for n in task if n not in axes)
-                + " (the other coordinates follow from the legs)"
-            )
-        if name in axes:
-            raise InputDataError(
-                f"--{option}: {name} is an axis of the map (--axes {','.join(axes)}); fix "
-                "only the other task coordinates"
-            )
-        if name in fixed:
-            raise InputDataError("--phi and --rz are the same coordinate: give one")
-        fixed[name] = value * factor
-    return fixed
+    that are not axes (:func:`~ppm_stiffness.cli.common.pose_options_given`)."""
+    return pose_options_given(args, design, axes)
 
 
 def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:

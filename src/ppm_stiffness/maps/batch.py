@@ -132,8 +132,43 @@ class PaperFields:
     d: FloatArray
 
 
+class PaperAccess:
+    """``k_phi``, ``k_x``, ``k_y`` and ``d`` of a batch's :class:`PaperFields`, or
+    :class:`DesignError` for a design that is not planar (it has none)."""
+
+    paper: PaperFields | None
+
+    def _paper(self) -> PaperFields:
+        if self.paper is None:
+            raise DesignError(
+                "k_phi, k_x, k_y and d are the paper's planar principal stiffnesses: this "
+                "design is not planar; use rotational and translational"
+            )
+        return self.paper
+
+    @property
+    def k_phi(self) -> np.ma.MaskedArray:
+        """[N·m/rad] ``f_rr[2]`` of the paper's decoupling (planar designs)."""
+        return self._paper().k_phi
+
+    @property
+    def k_x(self) -> np.ma.MaskedArray:
+        """[N/m] ``f_tt[0]`` (planar designs)."""
+        return self._paper().k_x
+
+    @property
+    def k_y(self) -> np.ma.MaskedArray:
+        """[N/m] ``f_tt[1]`` (planar designs)."""
+        return self._paper().k_y
+
+    @property
+    def d(self) -> FloatArray:
+        """(..., 3) [m] the paper's decoupling shift (planar designs)."""
+        return self._paper().d
+
+
 @dataclass(frozen=True)
-class BatchResult:
+class BatchResult(PaperAccess):
     """Stiffness of many poses (SI). Arrays have the batch shape of the poses.
 
     Attributes
@@ -175,34 +210,6 @@ class BatchResult:
     rotational: np.ma.MaskedArray | None
     translational: np.ma.MaskedArray | None
     tool_point: FloatArray
-
-    def _paper(self) -> PaperFields:
-        if self.paper is None:
-            raise DesignError(
-                "k_phi, k_x, k_y and d are the paper's planar principal stiffnesses: this "
-                "design is not planar; use rotational and translational"
-            )
-        return self.paper
-
-    @property
-    def k_phi(self) -> np.ma.MaskedArray:
-        """[N·m/rad] ``f_rr[2]`` of the paper's decoupling (planar designs)."""
-        return self._paper().k_phi
-
-    @property
-    def k_x(self) -> np.ma.MaskedArray:
-        """[N/m] ``f_tt[0]`` (planar designs)."""
-        return self._paper().k_x
-
-    @property
-    def k_y(self) -> np.ma.MaskedArray:
-        """[N/m] ``f_tt[1]`` (planar designs)."""
-        return self._paper().k_y
-
-    @property
-    def d(self) -> FloatArray:
-        """(..., 3) [m] the paper's decoupling shift (planar designs)."""
-        return self._paper().d
 
 
 def actuator_stiffness_per_pose(

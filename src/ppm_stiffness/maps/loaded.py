@@ -24,10 +24,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
-from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.refusals import Refusal, RefusalArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.maps.batch import PaperFields, check_poses
+from ppm_stiffness.maps.batch import PaperAccess, PaperFields, check_poses
 from ppm_stiffness.maps.chunks import masked
 from ppm_stiffness.maps.paper_principal import principal_from_matrices
 from ppm_stiffness.maps.planar_path import PLANAR_CHUNK
@@ -36,7 +36,7 @@ from ppm_stiffness.statics.equilibrium import loaded_states
 
 
 @dataclass(frozen=True)
-class LoadedBatch:
+class LoadedBatch(PaperAccess):
     """The loaded state at many poses (SI). Arrays have the batch shape of the poses.
 
     ``refusal`` holds each pose's code (:class:`ppm_stiffness.core.refusals.Refusal`,
@@ -96,29 +96,6 @@ class LoadedBatch:
     iterations: np.ndarray
     refusal: RefusalArray
     poses: FloatArray
-
-    def _paper(self) -> PaperFields:
-        if self.paper is None:
-            raise DesignError(
-                "k_phi, k_x, k_y are the paper's planar principal stiffnesses: this design "
-                "is not planar; use rotational and translational"
-            )
-        return self.paper
-
-    @property
-    def k_phi(self) -> np.ma.MaskedArray:
-        """[N·m/rad] of the loaded K (planar designs)."""
-        return self._paper().k_phi
-
-    @property
-    def k_x(self) -> np.ma.MaskedArray:
-        """[N/m] of the loaded K (planar designs)."""
-        return self._paper().k_x
-
-    @property
-    def k_y(self) -> np.ma.MaskedArray:
-        """[N/m] of the loaded K (planar designs)."""
-        return self._paper().k_y
 
 
 def loaded_poses(
