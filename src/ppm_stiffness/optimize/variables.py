@@ -111,7 +111,9 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
     try:
         matches = tuple(design.expand(name))
     except DesignError as exc:
-        raise DesignError(f"--vary: {exc}") from None
+        raise DesignError(
+            f"--vary: {exc}; this design's are {parameter_families(design)}"
+        ) from None
     unit = design.parameter_unit(name)
     for end, value in (("LO", lo), ("HI", hi)):
         try:
@@ -122,6 +124,16 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
                 f"({str(exc).removeprefix('parameters: ')})"
             ) from None
     return Variable(name=name, matches=matches, lo=lo, hi=hi, count=n, unit=unit)
+
+
+def parameter_families(design: Design) -> str:
+    """The design's scalar parameter names with leg numbers as a glob (``leg*.``), once
+    each: what ``--vary`` can take on this design (planar leg types have
+    ``platform_radius``; spatial ones their link lengths, parts' stiffnesses, ...)."""
+    import re
+
+    names = dict.fromkeys(re.sub(r"^leg\d+\.", "leg*.", n) for n in design.scalar_parameter_names())
+    return ", ".join(names)
 
 
 def check_distinct(variables: Sequence[Variable]) -> None:
