@@ -279,6 +279,13 @@ def run(args: argparse.Namespace) -> int:
         figure_cell(result.initial_objective),
         figure_cell(result.best_objective),
     )
+    for c in constraints:
+        table.add_row(
+            escape(f"constraint {c}"),
+            escape(c.quantity.unit),
+            figure_cell(c.quantity.value(result.initial_summary)),
+            figure_cell(c.quantity.value(result.best_summary)),
+        )
     for v in variables:
         table.add_row(
             escape(v.name),
