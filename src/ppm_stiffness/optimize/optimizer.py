@@ -53,7 +53,7 @@ from ppm_stiffness.optimize.objectives import (
 )
 from ppm_stiffness.optimize.region import with_region
 from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
-from ppm_stiffness.optimize.variables import Variable, assignments, check_distinct
+from ppm_stiffness.optimize.variables import Variable, apply_values, assignments, check_distinct
 
 #: Energy of an infeasible candidate before its violation is added.
 INFEASIBLE = 1e9
@@ -344,7 +344,7 @@ def optimize_design(
         )
     _, key, best_summary = evaluator.best
     best_parameters = assignments(variables, key)
-    best_design = with_region(design.with_parameters(best_parameters), region)
+    best_design = with_region(apply_values(design, best_parameters), region)
     return OptimizationResult(
         objective=objective,
         variables=list(variables),

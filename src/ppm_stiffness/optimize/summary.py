@@ -388,11 +388,12 @@ def summarize_candidate(
     them.
     """
     from ppm_stiffness.optimize.executors import limit_threads
+    from ppm_stiffness.optimize.variables import apply_values
 
     limit_threads()
     if values:
         try:
-            design = design.with_parameters(dict(values))
+            design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
     return summarize(design, region, wrench, margin)
