@@ -171,9 +171,10 @@ class _Evaluator:
         scale: float,
         advance: Callable[[float], None] | None,
         margin: bool = False,
+        frequencies: bool = False,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
-        self.margin = margin
+        self.margin, self.frequencies = margin, frequencies
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -203,7 +204,14 @@ class _Evaluator:
         keys = [tuple(float(v) for v in np.asarray(x, dtype=float)) for x in iterable]
         todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
         args = [
-            (self.design, assignments(self.variables, k), self.region, self.wrench, self.margin)
+            (
+                self.design,
+                assignments(self.variables, k),
+                self.region,
+                self.wrench,
+                self.margin,
+                self.frequencies,
+            )
             for k in todo
         ]
         try:
@@ -284,10 +292,12 @@ def optimize_design(
     quantities = (objective, *(c.quantity for c in constraints))
     check_quantities(design, quantities, w is not None)
     margin = any(q.needs_margin for q in quantities)
+    frequencies = any(q.needs_mass for q in quantities)  # f1 only when used: it costs
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        start = run_ordered(executor, summarize_candidate, [(design, None, region, w, margin)])[0]
+        args = [(design, None, region, w, margin, frequencies)]
+        start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
     if progress is not None:
@@ -307,7 +317,17 @@ def optimize_design(
     if not use_start:  # the start design is an evaluation outside the population
         generations = (budget - 1) // size - 1
     evaluator = _Evaluator(
-        design, variables, region, w, objective, constraints, executor, scale, progress, margin
+        design,
+        variables,
+        region,
+        w,
+        objective,
+        constraints,
+        executor,
+        scale,
+        progress,
+        margin,
+        frequencies,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))

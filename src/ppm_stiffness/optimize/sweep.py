@@ -114,6 +114,7 @@ def sweep_designs(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     margin: bool = False,
+    frequencies: bool = True,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -138,6 +139,9 @@ def sweep_designs(
     margin : bool
         Also the load margin of ``wrench`` on the margin sub-grid
         (:mod:`ppm_stiffness.optimize.margin`; about 0.1 s per pose).
+    frequencies : bool
+        The f1 figures of a design with a mass model (several times the cost of the
+        stiffness figures); False: NaN.
 
     Returns
     -------
@@ -147,7 +151,7 @@ def sweep_designs(
     points = sweep_points(variables, sample, count, seed)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
-    args = [(design, assignments(variables, p), region, w, margin) for p in points]
+    args = [(design, assignments(variables, p), region, w, margin, frequencies) for p in points]
     try:
         summaries = run_ordered(executor, summarize_candidate, args, progress)
     except Interrupted as stop:
