@@ -113,10 +113,7 @@ def test_a_load_beyond_the_model_makes_the_worst_case_unbounded() -> None:
     assert summary["max_rotation"] == np.inf and summary.figures()["k_x_min"] is not None
 
 
-PLANAR_EXAMPLES = [p for p in EXAMPLES if pps.load_design(p).planar]  # spatial: to come
-
-
-@pytest.mark.parametrize("path", PLANAR_EXAMPLES, ids=[p.stem for p in PLANAR_EXAMPLES])
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_every_example_has_a_region_it_covers(path: Path) -> None:
     design = pps.load_design(path)
     assert summarize(design, region_of(design)).covers

@@ -1,5 +1,7 @@
 """``ppm-stiffness compare``: summary figures of several designs over one required
-region, side by side, and their stiffness maps on one colour scale per quantity."""
+region, side by side (with f1 where a design has a mass model, the load margin with
+``--load-margin``), and their stiffness maps on one colour scale per quantity. The
+designs must share their task coordinates."""
 
 from __future__ import annotations
 
@@ -26,10 +28,12 @@ from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     MAP_GRID,
     add_execution_arguments,
+    add_load_margin_argument,
     add_region_argument,
     check_workers,
     executor_label,
     figure_cell,
+    margin_note,
     region_box,
     region_from_args,
     region_json,
@@ -51,6 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     add_region_argument(parser)
     add_wrench_argument(parser)
+    add_load_margin_argument(parser)
     add_execution_arguments(parser)
     parser.add_argument(
         "--out", metavar="FIG", help="write the maps side by side (.png, .svg or .pdf)"
@@ -76,7 +81,12 @@ def _labels(paths: list[str | None]) -> list[str]:
 def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.design import default_design, load_design
     from ppm_stiffness.optimize.executors import Interrupted, open_executor
-    from ppm_stiffness.optimize.summary import FIGURE_LABELS, FIGURE_UNITS
+    from ppm_stiffness.optimize.summary import (
+        FIGURE_UNITS,
+        PAPER_FIGURES,
+        figure_label,
+        figure_names,
+    )
     from ppm_stiffness.optimize.sweep import summarize_designs
 
     paths: list[str | None] = list(args.design) if args.design else [None]
@@ -91,6 +101,8 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args)
     region = region_from_args(args, designs)
     wrench = parse_wrench(args.wrench)
+    if args.load_margin and wrench is None:
+        raise InputDataError("--load-margin needs --wrench (the load whose margin it finds)")
 
     start = time.perf_counter()
     with (
@@ -99,7 +111,12 @@ def run(args: argparse.Namespace) -> int:
     ):
         try:
             summaries = summarize_designs(
-                designs, region, wrench=wrench, executor=executor, progress=advance
+                designs,
+                region,
+                wrench=wrench,
+                executor=executor,
+                progress=advance,
+                margin=args.load_margin,
             )
         except Interrupted:
             raise KeyboardInterrupt from None
@@ -113,7 +130,14 @@ def run(args: argparse.Namespace) -> int:
         fig = plot_maps_side_by_side(maps, labels, region_box(region))
         with output_files(args.overwrite) as out:
             save_map_figure(fig, out.temp(args.out, "--out"))
-    names = [n for n in FIGURE_UNITS if wrench is not None or not n.startswith("max_")]
+    planar = designs[0].planar
+    names = figure_names(
+        planar,
+        wrench=wrench is not None,
+        mass=any(d.has_mass_model for d in designs),
+        margin=args.load_margin,
+    )
+    keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always
     if args.json:
         payload = {
             "region": region_json(region),
@@ -130,13 +154,16 @@ def run(args: argparse.Namespace) -> int:
                     "covered": s.covered,
                     "covers": s.covers,
                     "loaded_failures": s.loaded_failures,
-                    "figures": {n: s.figures()[n] for n in names},
+                    "task_coordinates": list(d.task_coordinates),
+                    "mass_model": d.has_mass_model,
+                    "load_margin_poses": s.margin_poses,
+                    "figures": {n: s.figures()[n] for n in keys},
                 }
                 for label, path, d, s in zip(labels, paths, designs, summaries, strict=True)
             ],
         }
         units = {"region": "m, m, rad", "wrench": "N·m, N", "wall_time": "s"}
-        units.update({f"figures.{n}": FIGURE_UNITS[n] for n in names})
+        units.update({f"figures.{n}": FIGURE_UNITS[n] for n in keys})
         print(json_document("compare", payload, units))
     else:
         console.print(f"region: {region_text(region)}")
@@ -149,7 +176,8 @@ def run(args: argparse.Namespace) -> int:
             table.add_row("architecture", *[d.architecture for d in designs[part]])
             for n in names:
                 cells = [figure_cell(s.figures()[n]) for s in summaries[part]]
-                table.add_row(escape(f"{FIGURE_LABELS[n]} [{FIGURE_UNITS[n]}]"), *cells)
+                label = figure_label(n, planar)
+                table.add_row(escape(f"{label} [{FIGURE_UNITS[n]}]"), *cells)
             console.print(table)
         for label, s in zip(labels, summaries, strict=True):
             if not s.covers:
@@ -163,6 +191,8 @@ def run(args: argparse.Namespace) -> int:
                     f"{escape(label)}: the loaded state fails at {s.loaded_failures} poses "
                     "(worst deflection unbounded: inf)"
                 )
+        if args.load_margin:
+            console.print(margin_note(summaries[0].margin_poses))
         err_console.print(f"{len(designs)} designs in {wall:.3g} s ({executor_label(args)})")
     if args.out and not args.json:
         console.print(f"maps written to {escape(args.out)}")

@@ -1,5 +1,8 @@
 """``ppm-stiffness optimize``: the best design over a required region by differential
-evolution (seeded; the same result on every executor), written as a design file."""
+evolution (seeded; the same result on every executor), written as a design file. Any
+design: the stiffness objectives are the worst-direction principal stiffnesses (the
+paper's k_x, k_y, k_phi for a planar design), f1 needs a mass model and the load margin
+a wrench (evaluated on the region's corner poses)."""
 
 from __future__ import annotations
 
@@ -32,6 +35,7 @@ from ppm_stiffness.cli.study_options import (
     check_workers,
     executor_label,
     figure_cell,
+    margin_note,
     region_box,
     region_from_args,
     region_json,
@@ -45,6 +49,8 @@ OBJECTIVE_NAMES = (
     "worst-k-rotational",
     "max-displacement",
     "max-rotation",
+    "first-frequency",
+    "load-margin",
 )
 
 
@@ -63,18 +69,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--objective",
         default="worst-k-translational",
         choices=OBJECTIVE_NAMES,
-        help="worst-k-translational: min over the region of min(k_x, k_y) [N/m], "
-        "maximised; worst-k-rotational: min k_phi [N·m/rad], maximised; "
-        "max-displacement: max |(dx, dy)| under --wrench [m], minimised; max-rotation: "
-        "max |phi_z| under --wrench [rad], minimised (default worst-k-translational)",
+        help="worst-k-translational: min over the region of the worst translational "
+        "principal stiffness (planar: min(k_x, k_y)) [N/m], maximised; "
+        "worst-k-rotational: of the worst rotational one (planar: k_phi) [N·m/rad], "
+        "maximised; max-displacement: max displacement of the tool point under --wrench "
+        "(planar: |(dx, dy)|) [m], minimised; max-rotation: max rotation under --wrench "
+        "(planar: |phi_z|) [rad], minimised; first-frequency: min first natural "
+        "frequency [Hz] (a mass model), maximised; load-margin: min load margin of "
+        "--wrench over the region's corner poses [1], maximised (default "
+        "worst-k-translational)",
     )
     parser.add_argument(
         "--constraint",
         action="append",
         default=[],
         metavar="Q<=V",
-        help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name or a "
-        "summary figure (k_phi_p5, ...); repeat for more",
+        help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name, f1 or a "
+        "summary figure (k_phi_p5, f1_p5, load-margin, ...); repeat for more",
     )
     parser.add_argument(
         "--budget",
@@ -109,8 +120,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_overwrite_argument(parser)
 
 
+def _figures(summary: Any, names: list[str]) -> dict[str, float | None]:
+    figures = summary.figures()
+    return {n: figures[n] for n in names}
+
+
 def _payload(
-    result: Any, args: argparse.Namespace, region: Any, wrench: Any, wall: float
+    result: Any,
+    args: argparse.Namespace,
+    region: Any,
+    wrench: Any,
+    wall: float,
+    names: list[str],
 ) -> dict[str, Any]:
     return {
         "objective": result.objective.name,
@@ -135,8 +156,10 @@ def _payload(
         "best_design": args.out,
         "region": region_json(region),
         "wrench": None if wrench is None else wrench.tolist(),
-        "initial_figures": result.initial_summary.figures(),
-        "best_figures": result.best_summary.figures(),
+        "initial_figures": _figures(result.initial_summary, names),
+        "best_figures": _figures(result.best_summary, names),
+        "task_coordinates": list(result.best_design.task_coordinates),
+        "load_margin_poses": result.best_summary.margin_poses,
         "history": [{"evaluations": n, "best_objective": b} for n, b in result.history],
         "executor": executor_label(args),
         "wall_time": wall,
@@ -149,9 +172,9 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import OBJECTIVES, parse_constraint
+    from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
     from ppm_stiffness.optimize.optimizer import optimize_design, population_plan
-    from ppm_stiffness.optimize.summary import FIGURE_UNITS
+    from ppm_stiffness.optimize.summary import FIGURE_UNITS, PAPER_FIGURES, figure_names
     from ppm_stiffness.optimize.variables import check_distinct, parse_variable
 
     design = load_design_arg(args)
@@ -172,9 +195,13 @@ def run(args: argparse.Namespace) -> int:
     constraints = [parse_constraint(t) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
-    for q in (objective, *(c.quantity for c in constraints)):
-        if q.needs_wrench and wrench is None:
-            raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
+    quantities = [objective, *(c.quantity for c in constraints)]
+    check_quantities(design, quantities, wrench is not None)
+    margin = any(q.needs_margin for q in quantities)
+    shown = figure_names(
+        design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
+    )
+    names = list(dict.fromkeys([*PAPER_FIGURES, *shown, *FIGURE_UNITS]))
 
     start = time.perf_counter()
     with (
@@ -228,8 +255,9 @@ def run(args: argparse.Namespace) -> int:
             "wrench": "N·m, N",
         }
         units.update({f"best_parameters.{v.name}": v.unit for v in variables})
-        units.update({f"best_figures.{n}": u for n, u in FIGURE_UNITS.items()})
-        print(json_document("optimize", _payload(result, args, region, wrench, wall), units))
+        units.update({f"best_figures.{n}": FIGURE_UNITS[n] for n in names})
+        payload = _payload(result, args, region, wrench, wall, names)
+        print(json_document("optimize", payload, units))
         return code
     console.print(f"region: {region_text(region)}")
     console.print(
@@ -251,6 +279,13 @@ def run(args: argparse.Namespace) -> int:
         figure_cell(result.initial_objective),
         figure_cell(result.best_objective),
     )
+    for c in constraints:
+        table.add_row(
+            escape(f"constraint {c}"),
+            escape(c.quantity.unit),
+            figure_cell(c.quantity.value(result.initial_summary)),
+            figure_cell(c.quantity.value(result.best_summary)),
+        )
     for v in variables:
         table.add_row(
             escape(v.name),
@@ -262,6 +297,8 @@ def run(args: argparse.Namespace) -> int:
     console.print(
         f"improvement: x{result.improvement:.4g}; best design written to {escape(args.out)}"
     )
+    if margin:
+        console.print(margin_note(result.best_summary.margin_poses))
     for path, what in ((args.convergence, "convergence"), (args.maps, "maps")):
         if path:
             console.print(f"{what} written to {escape(path)}")

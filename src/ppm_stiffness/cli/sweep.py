@@ -1,5 +1,7 @@
 """``ppm-stiffness sweep``: the summary figures of a design over its required region
-for every value of one or more parameters (a grid, or a Sobol sample)."""
+for every value of one or more parameters (a grid, or a Sobol sample); f1 where the
+design has a mass model, the load margin with ``--load-margin`` (or ``--quantity
+load-margin``)."""
 
 from __future__ import annotations
 
@@ -29,10 +31,12 @@ from ppm_stiffness.cli.common import (
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     add_execution_arguments,
+    add_load_margin_argument,
     add_region_argument,
     check_workers,
     executor_label,
     figure_cell,
+    margin_note,
     region_from_args,
     region_json,
     region_text,
@@ -63,6 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_seed_argument(parser, "the Sobol sample's scrambling")
     add_region_argument(parser)
     add_wrench_argument(parser)
+    add_load_margin_argument(parser)
     add_execution_arguments(parser)
     parser.add_argument(
         "--quantity",
@@ -92,6 +97,7 @@ def _parse_sample(text: str) -> tuple[str, int | None]:
 
 
 def _rows(result: Any, names: list[str]) -> list[dict[str, Any]]:
+    """One dict per design done: the variables' values, covers, the figures ``names``."""
     rows = []
     for point, s in zip(result.points, result.summaries, strict=False):
         row: dict[str, Any] = {
@@ -118,8 +124,8 @@ def _write_csv(
 
 def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import quantity
-    from ppm_stiffness.optimize.summary import FIGURE_UNITS
+    from ppm_stiffness.optimize.objectives import check_quantities, quantity
+    from ppm_stiffness.optimize.summary import FIGURE_UNITS, PAPER_FIGURES, figure_names
     from ppm_stiffness.optimize.sweep import sweep_designs, sweep_points
     from ppm_stiffness.optimize.variables import parse_variable
 
@@ -136,6 +142,10 @@ def run(args: argparse.Namespace) -> int:
     wrench = parse_wrench(args.wrench)
     if q.needs_wrench and wrench is None:
         raise InputDataError(f"--quantity {q.name} needs --wrench")
+    if args.load_margin and wrench is None:
+        raise InputDataError("--load-margin needs --wrench (the load whose margin it finds)")
+    check_quantities(design, [q], wrench is not None)
+    margin = args.load_margin or q.needs_margin
     total = len(sweep_points(variables, sample, count, args.seed))
 
     start = time.perf_counter()
@@ -153,16 +163,21 @@ def run(args: argparse.Namespace) -> int:
             seed=args.seed,
             executor=executor,
             progress=advance,
+            margin=margin,
         )
     wall = time.perf_counter() - start
-    names = [n for n in FIGURE_UNITS if wrench is not None or not n.startswith("max_")]
-    rows = _rows(result, names)
+    names = figure_names(
+        design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
+    )
+    keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always
+    rows = _rows(result, keys)
     values = [q.value(s) for s in result.summaries]
 
     with output_files(args.overwrite) as out:
         if args.csv:
             fields = [v.name for v in variables] + ["covers", *names]
-            _write_csv(out.temp(args.csv, "--csv"), fields, rows, result.partial_note())
+            csv_rows = [{k: r[k] for k in fields} for r in rows]
+            _write_csv(out.temp(args.csv, "--csv"), fields, csv_rows, result.partial_note())
         if args.out and rows:
             import numpy as np
 
@@ -214,7 +229,7 @@ def run(args: argparse.Namespace) -> int:
         }
         units = {"wall_time": "s", "region": "m, m, rad", "wrench": "N·m, N"}
         units.update({f"variables.{v.name}": v.unit for v in variables})
-        units.update({f"rows.{n}": FIGURE_UNITS[n] for n in names})
+        units.update({f"rows.{n}": FIGURE_UNITS[n] for n in keys})
         print(json_document("sweep", payload, units))
         return 130 if result.interrupted else 0
     console.print(f"region: {region_text(region)}")
@@ -238,6 +253,8 @@ def run(args: argparse.Namespace) -> int:
             *[figure_cell(float(x)) for x in result.points[i][:3]], figure_cell(values[i])
         )
     console.print(table)
+    if margin:
+        console.print(margin_note(result.summaries[0].margin_poses if result.summaries else 0))
     for path, what in ((args.csv, "table"), (args.out, "figure")):
         if path:
             console.print(f"{what} written to {escape(path)}")

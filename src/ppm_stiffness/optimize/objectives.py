@@ -3,14 +3,27 @@
 Each quantity is a function of a :class:`~ppm_stiffness.optimize.summary.RegionSummary`
 (never of raw eigenvalues of the mixed-unit K):
 
-=========================  ===========================================  ========  =========
-name                       value                                        unit      optimum
-=========================  ===========================================  ========  =========
-``worst-k-translational``  min over the region of min(k_x, k_y)         N/m       maximum
-``worst-k-rotational``     min over the region of k_phi                 N·m/rad   maximum
-``max-displacement``       max over the region of |(dx, dy)|, --wrench  m         minimum
-``max-rotation``           max over the region of |phi_z|, --wrench     rad       minimum
-=========================  ===========================================  ========  =========
+=========================  =============================================  ========  =======
+name                       value                                          unit      optimum
+=========================  =============================================  ========  =======
+``worst-k-translational``  min over the region of the worst translational  N/m       maximum
+                           principal stiffness (planar: min(k_x, k_y))
+``worst-k-rotational``     min over the region of the worst rotational     N·m/rad   maximum
+                           principal stiffness (planar: k_phi)
+``max-displacement``       max over the region of the tool point's         m         minimum
+                           displacement under --wrench (planar: |(dx, dy)|)
+``max-rotation``           max over the region of the rotation under       rad       minimum
+                           --wrench (planar: |phi_z|)
+``first-frequency``        min over the region of the first natural        Hz        maximum
+                           frequency (a mass model; loaded under --wrench)
+``load-margin``            min over the margin sub-grid of the load        1         maximum
+                           margin of --wrench
+=========================  =============================================  ========  =======
+
+For a planar design the stiffness objectives keep the paper's decoupled k_x, k_y, k_phi
+(:mod:`ppm_stiffness.optimize.summary`); for any other design they are the spatial
+worst-direction principal stiffnesses (``k_translational_min``, ``k_rotational_min``).
+``f1`` is another name of ``first-frequency``.
 
 A constraint is ``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (SI), QUANTITY one of the
 names above or a summary figure (``k_phi_p5``, ``covered_fraction``, ...). A candidate
@@ -26,7 +39,8 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.design import Design
 from ppm_stiffness.optimize.summary import FIGURE_UNITS, RegionSummary
 
 
@@ -39,11 +53,17 @@ class Quantity:
     maximise: bool
     needs_wrench: bool
     description: str
+    needs_mass: bool = False
+    needs_margin: bool = False
 
     def value(self, summary: RegionSummary) -> float:
         """The quantity of one summary [unit]; NaN when it has none."""
         if self.name == "worst-k-translational":
+            if not summary.planar:
+                return summary["k_translational_min"]
             return min(summary["k_x_min"], summary["k_y_min"])
+        if self.name == "worst-k-rotational" and not summary.planar:
+            return summary["k_rotational_min"]
         key = _FIGURE_OF.get(self.name, self.name.replace("-", "_"))
         return summary[key]
 
@@ -52,6 +72,8 @@ _FIGURE_OF = {
     "worst-k-rotational": "k_phi_min",
     "max-displacement": "max_displacement",
     "max-rotation": "max_rotation",
+    "first-frequency": "f1_min",
+    "load-margin": "load_margin",
 }
 
 #: The objectives ``optimize --objective`` accepts.
@@ -59,24 +81,69 @@ OBJECTIVES: dict[str, Quantity] = {
     q.name: q
     for q in (
         Quantity(
-            "worst-k-translational", "N/m", True, False, "min over the region of min(k_x, k_y)"
+            "worst-k-translational",
+            "N/m",
+            True,
+            False,
+            "min over the region of the worst translational principal stiffness "
+            "(planar: min(k_x, k_y))",
         ),
-        Quantity("worst-k-rotational", "N·m/rad", True, False, "min over the region of k_phi"),
-        Quantity("max-displacement", "m", False, True, "max |(dx, dy)| of P under --wrench"),
-        Quantity("max-rotation", "rad", False, True, "max |phi_z| under --wrench"),
+        Quantity(
+            "worst-k-rotational",
+            "N·m/rad",
+            True,
+            False,
+            "min over the region of the worst rotational principal stiffness (planar: k_phi)",
+        ),
+        Quantity(
+            "max-displacement",
+            "m",
+            False,
+            True,
+            "max displacement of the tool point under --wrench (planar: |(dx, dy)|)",
+        ),
+        Quantity(
+            "max-rotation", "rad", False, True, "max rotation under --wrench (planar: |phi_z|)"
+        ),
+        Quantity(
+            "first-frequency",
+            "Hz",
+            True,
+            False,
+            "min over the region of the first natural frequency",
+            needs_mass=True,
+        ),
+        Quantity(
+            "load-margin",
+            "1",
+            True,
+            True,
+            "min over the margin sub-grid of the load margin of --wrench",
+            needs_margin=True,
+        ),
     )
 }
+#: Other names of the objectives.
+ALIASES = {"f1": "first-frequency"}
 
 
 def quantity(name: str) -> Quantity:
     """An objective or a summary figure by name (InputDataError if unknown)."""
-    if name in OBJECTIVES:
-        return OBJECTIVES[name]
+    if name in OBJECTIVES or name in ALIASES:
+        return OBJECTIVES[ALIASES.get(name, name)]
     key = name.replace("-", "_")
     if key in FIGURE_UNITS:
-        loaded = key in ("max_displacement", "max_rotation")
-        return Quantity(name, FIGURE_UNITS[key], not loaded, loaded, key)
-    known = ", ".join([*OBJECTIVES, *FIGURE_UNITS])
+        loaded = key in ("max_displacement", "max_rotation", "load_margin")
+        return Quantity(
+            name,
+            FIGURE_UNITS[key],
+            key not in ("max_displacement", "max_rotation"),
+            loaded,
+            key,
+            needs_mass=key.startswith("f1_"),
+            needs_margin=key == "load_margin",
+        )
+    known = ", ".join([*OBJECTIVES, *ALIASES, *FIGURE_UNITS])
     raise InputDataError(f"unknown quantity {name!r}; use one of {known}")
 
 
@@ -121,6 +188,30 @@ def parse_constraint(text: str) -> Constraint:
     except InputDataError as exc:
         raise InputDataError(f"--constraint {text}: {exc}") from None
     return Constraint(q, bound, match.group(2) == "<=")
+
+
+def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: bool) -> None:
+    """Refuse quantities that ``design`` or the options cannot give: a loaded one
+    without a wrench (InputDataError), f1 without a mass model (DesignError naming the
+    missing [platform] table), or a stiffness figure of the other family (k_x, k_y,
+    k_phi are a planar design's; k_translational, k_rotational any other's)."""
+    for q in quantities:
+        if q.needs_wrench and not wrench:
+            raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
+        if q.needs_mass and not design.has_mass_model:
+            raise DesignError(
+                f"{q.name}: design {design.name!r} has no mass model; add a [platform] "
+                "table (mass [kg] and inertia [kg·m^2], or a shape; docs/dynamics.md)"
+            )
+        key = q.description
+        family = "paper" if key[:4] in ("k_x_", "k_y_", "k_ph") else None
+        family = "principal" if key.startswith(("k_translational", "k_rotational")) else family
+        if family is not None and (family == "paper") != design.planar:
+            names = "k_x, k_y, k_phi" if design.planar else "k_translational, k_rotational"
+            raise InputDataError(
+                f"{q.name} is not a figure of design {design.name!r}; its stiffness figures "
+                f"are {names} (_min, _mean, _p5)"
+            )
 
 
 def violation(summary: RegionSummary, constraints: Sequence[Constraint]) -> float:

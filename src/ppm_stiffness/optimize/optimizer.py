@@ -45,10 +45,15 @@ from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import RequiredRegionModel
 from ppm_stiffness.optimize.executors import Interrupted, SerialExecutor, run_ordered
-from ppm_stiffness.optimize.objectives import Constraint, Quantity, violation
+from ppm_stiffness.optimize.objectives import (
+    Constraint,
+    Quantity,
+    check_quantities,
+    violation,
+)
 from ppm_stiffness.optimize.region import with_region
 from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
-from ppm_stiffness.optimize.variables import Variable, assignments, check_distinct
+from ppm_stiffness.optimize.variables import Variable, apply_values, assignments, check_distinct
 
 #: Energy of an infeasible candidate before its violation is added.
 INFEASIBLE = 1e9
@@ -165,8 +170,11 @@ class _Evaluator:
         executor: Executor,
         scale: float,
         advance: Callable[[float], None] | None,
+        margin: bool = False,
+        frequencies: bool = False,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
+        self.margin, self.frequencies = margin, frequencies
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -196,7 +204,15 @@ class _Evaluator:
         keys = [tuple(float(v) for v in np.asarray(x, dtype=float)) for x in iterable]
         todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
         args = [
-            (self.design, assignments(self.variables, k), self.region, self.wrench) for k in todo
+            (
+                self.design,
+                assignments(self.variables, k),
+                self.region,
+                self.wrench,
+                self.margin,
+                self.frequencies,
+            )
+            for k in todo
         ]
         try:
             results = run_ordered(self.executor, summarize_candidate, args, self.advance)
@@ -262,7 +278,8 @@ def optimize_design(
         Bad budget; a loaded quantity without a wrench; the start design does not cover
         the region (by how much) or its objective has no value.
     DesignError
-        No candidate covers the region and meets the constraints.
+        No candidate covers the region and meets the constraints; f1 asked of a design
+        without a mass model (no [platform] table).
     KeyboardInterrupt
         Ctrl-C before any feasible design was found.
     """
@@ -272,13 +289,15 @@ def optimize_design(
     check_distinct(variables)
     size, generations = population_plan(budget, len(variables))
     w = None if wrench is None else np.asarray(wrench, dtype=float)
-    for q in (objective, *(c.quantity for c in constraints)):
-        if q.needs_wrench and w is None:
-            raise InputDataError(f"{q.name} needs --wrench (the load whose effect it measures)")
+    quantities = (objective, *(c.quantity for c in constraints))
+    check_quantities(design, quantities, w is not None)
+    margin = any(q.needs_margin for q in quantities)
+    frequencies = any(q.needs_mass for q in quantities)  # f1 only when used: it costs
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        start = run_ordered(executor, summarize_candidate, [(design, None, region, w)])[0]
+        args = [(design, None, region, w, margin, frequencies)]
+        start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
     if progress is not None:
@@ -298,7 +317,17 @@ def optimize_design(
     if not use_start:  # the start design is an evaluation outside the population
         generations = (budget - 1) // size - 1
     evaluator = _Evaluator(
-        design, variables, region, w, objective, constraints, executor, scale, progress
+        design,
+        variables,
+        region,
+        w,
+        objective,
+        constraints,
+        executor,
+        scale,
+        progress,
+        margin,
+        frequencies,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))
@@ -335,7 +364,7 @@ def optimize_design(
         )
     _, key, best_summary = evaluator.best
     best_parameters = assignments(variables, key)
-    best_design = with_region(design.with_parameters(best_parameters), region)
+    best_design = with_region(apply_values(design, best_parameters), region)
     return OptimizationResult(
         objective=objective,
         variables=list(variables),

@@ -2,7 +2,10 @@
 
 A region is a :class:`~ppm_stiffness.design.schema.RequiredRegionModel` (the design
 file's ``[workspace.required]`` table, or the commands' ``--region`` override): ranges
-of x, y [m] and phi [rad] and the number of grid values along each, ends included.
+of the design's task coordinates (x, y [m] and phi [rad] for a planar design; all six
+for a hexapod; z [m], rx, ry [rad] for a 3-PRS or 3-RPS tripod) and the number of grid
+values along each, ends included. The dependent coordinates of a grid pose (a tripod's
+parasitic x, y, rz) follow from the legs (:func:`ppm_stiffness.poses.full_poses`).
 A design *covers* the region when every grid pose is reachable (every leg's inverse
 kinematics solvable, joint coordinates within limits) and not singular (the
 transmission index of :mod:`ppm_stiffness.core.singularity` above its
@@ -13,21 +16,25 @@ can be missed.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design import Design
-from ppm_stiffness.design.schema import RequiredRegionModel
+from ppm_stiffness.design.schema import REGION_KEYS, RequiredRegionModel
 
 __all__ = [
     "RequiredRegionModel",
     "make_region",
     "region_axes",
+    "region_coordinates",
     "region_of",
     "region_poses",
+    "region_from_ranges",
     "with_region",
 ]
 
@@ -38,7 +45,29 @@ def make_region(
     phi: tuple[float, float],
     grid: tuple[int, int, int],
 ) -> RequiredRegionModel:
-    """A validated region from ranges [m, m, rad] and grid counts.
+    """A validated planar region from ranges [m, m, rad] and grid counts.
+
+    Raises
+    ------
+    DesignError
+        A range inverted or out of the plausible SI values, a grid count below 1, or a
+        grid inconsistent with its range (the message names the key).
+    """
+    return region_from_ranges({"x": x, "y": y, "rz": phi}, grid)
+
+
+def region_from_ranges(
+    ranges: Mapping[str, tuple[float, float]], grid: Sequence[int]
+) -> RequiredRegionModel:
+    """A validated region from ranges of task coordinates and their grid counts.
+
+    Parameters
+    ----------
+    ranges : mapping of str to (lo, hi)
+        Pose coordinate name (x, y, z [m], rx, ry, rz [rad]; ``phi`` for rz) -> range,
+        in pose order.
+    grid : sequence of int
+        Grid values along each range, in the same order.
 
     Raises
     ------
@@ -48,7 +77,11 @@ def make_region(
     """
     from pydantic import ValidationError
 
-    data: dict[str, Any] = {"x": x, "y": y, "phi": phi, "grid": grid}
+    data: dict[str, Any] = {
+        REGION_KEYS[POSE_COORDINATES.index("rz" if k == "phi" else k)]: tuple(v)
+        for k, v in ranges.items()
+    }
+    data["grid"] = tuple(grid)
     try:
         return RequiredRegionModel.model_validate(data)
     except ValidationError as exc:
@@ -72,7 +105,8 @@ def region_of(design: Design, override: RequiredRegionModel | None = None) -> Re
     if region is None:
         raise DesignError(
             f"design {design.name!r} has no required region: add a [workspace.required] "
-            "table (x, y, phi ranges [m, rad] and grid) or pass --region"
+            f"table (ranges of {', '.join(design.task_coordinates)} [m, rad] and grid) or "
+            "pass --region"
         )
     return region
 
@@ -83,18 +117,25 @@ def with_region(design: Design, region: RequiredRegionModel) -> Design:
     return design.model_copy(update={"workspace": workspace})
 
 
-def region_axes(region: RequiredRegionModel) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The grid values x (nx,), y (ny,) [m] and phi (nphi,) [rad]."""
-    nx, ny, nphi = region.grid
-    return (
-        np.linspace(region.range("x")[0], region.range("x")[1], nx),
-        np.linspace(region.range("y")[0], region.range("y")[1], ny),
-        np.linspace(region.range("phi")[0], region.range("phi")[1], nphi),
+def region_coordinates(region: RequiredRegionModel) -> tuple[str, ...]:
+    """The pose coordinates the region ranges over, in pose order (``("x", "y", "rz")``
+    for a planar region)."""
+    return tuple(region.ranges())
+
+
+def region_axes(region: RequiredRegionModel) -> tuple[FloatArray, ...]:
+    """The grid values along each range [m or rad], in pose order (x (nx,), y (ny,),
+    phi (nphi,) for a planar region)."""
+    return tuple(
+        np.linspace(lo, hi, n)
+        for (lo, hi), n in zip(region.ranges().values(), region.grid, strict=True)
     )
 
 
 def region_poses(region: RequiredRegionModel) -> FloatArray:
-    """Every grid pose of the region, shape (nphi, ny, nx, 3): (x [m], y [m], phi [rad])."""
-    x, y, phi = region_axes(region)
-    pp, yy, xx = np.meshgrid(phi, y, x, indexing="ij")
-    return np.stack([xx, yy, pp], axis=-1)
+    """Every grid pose of the region in task coordinates, shape (n_last, ..., n_first,
+    n_task): the last coordinate varies slowest (a planar region: (nphi, ny, nx, 3) of
+    (x [m], y [m], phi [rad]))."""
+    axes = region_axes(region)
+    mesh = np.meshgrid(*axes[::-1], indexing="ij")
+    return np.stack(mesh[::-1], axis=-1)

@@ -113,6 +113,8 @@ def sweep_designs(
     seed: int = 0,
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    margin: bool = False,
+    frequencies: bool = True,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -134,6 +136,12 @@ def sweep_designs(
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
         Called with 1 after each design.
+    margin : bool
+        Also the load margin of ``wrench`` on the margin sub-grid
+        (:mod:`ppm_stiffness.optimize.margin`; about 0.1 s per pose).
+    frequencies : bool
+        The f1 figures of a design with a mass model (several times the cost of the
+        stiffness figures); False: NaN.
 
     Returns
     -------
@@ -143,7 +151,7 @@ def sweep_designs(
     points = sweep_points(variables, sample, count, seed)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
-    args = [(design, assignments(variables, p), region, w) for p in points]
+    args = [(design, assignments(variables, p), region, w, margin, frequencies) for p in points]
     try:
         summaries = run_ordered(executor, summarize_candidate, args, progress)
     except Interrupted as stop:
@@ -163,10 +171,24 @@ def summarize_designs(
     wrench: ArrayLike | None = None,
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    margin: bool = False,
 ) -> list[RegionSummary]:
-    """Summary figures of several designs over one region (``compare``), in order."""
+    """Summary figures of several designs over one region (``compare``), in order;
+    ``margin``: also the load margin of ``wrench``.
+
+    Raises
+    ------
+    InputDataError
+        Designs of different task coordinates (they cannot share a region).
+    """
+    tasks = {tuple(d.task_coordinates) for d in designs}
+    if len(tasks) > 1:
+        raise InputDataError(
+            "the designs compared must share their task coordinates; these have "
+            + " and ".join(f"({', '.join(t)})" for t in sorted(tasks))
+        )
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
     return run_ordered(
-        executor, summarize_candidate, [(d, None, region, w) for d in designs], progress
+        executor, summarize_candidate, [(d, None, region, w, margin) for d in designs], progress
     )

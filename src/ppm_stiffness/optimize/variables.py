@@ -5,6 +5,14 @@ prints it (``leg1.platform_radius``), or a glob (``leg*.platform_radius``) whose
 matches vary together as one variable. LO and HI are SI values (the parameter's unit,
 :meth:`~ppm_stiffness.design.schema.Design.parameter_unit`), LO < HI; N (sweeps on a
 grid) is the number of values, ends included, at least 2.
+
+Two geometric variables are not scalar parameters of the design file
+(:data:`GEOMETRY_VARIABLES`): ``platform_radius`` and ``base_radius`` [m], the common
+horizontal distance from the z axis of every leg's ``platform_point`` (platform frame)
+or ``base_point`` (F_b), for designs whose legs all have such points at one radius (a
+hexapod's joint circles, a tripod's rail and platform circles). Setting one scales the
+x and y of every leg's point by the same factor (angles about z and heights kept):
+:func:`apply_values`.
 """
 
 from __future__ import annotations
@@ -56,10 +64,76 @@ class Variable:
 
     def start(self, design: Design) -> float | None:
         """The design's value of this variable (None when a glob's matches differ)."""
+        if self.name in GEOMETRY_VARIABLES:
+            return geometry_radius(design, self.name)
         try:
             return design.parameter(self.name)
         except DesignError:
             return None
+
+
+#: Geometric variables: name -> the legs' point they scale radially.
+GEOMETRY_VARIABLES = {"platform_radius": "platform_point", "base_radius": "base_point"}
+#: Relative spread of the legs' radii within which they count as one radius.
+RADIUS_TOLERANCE = 1e-9
+
+
+def geometry_radius(design: Design, name: str) -> float | None:
+    """The common radius [m] of geometric variable ``name`` on ``design``, or None when
+    it does not apply (a leg without that point, radii that differ, a zero radius)."""
+    key = GEOMETRY_VARIABLES[name]
+    radii = []
+    for leg in design.legs:
+        point = getattr(getattr(leg, "spec", leg), key, None)
+        if point is None:
+            return None
+        p = np.asarray(point, dtype=float).reshape(-1)
+        if p.size not in (2, 3):
+            return None
+        radii.append(float(np.hypot(p[0], p[1])))
+    if not radii or min(radii) <= 0 or max(radii) - min(radii) > RADIUS_TOLERANCE * max(radii):
+        return None
+    return float(np.mean(radii))
+
+
+def geometry_names(design: Design) -> list[str]:
+    """The geometric variables that apply to ``design``."""
+    return [n for n in GEOMETRY_VARIABLES if geometry_radius(design, n) is not None]
+
+
+def apply_values(design: Design, values: dict[str, float]) -> Design:
+    """``design`` with ``values`` set (name or glob -> SI value): scalar parameters by
+    :meth:`~ppm_stiffness.design.schema.Design.with_parameters`, the geometric
+    variables by scaling the legs' points (module doc).
+
+    Raises
+    ------
+    DesignError
+        A value the design schema refuses, or a geometric variable that does not apply.
+    """
+    from ppm_stiffness.design.io import design_from_dict, design_to_dict
+
+    geometry = {k: v for k, v in values.items() if k in GEOMETRY_VARIABLES}
+    scalars = {k: v for k, v in values.items() if k not in GEOMETRY_VARIABLES}
+    out = design.with_parameters(scalars) if scalars else design
+    if not geometry:
+        return out
+    data = design_to_dict(out)
+    for name, radius in geometry.items():
+        current = geometry_radius(out, name)
+        if current is None:
+            raise DesignError(f"{name} does not apply to design {design.name!r}")
+        if not (math.isfinite(radius) and radius > 0):
+            raise DesignError(f"{name} = {radius:g}: a radius must be > 0 [m]")
+        key = GEOMETRY_VARIABLES[name]
+        for leg in data["legs"]:
+            point = list(leg[key])
+            point[0], point[1] = point[0] * radius / current, point[1] * radius / current
+            leg[key] = point
+    try:
+        return design_from_dict(data)
+    except DesignError as exc:
+        raise DesignError(str(exc).replace("design: ", "parameters: ", 1)) from None
 
 
 def parse_variable(text: str, design: Design, count: bool | None = None) -> Variable:
@@ -108,20 +182,42 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
             ) from None
         if not 2 <= n <= MAX_VALUES:
             raise InputDataError(f"--vary {name}: N must be between 2 and {MAX_VALUES}, got {n}")
-    try:
-        matches = tuple(design.expand(name))
-    except DesignError as exc:
-        raise DesignError(f"--vary: {exc}") from None
-    unit = design.parameter_unit(name)
+    if name in GEOMETRY_VARIABLES:
+        if geometry_radius(design, name) is None:
+            raise DesignError(
+                f"--vary: {name} does not apply to design {design.name!r} (its legs' "
+                f"{GEOMETRY_VARIABLES[name]}s are not on one circle about z); this "
+                f"design's are {parameter_families(design)}"
+            )
+        matches: tuple[str, ...] = (name,)
+        unit = "m"
+    else:
+        try:
+            matches = tuple(design.expand(name))
+        except DesignError as exc:
+            raise DesignError(
+                f"--vary: {exc}; this design's are {parameter_families(design)}"
+            ) from None
+        unit = design.parameter_unit(name)
     for end, value in (("LO", lo), ("HI", hi)):
         try:
-            design.with_parameters({name: value})
+            apply_values(design, {name: value})
         except DesignError as exc:
             raise InputDataError(
                 f"--vary {name}: {end} = {value:g} {unit} is refused by the design "
                 f"({str(exc).removeprefix('parameters: ')})"
             ) from None
     return Variable(name=name, matches=matches, lo=lo, hi=hi, count=n, unit=unit)
+
+
+def parameter_families(design: Design) -> str:
+    """The design's scalar parameter names with leg numbers as a glob (``leg*.``), once
+    each: what ``--vary`` can take on this design (planar leg types have
+    ``platform_radius``; spatial ones their link lengths, parts' stiffnesses, ...)."""
+    import re
+
+    names = dict.fromkeys(re.sub(r"^leg\d+\.", "leg*.", n) for n in design.scalar_parameter_names())
+    return ", ".join(names)
 
 
 def check_distinct(variables: Sequence[Variable]) -> None:

@@ -1,8 +1,11 @@
 """Stiffness maps of several designs side by side, one colour scale per quantity.
 
-One row per design (a :class:`~ppm_stiffness.maps.workspace.StiffnessMap` at one
-orientation), columns k_phi [N·m/rad], k_x and k_y [N/m]; every panel of a column shares
-its colour levels, so that the colours compare across designs (``compare``, and the
+One row per design (a :class:`~ppm_stiffness.maps.workspace.StiffnessMap` over one
+slice), one column per quantity of the maps (a planar design's k_phi [N·m/rad], k_x and
+k_y [N/m]; another's worst-direction principal stiffnesses, ``rotational_min``
+[N·m/rad] and ``translational_min`` [N/m]), labelled from the quantities and the
+slice's axes (:data:`ppm_stiffness.maps.result.QUANTITIES`); every panel of a column
+shares its colour levels, so that the colours compare across designs (``compare``, and the
 before/after maps of ``optimize``). When a column's values span more than
 :data:`LOG_SPAN` (designs of different orders of magnitude) its scale is logarithmic.
 The required region's box is drawn dashed.
@@ -15,8 +18,9 @@ from typing import Any
 
 import numpy as np
 
+from ppm_stiffness.maps.result import QUANTITIES
 from ppm_stiffness.maps.workspace import StiffnessMap
-from ppm_stiffness.visuals.maps import PANELS
+from ppm_stiffness.visuals.maps import axis_grid, slice_label
 
 #: Height of one row [inch].
 ROW_HEIGHT = 3.2
@@ -50,16 +54,17 @@ def plot_maps_side_by_side(
     region_box: Sequence[float] | None = None,
     title: str | None = None,
 ) -> Any:
-    """Figure: one row per map, k_phi, k_x, k_y on one colour scale per column.
+    """Figure: one row per map, one column per quantity, one colour scale per column.
 
     Parameters
     ----------
     maps : sequence of StiffnessMap
-        Same orientation, locked actuators typically.
+        Same slice (axes, fixed coordinates) and quantities, locked actuators typically.
     labels : sequence of str
         One per map (the row titles).
-    region_box : (x_min, x_max, y_min, y_max) [m], optional
-        Drawn as a dashed rectangle on every panel.
+    region_box : (u_min, u_max, v_min, v_max) [m or rad], optional
+        The region's ranges of the maps' two axes, drawn as a dashed rectangle on every
+        panel.
     title : str, optional
 
     Returns
@@ -71,14 +76,19 @@ def plot_maps_side_by_side(
 
     if not maps or len(maps) != len(labels):
         raise ValueError("one label per map, and at least one map")
-    fig = Figure(figsize=(3 * PANEL_WIDTH, ROW_HEIGHT * len(maps) + 0.6), layout="constrained")
-    axes = fig.subplots(len(maps), 3, squeeze=False)
-    levels = {name: _common_levels(maps, name) for name, _, _ in PANELS}
-    for col, (name, symbol, unit) in enumerate(PANELS):
+    panels = [(name, QUANTITIES[name][2], QUANTITIES[name][0]) for name in maps[0].quantities]
+    ncol = len(panels)
+    fig = Figure(figsize=(ncol * PANEL_WIDTH, ROW_HEIGHT * len(maps) + 0.6), layout="constrained")
+    axes = fig.subplots(len(maps), ncol, squeeze=False)
+    levels = {name: _common_levels(maps, name) for name, _, _ in panels}
+    _, _, u_label, v_label = axis_grid(maps[0])
+    scale_u, scale_v = _scales(maps[0])
+    same_unit = u_label.split("[")[-1] == v_label.split("[")[-1]
+    for col, (name, symbol, unit) in enumerate(panels):
         mappable = None
         for row, (m, label) in enumerate(zip(maps, labels, strict=True)):
             ax = axes[row, col]
-            xs, ys = m.x * 1e3, m.y * 1e3
+            xs, ys, _, _ = axis_grid(m)
             if np.any(m.reachable):
                 lv, norm = levels[name]
                 mappable = ax.contourf(
@@ -89,15 +99,17 @@ def plot_maps_side_by_side(
                     0.5, 0.5, "no reachable pose", ha="center", va="center", transform=ax.transAxes
                 )
             if region_box is not None:
-                x0, x1, y0, y1 = (1e3 * float(v) for v in region_box)
+                x0, x1 = (scale_u * float(v) for v in region_box[:2])
+                y0, y1 = (scale_v * float(v) for v in region_box[2:])
                 ax.add_patch(
                     Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ls="--", lw=1.0, ec="k")
                 )
             ax.set_xlim(xs[0], xs[-1])
             ax.set_ylim(ys[0], ys[-1])
-            ax.set_aspect("equal", adjustable="box")
-            ax.set_xlabel("x [mm]")
-            ax.set_ylabel("y [mm]")
+            if same_unit:
+                ax.set_aspect("equal", adjustable="box")
+            ax.set_xlabel(u_label)
+            ax.set_ylabel(v_label)
             ax.set_title(f"{label}: {symbol}", fontsize=9)
         if mappable is not None:
             cbar = fig.colorbar(mappable, ax=axes[:, col], shrink=0.9)
@@ -110,6 +122,18 @@ def plot_maps_side_by_side(
                 exps = np.arange(np.ceil(np.log10(lv[0])), np.floor(np.log10(lv[-1])) + 1)
                 cbar.set_ticks(list(10.0**exps), labels=[f"1e{int(e)}" for e in exps])
                 cbar.minorticks_off()
-    phi = np.degrees(maps[0].phi)
-    fig.suptitle(title or f"Principal stiffness, actuators locked, φ = {phi:.4g}° (region dashed)")
+    if title is None:
+        if tuple(maps[0].axes) == ("x", "y") and set(maps[0].fixed) == {"rz"}:
+            where = f"φ = {np.degrees(maps[0].phi):.4g}°"
+        else:
+            where = slice_label(maps[0])
+        title = f"Principal stiffness, actuators locked, {where} (region dashed)"
+    fig.suptitle(title)
     return fig
+
+
+def _scales(smap: StiffnessMap) -> tuple[float, float]:
+    """The factors from SI to the CLI's units (mm, deg) of the map's two axes."""
+    from ppm_stiffness.maps.slices import cli_scale
+
+    return cli_scale(smap.axes[0])[0], cli_scale(smap.axes[1])[0]
