@@ -157,3 +157,30 @@ def test_cli_moving_map_json_npz_and_csv(
     assert "# geometry: moving" in text and "load_margin_factor" in text
     assert main(["map", "--grid", "3", "--geometry", "moving"]) == 2
     assert "need a wrench" in capsys.readouterr().err
+
+
+def test_spatial_masks_carry_the_single_pose_refusal() -> None:
+    # 50 kN down on the 3-RPS: past its sideways buckling (load margin 1.52 of 20 kN at
+    # home, a bifurcation): some poses' paths are found unstable (UNSTABLE), others stop
+    # (NO_EQUILIBRIUM); each pose's code is the error moving_equilibrium raises there
+    design = design_named("3rps")
+    wrench = np.array([0.0, 0.0, 0.0, 0.0, 0.0, -5e4])
+    smap = stiffness_map(
+        design,
+        axes=("rx", "ry"),
+        grid=(2, 2),
+        bounds=(-0.05, 0.05, -0.05, 0.05),
+        actuators="wrench",
+        wrench=wrench,
+        geometry="moving",
+    )
+    assert smap.refusal is not None
+    assert set(smap.refusal.ravel()) == {Refusal.NO_EQUILIBRIUM, Refusal.UNSTABLE}
+    messages = {
+        Refusal.NO_EQUILIBRIUM: "no equilibrium with moving geometry",
+        Refusal.UNSTABLE: "beyond the first instability",
+    }
+    for j in range(2):
+        for i in range(2):
+            with pytest.raises(EquilibriumError, match=messages[Refusal(smap.refusal[j, i])]):
+                moving_equilibrium(design, wrench, _task(design, smap, i, j))
