@@ -157,3 +157,31 @@ def test_pdelta_on_the_shipped_3rpr() -> None:
     assert 0.01 < c.geometric_fraction < 0.10
     assert c.correction_difference < 0.04
     assert 0.5 < c.moving_correction_difference < 0.65
+
+
+def test_released_members_get_no_made_up_axial_force() -> None:
+    """PyNite takes a member's axial force from its ends' relative axial displacement,
+    also for the joints' moment-only members whose end translations are released (they
+    carry none). On the 3-RPS under 2 kN along x (carried in bending) that made P-Delta's
+    correction depend on the auxiliary connector length (rz -2.0e-2, -2.4e-2, -1.0e-1 rad
+    for 2, 5, 10 mm); with those members at zero axial force it is below 1e-9 for every
+    length, and PyNite's Member3D.Kg is left as it was."""
+    from Pynite.Member3D import Member3D
+
+    from ppm_stiffness.model import validate_pose
+    from ppm_stiffness.statics.equilibrium import equilibrium
+    from ppm_stiffness.validation.frame import FESettings
+    from ppm_stiffness.validation.second_order import fe_deflection
+
+    kg = Member3D.Kg
+    design = design_named("3rps")
+    pose = validate_pose(design, None)
+    wrench = _force(2e3, _X)
+    k_act = equilibrium(design, wrench, pose).actuator_stiffness
+    for length in (2e-3, 5e-3, 1e-2):
+        s = FESettings(connector_length=length)
+        linear = fe_deflection(design, pose, wrench, k_act, False, s)
+        pdelta = fe_deflection(design, pose, wrench, k_act, True, s)
+        assert np.max(np.abs(pdelta - linear)) < 1e-9  # measured 4e-10
+        assert np.max(np.abs(linear)) > 1e-2  # a real deflection: ry 0.027 rad, x 14 mm
+    assert Member3D.Kg is kg
