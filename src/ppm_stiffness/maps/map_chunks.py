@@ -22,12 +22,12 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.chunks import chunk_result
-from ppm_stiffness.maps.loaded import loaded_poses
+from ppm_stiffness.maps.loaded import loaded_poses, moving_columns, with_margin
 from ppm_stiffness.maps.paper_principal import principal_from_entries
 from ppm_stiffness.maps.principal_batch import tool_offsets
 from ppm_stiffness.maps.reduced_leg import ReducedLeg
 from ppm_stiffness.maps.reduced_path import planar_entries, reduced_projector
-from ppm_stiffness.maps.result import PAPER, PRINCIPAL, QUANTITIES
+from ppm_stiffness.maps.result import EXTRA, PAPER, PRINCIPAL, QUANTITIES
 from ppm_stiffness.maps.slices import MapSlice
 from ppm_stiffness.maps.transmission import nonsingular_from_entries
 from ppm_stiffness.poses import full_poses
@@ -49,6 +49,12 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
     """
     if quantities is None:
         quantities = "paper" if design.planar else "principal"
+    if isinstance(quantities, str) and "," in quantities:  # e.g. "paper,load-margin"
+        items = [q.strip() for q in quantities.split(",")]
+        parts = [quantity_names(design, q if q in QUANTITY_SETS else [q]) for q in items]
+        return tuple(dict.fromkeys(n for part in parts for n in part))
+    if isinstance(quantities, str) and quantities.replace("-", "_") in EXTRA:
+        quantities = [quantities]
     if isinstance(quantities, str):
         if quantities not in QUANTITY_SETS:
             raise InputDataError(
@@ -58,7 +64,9 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
         sets = {"paper": PAPER, "principal": PRINCIPAL, "all": PAPER + PRINCIPAL}
         names = sets[quantities] if design.planar or quantities != "all" else PRINCIPAL
     else:
-        names = tuple(quantities)
+        names = tuple(
+            n.replace("-", "_") if n.replace("-", "_") in EXTRA else n for n in quantities
+        )
         unknown = [n for n in names if n not in QUANTITIES]
         if unknown or not names:
             raise InputDataError(
@@ -131,6 +139,10 @@ class MapPlan(NamedTuple):
     wrench: FloatArray | None
     paper: bool
     spatial: bool
+    #: under a wrench: "frozen" (the paper's statics) or "moving" (maps/loaded.py)
+    geometry: str = "frozen"
+    #: the load_margin quantity (maps/loaded.py, :func:`margin_column`)
+    margin: bool = False
 
 
 def grid_rows(
@@ -164,9 +176,16 @@ def grid_rows(
     offsets = tool_offsets(full, tool) if at_tool else None  # (3,) at one orientation
     if k_const is None:
         assert plan.wrench is not None
-        codes, k_act, columns = _loaded_chunk(
-            design, full, plan.wrench, offsets, tool, plan.spatial
-        )
+        if plan.geometry == "moving":
+            codes, k_act, columns = moving_columns(
+                design, full, plan.wrench, tool, paper=plan.paper, spatial=plan.spatial
+            )
+        else:
+            codes, k_act, columns = _loaded_chunk(
+                design, full, plan.wrench, offsets, tool, plan.spatial
+            )
+        if plan.margin:
+            codes, columns["load_margin"] = with_margin(design, full, plan.wrench, tool, codes)
         return codes, codes == 0, columns, full, k_act
     res = chunk_result(
         design,

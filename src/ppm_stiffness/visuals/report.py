@@ -205,6 +205,10 @@ def build_report(
         uri = figure_data_uri(plot_stiffness_maps(smap, title=caption.rstrip(".")))
         map_figs.append((f"{key}-{acts}", caption, uri, tables.map_summary(design, smap)))
     finish(4)
+    if wrench is not None:  # a given wrench: the "Loaded geometry" section
+        from ppm_stiffness.visuals.report_loaded import loaded_geometry_section
+
+        extra_sections = [loaded_geometry_section(design, p, w), *(extra_sections or [])]
     if progress is not None:
         progress("done", 1.0)
     return _assemble(
