@@ -69,6 +69,19 @@ CASES = [
         ],
     ),
     ("map", ["map", "--json", "--grid", "6", "--quantities", "all"]),
+    (
+        "map",
+        [
+            "map",
+            "--json",
+            "--grid",
+            "6",
+            "--design",
+            str(ROOT / "examples/hexapod_6ups.toml"),
+            "--quantities",
+            "f1,translational_min",
+        ],
+    ),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (
         "compare",

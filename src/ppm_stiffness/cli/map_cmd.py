@@ -78,9 +78,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     parser.add_argument(
         "--quantities",
-        choices=QUANTITY_SETS,
+        type=_quantities,
+        metavar="SET|NAMES",
         help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
-        "spatial principal stiffnesses (any design, the others' default); all: both",
+        "spatial principal stiffnesses (any design, the others' default); all: both; or "
+        "names separated by commas, e.g. f1,translational_min (f1: the first natural "
+        "frequency [Hz], a design with a mass model)",
     )
     parser.add_argument(
         "--actuators",
@@ -125,6 +128,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="print the summary as one JSON object (SI) instead of tables",
     )
+
+
+def _quantities(text: str) -> str | list[str]:
+    """A quantity set (paper, principal, all) or names separated by commas (checked
+    against the design by :func:`~ppm_stiffness.maps.workspace.quantity_names`)."""
+    text = text.strip()
+    if text in QUANTITY_SETS:
+        return text
+    names = [n.strip() for n in text.split(",")]
+    unknown = [n for n in names if n not in QUANTITIES]
+    if unknown or not all(names):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: give {', '.join(QUANTITY_SETS)} or names of "
+            f"{', '.join(QUANTITIES)} separated by commas"
+        )
+    return names
 
 
 def _axes(text: str | None) -> tuple[str, str] | None:
@@ -197,7 +216,8 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
     tables = []
     for start in range(0, len(names), _PER_TABLE):
         group = names[start : start + _PER_TABLE]
-        title = "principal stiffness over the workspace" if start == 0 else None
+        what = "principal stiffness" if "f1" not in summary else "quantities"
+        title = f"{what} over the workspace" if start == 0 else None
         table = Table(title=title, title_justify="left")
         table.add_column("")
         for name in group:

@@ -10,7 +10,9 @@ slice's two axes:
   ``rotational_min``, ``rotational_mid``, ``rotational_max`` [N·m/rad], the eigenvalues
   of C_rr^-1 in ascending order (``rotational_min`` is the worst-direction rotational
   stiffness), and ``translational_min``, ``..._mid``, ``..._max`` [N/m], those of
-  C_tt^-1 at the tool point.
+  C_tt^-1 at the tool point;
+- the first natural frequency ``f1`` [Hz] (a design with a mass model,
+  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P.
 
 A map carries its axis names and their SI units, the fixed task coordinates, for a
 design with dependent coordinates their values at each grid point (a tripod's parasitic
@@ -43,6 +45,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "translational_min": ("N/m", "N_per_m", r"$k_{t,\min}$"),
     "translational_mid": ("N/m", "N_per_m", r"$k_{t,\mathrm{mid}}$"),
     "translational_max": ("N/m", "N_per_m", r"$k_{t,\max}$"),
+    "f1": ("Hz", "Hz", r"$f_1$"),
 }
 #: The quantity sets: the paper's (planar designs) and the spatial principal ones.
 PAPER = ("k_phi", "k_x", "k_y")

@@ -218,7 +218,7 @@ def stiffness_map(
     valid = np.zeros((nv, nu), dtype=bool)
     refusal = np.zeros((nv, nu), dtype=np.int8)
     k_lo, k_hi = np.full(n_legs, np.inf), np.full(n_legs, -np.inf)
-    plan = MapPlan(design, sl, legs, planar, tool, k_const, w, paper, spatial)
+    plan = MapPlan(design, sl, legs, planar, tool, k_const, w, paper, spatial, "f1" in names)
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)
         shape = (j1 - j0, nu)

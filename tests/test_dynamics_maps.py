@@ -1,0 +1,191 @@
+"""The first natural frequency as a map quantity (``map --quantities f1``): point by
+point the single-pose modal analysis, the map's masks, its files and its errors.
+
+Residuals measured when these tests were written (on this machine), f1 of the map
+against ``modal_analysis`` (``scipy.linalg.eigh``) at the same task coordinates,
+relative: <= 5e-15 locked (paper's 3-PPR on the reduced path, 3-RRR on the planar
+engine, hexapod on the general engine) and under a wrench; 2.5e-13 for the 3-PRS, whose
+f6/f1 = 30 (two eigensolvers' round-off of the lowest eigenvalue, eps (f6/f1)^2 ~ 1e-13);
+so 1e-12.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from helpers import design_named
+from ppm_stiffness.cli import main
+from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.refusals import Refusal
+from ppm_stiffness.design import Design, design_from_dict, design_to_dict, dump_design
+from ppm_stiffness.dynamics import batch as dyn_batch
+from ppm_stiffness.dynamics.analysis import modal_analysis
+from ppm_stiffness.maps.result import StiffnessMap, load_npz
+from ppm_stiffness.maps.workspace import stiffness_map
+
+#: Largest relative difference of the map's f1 to the single-pose analysis.
+AGREEMENT = 1e-12
+
+
+def _task(design: Design, smap: StiffnessMap, i: int, j: int) -> np.ndarray:
+    values = {smap.axes[0]: smap.u[i], smap.axes[1]: smap.v[j], **smap.fixed}
+    return np.array([values[n] for n in design.task_coordinates])
+
+
+def _agreement(design: Design, smap: StiffnessMap, wrench: Any = None) -> float:
+    """Largest relative difference of f1 to ``modal_analysis`` over the valid points."""
+    worst = 0.0
+    f1 = smap.quantities["f1"]
+    for j, i in zip(*np.nonzero(smap.reachable), strict=True):
+        single = modal_analysis(design, _task(design, smap, i, j), wrench=wrench)
+        ref = single["frequencies"][0]
+        worst = max(worst, abs(float(f1[j, i]) - ref) / ref)
+    return worst
+
+
+@pytest.mark.parametrize(
+    ("name", "axes", "actuators"),
+    [
+        ("paper", None, "max"),
+        ("3rrr", None, "min"),
+        ("hexapod_6ups", None, "max"),
+        ("hexapod_6ups", ("rx", "rz"), "max"),
+        ("3prs", ("rx", "ry"), "max"),
+    ],
+)
+def test_f1_map_equals_the_single_pose_modal_analysis(
+    name: str, axes: tuple[str, str] | None, actuators: str
+) -> None:
+    design = design_named(name)
+    smap = stiffness_map(design, grid=5, axes=axes, actuators=actuators, quantities=["f1"])
+    assert smap.reachable.sum() >= 9
+    if actuators == "min":  # the "min" actuators: compare with them given to the analysis
+        k_min = smap.actuator_stiffness[0]
+        worst = 0.0
+        for j, i in zip(*np.nonzero(smap.reachable), strict=True):
+            from ppm_stiffness.dynamics.mass import mass_matrix_at_pose
+            from ppm_stiffness.dynamics.modes import mode_shapes
+            from ppm_stiffness.model import stiffness_at_pose
+
+            p = _task(design, smap, i, j)
+            ref = mode_shapes(
+                stiffness_at_pose(design, p, k_min), mass_matrix_at_pose(design, p, k_min)
+            ).frequencies[0]
+            worst = max(worst, abs(float(smap.quantities["f1"][j, i]) - ref) / ref)
+    else:
+        worst = _agreement(design, smap)
+    assert worst <= AGREEMENT
+
+
+def test_f1_map_under_a_wrench_uses_the_loaded_tangent_k() -> None:
+    """As ``modes --wrench``: the loaded tangent K and the tangent actuator stiffnesses
+    (the paper's soft actuators make the difference to the locked map visible)."""
+    design = design_named("paper")
+    wrench = np.array([0.0, 0.0, 0.1, 5.0, 5.0, 20.0])
+    loaded = stiffness_map(design, grid=4, actuators="wrench", wrench=wrench, quantities=["f1"])
+    locked = stiffness_map(design, grid=4, quantities=["f1"])
+    assert loaded.reachable.sum() >= 8
+    assert _agreement(design, loaded, wrench) <= AGREEMENT
+    ok = loaded.reachable & locked.reachable
+    diff = np.abs(loaded.quantities["f1"][ok] - locked.quantities["f1"][ok])
+    assert np.max(diff / locked.quantities["f1"][ok]) > 1e-3
+
+
+def test_f1_masks_are_the_maps_refusals_and_with_the_stiffnesses() -> None:
+    """f1 next to the principal stiffnesses: the same masks and codes as without it,
+    and the stiffnesses unchanged; masked points NaN, valid ones finite."""
+    design = design_named("hexapod_6ups")
+    both = stiffness_map(design, grid=12, quantities=["f1", "translational_min"])
+    alone = stiffness_map(design, grid=12, quantities=["translational_min"])
+    assert (~both.reachable).any() and both.reachable.any()
+    assert both.refusal is not None and alone.refusal is not None
+    assert np.array_equal(both.refusal, alone.refusal)
+    assert np.array_equal(
+        both.quantities["translational_min"].filled(np.nan),
+        alone.quantities["translational_min"].filled(np.nan),
+        equal_nan=True,
+    )
+    f1 = both.quantities["f1"]
+    assert np.array_equal(f1.mask, ~both.reachable)
+    assert np.all(np.isnan(f1.data[~both.reachable]))
+    assert np.all(np.isfinite(f1.data[both.reachable]) & (f1.data[both.reachable] > 0))
+
+
+def test_a_pose_where_the_mass_matrix_fails_is_refused_not_a_nan(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """M not finite at one accepted pose: that pose is refused as singular (what
+    ``modal_analysis`` raises there), the others keep their values."""
+    design = design_named("hexapod_6ups")
+    real = dyn_batch.mass_matrix
+
+    def broken(design: Design, poses: np.ndarray, k_act: Any = None) -> np.ndarray:
+        m = real(design, poses, k_act)
+        m[0, 0, 0] = np.nan
+        return m
+
+    good = stiffness_map(design, grid=6, quantities=["f1"])
+    monkeypatch.setattr(dyn_batch, "mass_matrix", broken)
+    smap = stiffness_map(design, grid=6, quantities=["f1"])
+    first = np.flatnonzero(good.reachable.ravel())[0]
+    assert smap.refusal is not None and good.refusal is not None
+    assert smap.refusal.ravel()[first] == Refusal.SINGULAR
+    assert not smap.reachable.ravel()[first]
+    rest = good.reachable.copy()
+    rest.ravel()[first] = False
+    assert np.array_equal(smap.reachable, rest)
+    assert np.array_equal(smap.quantities["f1"][rest], good.quantities["f1"][rest])
+
+
+def _massless(tmp_path: Path) -> Path:
+    data = design_to_dict(design_named("paper"))
+    del data["platform"]
+    for table in data["parts"].values():
+        for key in ("mass", "mass_centre", "mass_centre_from", "inertia_transverse"):
+            table.pop(key, None)
+        table.pop("carriage_mass", None)
+    path = tmp_path / "massless.toml"
+    path.write_text(dump_design(design_from_dict(data)), encoding="utf-8")
+    return path
+
+
+def test_f1_without_a_mass_model_names_the_platform_table(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _massless(tmp_path)
+    from ppm_stiffness.design import load_design
+
+    with pytest.raises(DesignError, match=r"no mass model: add a \[platform\] table"):
+        stiffness_map(load_design(path), grid=3, quantities=["f1"])
+    out_file = tmp_path / "m.csv"
+    code = main(
+        ["map", "--design", str(path), "--quantities", "f1", "--grid", "4", "--data", str(out_file)]
+    )
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "[platform]" in err and not out_file.exists()
+    assert main(["map", "--design", str(path), "--grid", "4", "--quiet"]) == 0  # as before
+
+
+def test_f1_in_the_files_and_the_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """NPZ round trip, the CSV column f1_Hz, the JSON summary in Hz, and a figure."""
+    hexapod = str(Path(__file__).parent.parent / "examples" / "hexapod_6ups.toml")
+    npz, csv, png = tmp_path / "m.npz", tmp_path / "m.csv", tmp_path / "m.png"
+    args = ["map", "--design", hexapod, "--grid", "5", "--quantities", "f1,translational_min"]
+    assert main([*args, "--data", str(npz), "--out", str(png), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main([*args, "--data", str(csv), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["quantities"] == {"f1": "Hz", "translational_min": "N/m"}
+    smap = load_npz(npz)
+    assert list(smap.quantities) == ["f1", "translational_min"]
+    f1 = smap.quantities["f1"]
+    assert doc["summary"]["f1"]["min"] == pytest.approx(float(f1.min()), rel=1e-15)
+    header = next(line for line in csv.read_text().splitlines() if not line.startswith("#"))
+    assert header.split(",")[-2:] == ["f1_Hz", "translational_min_N_per_m"]
+    assert png.stat().st_size > 0
