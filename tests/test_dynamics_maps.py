@@ -247,3 +247,39 @@ def test_the_stacked_cholesky_solve_against_lapack_and_its_refusals() -> None:
     bad = np.stack([np.diag([1.0, 0.0]), np.diag([1.0, -1.0]), np.full((2, 2), np.nan), np.eye(2)])
     x = _solve(bad, np.ones((4, 2, 3)))
     assert np.all(np.isnan(x[:3])) and np.allclose(x[3], 1.0)
+
+
+# --- the public API -----------------------------------------------------------------------
+
+DYNAMICS_API = (
+    "mass_matrix",
+    "mass_matrix_at_pose",
+    "natural_frequencies",
+    "mode_shapes",
+    "Modes",
+    "modal_analysis",
+    "first_frequencies",
+)
+
+
+def test_every_public_name_imports_and_the_dynamics_ones_are_public() -> None:
+    """Every name of ``__all__`` imports from the package (``from ppm_stiffness import
+    name``), and the dynamics names the docs use are among them, the same objects as in
+    their modules; the documented example runs on the hexapod."""
+    import importlib
+
+    import ppm_stiffness as pps
+
+    for name in pps.__all__:
+        assert getattr(importlib.import_module("ppm_stiffness"), name) is not None
+        exec(f"from ppm_stiffness import {name}", {})
+    assert set(DYNAMICS_API) <= set(pps.__all__)
+    for name in DYNAMICS_API:
+        module, attr = pps._API[name]
+        assert getattr(pps, name) is getattr(importlib.import_module(module), attr)
+    design = pps.load_design(Path(__file__).parent.parent / "examples" / "hexapod_6ups.toml")
+    modes = pps.mode_shapes(pps.stiffness_at_pose(design), pps.mass_matrix_at_pose(design))
+    assert isinstance(modes, pps.Modes)
+    assert modes.frequencies[0] == pytest.approx(
+        pps.modal_analysis(design)["frequencies"][0], rel=1e-12
+    )
