@@ -191,6 +191,9 @@ def build_report(
         uri = figure_data_uri(plot_stiffness_maps(smap, title=title))
         map_figs.append((phi_deg, acts, uri, tables.map_summary(design, smap)))
     finish(4)
+    from ppm_stiffness.visuals.report_dynamics import dynamics_sections
+
+    extra_sections = dynamics_sections(design, p, grid) + (extra_sections or [])
     if progress is not None:
         progress("done", 1.0)
     return _assemble(
