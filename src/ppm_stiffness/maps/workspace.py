@@ -36,7 +36,9 @@ point, and ``loaded_state`` under a wrench), and
 :attr:`~ppm_stiffness.maps.result.StiffnessMap.refusal` says why
 (:class:`ppm_stiffness.core.refusals.Refusal`: outside the joint limits, or the pose
 completion failing; singular; no equilibrium; a load beyond the small-displacement
-model; a loaded K not positive definite). A map never raises for a pose.
+model; a loaded K not positive definite; with ``f1`` among the quantities, also a pose
+where the modal analysis fails, as singular: :mod:`ppm_stiffness.dynamics.batch`). A
+map never raises for a pose.
 
 This module also re-exports the names of :mod:`ppm_stiffness.maps.bounds` and
 :mod:`ppm_stiffness.maps.result` that older code imports from it.
