@@ -84,25 +84,12 @@ def modes_uncertainty(
 ) -> dict[str, Any]:
     """Bands of the six natural frequencies f1..f6 [Hz] (``modes --json``'s
     ``uncertainty``: as ``analyze``'s, its quantities the frequencies)."""
-    from ppm_stiffness.cli.tolerances import _head, _json_safe, _ranking, compute_bands
+    from ppm_stiffness.cli.tolerances import compute_bands, quantity_bands
     from ppm_stiffness.fit.band_outputs import MODES_FAILED_VALUE, modes_output
 
     output = modes_output(pose, tool, wrench)
     bands = compute_bands(args, design, variables, output, MODES_FAILED_VALUE)
-    out = _head(bands)
-    names = [f"f{j + 1}" for j in range(6)]
-    out["quantities"] = {
-        name: {
-            "unit": "Hz",
-            "nominal": bands.nominal[j],
-            "lower": bands.lower[j],
-            "upper": bands.upper[j],
-            "std": bands.std[j],
-        }
-        for j, name in enumerate(names)
-    }
-    out["sensitivity"] = {name: _ranking(bands, j) for j, name in enumerate(names)}
-    return dict(_json_safe(out))
+    return quantity_bands(bands, [f"f{j + 1}" for j in range(6)], "Hz")
 
 
 def _figure(

@@ -134,13 +134,13 @@ def pose_uncertainty(
     out = _head(bands)
     quantities = {}
     for i, (name, unit) in enumerate(ranked):
-        i = -1 if name == "f1" else i
+        j = -1 if name == "f1" else i  # f1 is the output's last value
         quantities[name] = {
             "unit": unit,
-            "nominal": bands.nominal[i],
-            "lower": bands.lower[i],
-            "upper": bands.upper[i],
-            "std": bands.std[i],
+            "nominal": bands.nominal[j],
+            "lower": bands.lower[j],
+            "upper": bands.upper[j],
+            "std": bands.std[j],
         }
     out["quantities"] = quantities
     out["stiffness_matrix_lower"] = bands.lower[n : n + 36].reshape(6, 6)
@@ -152,6 +152,24 @@ def pose_uncertainty(
         name: _ranking(bands, -1 if name == "f1" else i) for i, (name, _) in enumerate(ranked)
     }
     return _json_safe(out)
+
+
+def quantity_bands(bands: Any, names: list[str], unit: str) -> dict[str, Any]:
+    """The JSON entry of bands whose values are the quantities ``names`` in order, all
+    in ``unit`` (``modes``' frequencies): the head, ``quantities`` and ``sensitivity``."""
+    out = _head(bands)
+    out["quantities"] = {
+        name: {
+            "unit": unit,
+            "nominal": bands.nominal[j],
+            "lower": bands.lower[j],
+            "upper": bands.upper[j],
+            "std": bands.std[j],
+        }
+        for j, name in enumerate(names)
+    }
+    out["sensitivity"] = {name: _ranking(bands, j) for j, name in enumerate(names)}
+    return dict(_json_safe(out))
 
 
 def _with_f1(output: Any, failed: Any, pose: Any, tool_point: Any, wrench: Any) -> Any:

@@ -137,7 +137,15 @@ def plot_stiffness_maps(
             ax.set_title(symbol, fontsize=11)
         label = slice_label(m)
         sub.suptitle((f"{label}, " if label else "") + _state_label(m), fontsize=10)
-    fig.suptitle(title if title is not None else "Principal stiffness over the workspace")
+    names = {n for m in maps for n in m.quantities}
+    default = (
+        "Principal stiffness"
+        if "f1" not in names
+        else "First natural frequency"
+        if names == {"f1"}
+        else "Stiffness and first natural frequency"
+    )
+    fig.suptitle(title if title is not None else f"{default} over the workspace")
     return fig
 
 
