@@ -80,7 +80,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
         "spatial principal stiffnesses (any design, the others' default); all: both; "
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
-        "of the --actuators wrench, moving geometry)",
+        "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
+        "first natural frequency [Hz], a design with a mass model)",
     )
     parser.add_argument(
         "--geometry",
@@ -183,7 +184,8 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
     tables = []
     for start in range(0, len(names), _PER_TABLE):
         group = names[start : start + _PER_TABLE]
-        title = "principal stiffness over the workspace" if start == 0 else None
+        what = "principal stiffness" if "f1" not in summary else "quantities"
+        title = f"{what} over the workspace" if start == 0 else None
         table = Table(title=title, title_justify="left")
         table.add_column("")
         for name in group:

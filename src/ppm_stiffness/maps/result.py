@@ -11,6 +11,8 @@ slice's two axes:
   of C_rr^-1 in ascending order (``rotational_min`` is the worst-direction rotational
   stiffness), and ``translational_min``, ``..._mid``, ``..._max`` [N/m], those of
   C_tt^-1 at the tool point;
+- the first natural frequency ``f1`` [Hz] (a design with a mass model,
+  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P.
 - under a wrench, on request: ``load_margin`` (dimensionless), the load factor up to
   which the path ``lambda * wrench`` is stable with moving geometry
   (:func:`ppm_stiffness.maps.loaded.margin_column`).
@@ -47,6 +49,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "translational_mid": ("N/m", "N_per_m", r"$k_{t,\mathrm{mid}}$"),
     "translational_max": ("N/m", "N_per_m", r"$k_{t,\max}$"),
     "load_margin": ("1", "factor", r"$\lambda$"),
+    "f1": ("Hz", "Hz", r"$f_1$"),
 }
 #: Quantities under a wrench only, never in a set ("load-margin" is accepted too):
 #: the load margin of the map's wrench (:func:`ppm_stiffness.maps.loaded.margin_column`).

@@ -36,7 +36,9 @@ point, and ``loaded_state`` under a wrench), and
 :attr:`~ppm_stiffness.maps.result.StiffnessMap.refusal` says why
 (:class:`ppm_stiffness.core.refusals.Refusal`: outside the joint limits, or the pose
 completion failing; singular; no equilibrium; a load beyond the small-displacement
-model; a loaded K not positive definite). A map never raises for a pose.
+model; a loaded K not positive definite; with ``f1`` among the quantities, also a pose
+where the modal analysis fails, as singular: :mod:`ppm_stiffness.dynamics.batch`). A
+map never raises for a pose.
 
 This module also re-exports the names of :mod:`ppm_stiffness.maps.bounds` and
 :mod:`ppm_stiffness.maps.result` that older code imports from it.
@@ -202,6 +204,12 @@ def stiffness_map(
         )
     if geometry not in ("frozen", "moving"):
         raise InputDataError(f"geometry must be 'frozen' or 'moving', got {geometry!r}")
+    if geometry == "moving" and "f1" in names:
+        raise InputDataError(
+            "f1 is not mapped with moving geometry (the mass matrix is that of the "
+            "unloaded pose): use geometry 'frozen', whose f1 under a wrench uses the "
+            "loaded tangent K as `modes --wrench` does"
+        )
     paper = any(n in PAPER for n in names)
     spatial = any(n in PRINCIPAL for n in names)
     sl = map_slice(design, axes, fixed, phi)
@@ -231,7 +239,18 @@ def stiffness_map(
     refusal = np.zeros((nv, nu), dtype=np.int8)
     k_lo, k_hi = np.full(n_legs, np.inf), np.full(n_legs, -np.inf)
     plan = MapPlan(
-        design, sl, legs, planar, tool, k_const, w, paper, spatial, geometry, "load_margin" in names
+        design,
+        sl,
+        legs,
+        planar,
+        tool,
+        k_const,
+        w,
+        paper,
+        spatial,
+        geometry,
+        "load_margin" in names,
+        "f1" in names,
     )
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)
