@@ -54,6 +54,28 @@ CASES = [
     ("modes", ["modes", "--json"]),
     ("modes", ["modes", "--json", "--wrench", "5,5,20,0,0,0.1", "--tool-point", "10,0,5"]),
     ("modes", ["modes", "--json", "--design", str(ROOT / "examples/3prs.toml")]),
+    (
+        "modes",
+        [
+            "modes",
+            "--json",
+            "--design",
+            str(ROOT / "examples/hexapod_6ups.toml"),
+            "--tolerances",
+            str(ROOT / "examples/identification/hexapod_mass_tolerances.toml"),
+        ],
+    ),
+    (
+        "analyze",
+        [
+            "analyze",
+            "--json",
+            "--design",
+            str(ROOT / "examples/hexapod_6ups.toml"),
+            "--tolerances",
+            str(ROOT / "examples/identification/hexapod_mass_tolerances.toml"),
+        ],
+    ),
     ("map", ["map", "--json", "--grid", "6", "--design", str(ROOT / "examples/hexapod_6ups.toml")]),
     (
         "map",
@@ -69,6 +91,19 @@ CASES = [
         ],
     ),
     ("map", ["map", "--json", "--grid", "6", "--quantities", "all"]),
+    (
+        "map",
+        [
+            "map",
+            "--json",
+            "--grid",
+            "6",
+            "--design",
+            str(ROOT / "examples/hexapod_6ups.toml"),
+            "--quantities",
+            "f1,translational_min",
+        ],
+    ),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
     (
         "compare",

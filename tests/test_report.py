@@ -43,6 +43,7 @@ SECTIONS = (
     "loaded",
     "deflection",
     "maps",
+    "dynamics",  # the built-in design has a mass model (visuals/report_dynamics.py)
 )
 FIGURES = (
     "fig-mechanism",
@@ -53,6 +54,8 @@ FIGURES = (
     "fig-map-0-min",
     "fig-map-30-max",
     "fig-map-30-min",
+    "fig-modes",
+    "fig-f1-map",
 )
 
 
@@ -149,6 +152,7 @@ def test_table_numbers_match_the_embedded_analysis(report: str) -> None:
     blocks = {
         "unloaded": embedded_json(report, "analysis-unloaded"),
         "loaded": embedded_json(report, "analysis-loaded"),
+        "modes": embedded_json(report, "analysis-modes"),
     }
     cells = _parse(report).cells
     paths = {c[0] for c in cells}

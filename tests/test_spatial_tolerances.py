@@ -131,7 +131,8 @@ def test_analyze_bands_of_a_spatial_design(
     assert main(["analyze", "--json", "--design", design, "--tolerances", str(tolerances)]) == 0
     doc = json.loads(capsys.readouterr().out)
     q = doc["uncertainty"]["quantities"]
-    assert list(q) == [n for n, _ in SPATIAL_PRINCIPAL]
+    assert list(q) == [n for n, _ in SPATIAL_PRINCIPAL] + ["f1"]  # f1: it has a mass model
+    assert q["f1"]["nominal"] == pytest.approx(doc["first_frequency"], rel=1e-12)
     pc = doc["principal_compliance"]
     np.testing.assert_allclose(
         [q[f"k_rot_{j}"]["nominal"] for j in (1, 2, 3)],

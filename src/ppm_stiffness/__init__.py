@@ -59,6 +59,14 @@ _API: dict[str, tuple[str, str]] = {
     # many poses
     "evaluate_poses": ("ppm_stiffness.maps.batch", "evaluate_poses"),
     "stiffness_map": ("ppm_stiffness.maps.workspace", "stiffness_map"),
+    # dynamics (a design with a mass model)
+    "mass_matrix": ("ppm_stiffness.dynamics.mass", "mass_matrix"),
+    "mass_matrix_at_pose": ("ppm_stiffness.dynamics.mass", "mass_matrix_at_pose"),
+    "natural_frequencies": ("ppm_stiffness.dynamics.modes", "natural_frequencies"),
+    "mode_shapes": ("ppm_stiffness.dynamics.modes", "mode_shapes"),
+    "Modes": ("ppm_stiffness.dynamics.modes", "Modes"),
+    "modal_analysis": ("ppm_stiffness.dynamics.analysis", "modal_analysis"),
+    "first_frequencies": ("ppm_stiffness.dynamics.batch", "first_frequencies"),
     # identification and validation
     "calibrate": ("ppm_stiffness.fit.calibration", "calibrate"),
     "compare_poses": ("ppm_stiffness.validation.compare", "compare_poses"),
@@ -93,6 +101,13 @@ __all__ = [
     "load_margin",
     "evaluate_poses",
     "stiffness_map",
+    "mass_matrix",
+    "mass_matrix_at_pose",
+    "natural_frequencies",
+    "mode_shapes",
+    "Modes",
+    "modal_analysis",
+    "first_frequencies",
     "calibrate",
     "compare_poses",
     "PPMStiffnessError",
@@ -146,6 +161,10 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
         UnreachablePoseError,
     )
     from ppm_stiffness.design import Design, default_design, load_design, save_design
+    from ppm_stiffness.dynamics.analysis import modal_analysis
+    from ppm_stiffness.dynamics.batch import first_frequencies
+    from ppm_stiffness.dynamics.mass import mass_matrix, mass_matrix_at_pose
+    from ppm_stiffness.dynamics.modes import Modes, mode_shapes, natural_frequencies
     from ppm_stiffness.fit.calibration import calibrate
     from ppm_stiffness.maps.batch import evaluate_poses
     from ppm_stiffness.maps.workspace import stiffness_map

@@ -50,6 +50,7 @@ from ppm_stiffness.statics.deflection import (
     deflection_curve,
     deflection_path,
     direction_wrench,
+    mode_wrench,
 )
 from ppm_stiffness.statics.measurements import (
     Measurements,
@@ -59,6 +60,7 @@ from ppm_stiffness.statics.measurements import (
     read_measurements,
     rms_differences,
 )
+from ppm_stiffness.statics.moving_deflection import CurveStop, MovingDeflection
 
 #: Default largest load of each mode [N or N·m] ("direction": 10 N, 0.5 N·m for a pure
 #: moment).
@@ -142,6 +144,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--measurements",
         metavar="FILE.csv",
         help="measured deflections to overlay and compare (RMS differences)",
+    )
+    parser.add_argument(
+        "--geometry",
+        choices=("frozen", "moving"),
+        default="frozen",
+        help="'frozen' keeps the geometry of the unloaded pose (the paper's model, "
+        "default); 'moving' adds the curve with the platform and legs moving under the "
+        "load (docs/statics.md), which stops where the load path loses stability",
     )
     add_tolerance_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
@@ -237,8 +247,12 @@ def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
         )
 
 
-def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | None]:
-    """The curve (and measurements) the command's options ask for."""
+def compute(
+    args: argparse.Namespace,
+) -> tuple[DeflectionCurve, Measurements | None, MovingDeflection | None]:
+    """The curve (and measurements) the command's options ask for; with ``--geometry
+    moving`` also both curves of :func:`~ppm_stiffness.statics.moving_deflection
+    .moving_deflection` (the first is then its frozen curve)."""
     design = load_deflect_design(args)
     pose = pose_from_args(args, design)
     meas = None
@@ -275,13 +289,20 @@ def compute(args: argparse.Namespace) -> tuple[DeflectionCurve, Measurements | N
         measured = meas.load_values()
         loads = np.union1d(loads, measured[measured > 0])
     tool = tool_point_from_args(args, design)
+    if getattr(args, "geometry", "frozen") == "moving":
+        from ppm_stiffness.statics.moving_deflection import moving_deflection
+
+        alpha = math.radians(args.alpha) if mode == "planar-force" else math.nan
+        w_hat = unit if unit is not None else mode_wrench(mode, math.radians(args.alpha))
+        both = moving_deflection(design, w_hat, loads, pose, args.method, mode, alpha, tool)
+        return both.frozen, meas, both
     if unit is not None:
         curve = deflection_path(design, unit, loads, pose, args.method, mode, tool_point=tool)
     else:
         curve = deflection_curve(
             design, mode, loads, pose, math.radians(args.alpha), args.method, tool
         )
-    return curve, meas
+    return curve, meas, None
 
 
 def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
@@ -301,8 +322,16 @@ def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
     )
 
 
-def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
-    """Load and the six twist components (deg, mm), with the case in comments."""
+def write_csv(
+    curve: DeflectionCurve, path: str | Path, moving: MovingDeflection | None = None
+) -> None:
+    """Load and the six twist components (deg, mm), with the case in comments; with
+    ``moving`` the moving-geometry curve's six components and ``K_F_vs_K`` after them
+    (``moving_`` columns), a cell empty where a curve has stopped (such a file is not a
+    measurement file)."""
+    if moving is not None:
+        _write_both_csv(curve, moving, path)
+        return
     twist = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
     lines = [
         "# ppm-stiffness deflect: platform deflection at the tool point "
@@ -326,6 +355,72 @@ def write_csv(curve: DeflectionCurve, path: str | Path) -> None:
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def _write_both_csv(curve: DeflectionCurve, moving: MovingDeflection, path: str | Path) -> None:
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    m = moving.moving
+    loads = np.union1d(curve.loads, m.loads)
+    lines = [
+        "# ppm-stiffness deflect --geometry moving: the frozen-geometry curve (the paper's "
+        "model) and the moving-geometry one (moving_ columns: the tool point's finite "
+        "rotation vector and displacement), tool point ({:g}, {:g}, {:g}) mm, platform "
+        "frame, axes of F_b".format(*(1e3 * curve.tool_point)),
+        f"# mode: {curve.mode}",
+        f"# method: {curve.method} (frozen)",
+        f"# pose: {_pose_text(curve, '.6g')}",
+        f"# load unit: {curve.load_unit}; wrench per unit load (mx,my,mz,fx,fy,fz): "
+        + ",".join(f"{v:.6g}" for v in curve.unit_wrench),
+        *(f"# {line}" for line in moving.stops()),
+        "load,"
+        + ",".join(CSV_COLUMNS)
+        + ","
+        + ",".join(f"moving_{c}" for c in CSV_COLUMNS)
+        + ",K_F_vs_K",
+    ]
+
+    def cells(values: np.ndarray, at: np.ndarray, load: float, n: int) -> list[str]:
+        k = np.flatnonzero(at == load)
+        if k.size == 0:
+            return [""] * n
+        return [f"{v + 0.0:.9g}" for v in np.atleast_1d(values[int(k[0])])]
+
+    for load in loads:
+        row = cells(curve.twists * scale, curve.loads, load, 6)
+        row += cells(m.twists * scale, m.loads, load, 6)
+        row += cells(moving.stiffness_difference, m.loads, load, 1)
+        lines.append(f"{load:.12g}," + ",".join(row))
+    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def _print_moving(moving: MovingDeflection) -> None:
+    """The moving-geometry curve and where the curves stop."""
+    m = moving.moving
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    console.print(
+        "[bold]geometry moving[/bold]: the equilibrium with the platform and legs moving "
+        "under each load (docs/statics.md); finite rotation vector and displacement"
+    )
+    t = Table(
+        title="moving geometry: deflection at the tool point (axes of F_b): rotations "
+        "phi \\[deg], displacements \\[mm]",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    t.add_column(f"load \\[{m.load_unit}]", justify="right")
+    for name in TWIST_COMPONENTS:
+        t.add_column(name, justify="right", no_wrap=True)
+    for k, load in enumerate(m.loads):
+        t.add_row(f"{load:g}", *(eng(v) for v in m.twists[k] * scale))
+    console.print(t)
+    if m.loads.size:
+        console.print(
+            f"||K_F - K|| / ||K|| at the load {m.loads[-1]:g}: "
+            f"{100 * moving.stiffness_difference[-1]:.3g} % (each load: --json, --csv)"
+        )
+    for line in moving.stops():
+        console.print(escape(line))
+
+
 #: SI units of the values of ``deflect --json``.
 _JSON_UNITS = {
     "pose": "x, y, z [m], rx, ry, rz [rad] (phi = rz): the unloaded pose of P",
@@ -340,12 +435,50 @@ _JSON_UNITS = {
     "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
     "actuator_displacements": "m (rad for a rotary actuator)",
     "rms_differences": "orientation_deg deg, position_mm mm",
+    "moving_geometry": "twists: rad, m (the tool point's finite rotation vector and "
+    "displacement); displaced_poses: m, rad of P; loads, wrenches and actuator values as "
+    "above; stiffness_difference: ||K_F - K|| / ||K|| (length-balanced); stopped: load "
+    "in load_unit",
 }
 
 
-def _json(curve: DeflectionCurve, rms: dict[str, Any] | None) -> dict[str, Any]:
-    pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
+def _stop_json(stop: CurveStop | None) -> dict[str, Any] | None:
+    if stop is None:
+        return None
+    margin = stop.margin
     return {
+        "load": stop.load,
+        "reason": stop.reason,
+        "instability_load": stop.instability_load,
+        "margin_factor": None if margin is None else margin.factor,
+        "mode_direction": None if margin is None else margin.mode_name,
+    }
+
+
+def _moving_json(moving: MovingDeflection) -> dict[str, Any]:
+    """What ``--geometry moving`` adds: the moving curve and where each curve stops."""
+    m = moving.moving
+    return {
+        "loads": m.loads,
+        "wrenches": m.wrenches,
+        "twists": m.twists,
+        "displaced_poses": moving.displaced_poses,
+        "actuator_forces": m.actuator_forces,
+        "actuator_stiffness": m.actuator_stiffness,
+        "actuator_displacements": m.actuator_displacements,
+        "stiffness_difference": moving.stiffness_difference,
+        "stopped": _stop_json(moving.moving_stop),
+        "frozen_stopped": _stop_json(moving.frozen_stop),
+    }
+
+
+def _json(
+    curve: DeflectionCurve, rms: dict[str, Any] | None, moving: MovingDeflection | None = None
+) -> dict[str, Any]:
+    pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
+    extra = {} if moving is None else {"moving_geometry": _moving_json(moving)}
+    return extra | {
+        "geometry": "frozen" if moving is None else "moving",
         "mode": curve.mode,
         "alpha_deg": math.degrees(curve.alpha) if math.isfinite(curve.alpha) else None,
         "method": curve.method,
@@ -396,7 +529,7 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
     head = f"[bold]deflection, mode {curve.mode}"
     if curve.mode == "planar-force":
         head += f" (α = {math.degrees(curve.alpha):g}°)"
-    c.print(head + f", method {curve.method}[/bold]")
+    c.print(head + f", method {curve.method}, geometry frozen[/bold]")
     _print_pose(curve)
     at = "T" if np.any(curve.tool_point) else "P"
     if at == "T":
@@ -468,24 +601,34 @@ def run(args: argparse.Namespace) -> int:
     check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
     design = load_deflect_design(args)
     variables = read_tolerance_args(args, design)
-    curve, meas = compute(args)
+    if args.geometry == "moving" and (variables is not None or args.measurements):
+        raise InputDataError(
+            "--tolerances and --measurements work with the frozen geometry only "
+            "(leave out --geometry moving)"
+        )
+    curve, meas, moving = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None
     bands, unc = curve_uncertainty(args, design, variables, curve)
     with output_files(args.overwrite) as out:
         if args.csv:
-            write_csv(curve, out.temp(args.csv, "--csv"))
+            write_csv(curve, out.temp(args.csv, "--csv"), moving)
         if args.plot:
             from ppm_stiffness.visuals import save_figure, use_headless_backend
             from ppm_stiffness.visuals.deflection import plot_deflection_curves
 
             use_headless_backend()
-            fig = plot_deflection_curves([curve], meas, bands=[bands])
+            if moving is None:
+                fig = plot_deflection_curves([curve], meas, bands=[bands])
+            else:  # one row: frozen solid, moving dashed
+                fig = plot_deflection_curves([curve, moving.moving])
             save_figure(fig, out.temp(args.plot, "--plot"))
     if args.json:
-        doc = _json(curve, rms) | ({} if unc is None else {"uncertainty": unc})
+        doc = _json(curve, rms, moving) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("deflect", doc, _JSON_UNITS))
         return 0
     _print(curve, rms)
+    if moving is not None:
+        _print_moving(moving)
     if unc is not None:
         print_curve_uncertainty(curve, unc)
     if args.csv:

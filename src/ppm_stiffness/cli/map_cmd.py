@@ -43,7 +43,6 @@ from ppm_stiffness.maps.result import QUANTITIES
 from ppm_stiffness.maps.slices import cli_scale, map_slice, unit_of
 from ppm_stiffness.maps.workspace import (
     DEFAULT_REFERENCE_FORCE,
-    QUANTITY_SETS,
     StiffnessMap,
     quantity_names,
     stiffness_map,
@@ -77,9 +76,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     parser.add_argument(
         "--quantities",
-        choices=QUANTITY_SETS,
+        metavar="SET[,NAME...]",
         help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
-        "spatial principal stiffnesses (any design, the others' default); all: both",
+        "spatial principal stiffnesses (any design, the others' default); all: both; "
+        "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
+        "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
+        "first natural frequency [Hz], a design with a mass model)",
+    )
+    parser.add_argument(
+        "--geometry",
+        choices=("frozen", "moving"),
+        default="frozen",
+        help="with --actuators WRENCH: 'frozen' keeps the unloaded geometry (the paper's "
+        "statics, default); 'moving' the equilibrium with moving geometry (K_F's "
+        "symmetric part at the displaced tool point)",
     )
     parser.add_argument(
         "--actuators",
@@ -174,7 +184,8 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
     tables = []
     for start in range(0, len(names), _PER_TABLE):
         group = names[start : start + _PER_TABLE]
-        title = "principal stiffness over the workspace" if start == 0 else None
+        what = "principal stiffness" if "f1" not in summary else "quantities"
+        title = f"{what} over the workspace" if start == 0 else None
         table = Table(title=title, title_justify="left")
         table.add_column("")
         for name in group:
@@ -225,6 +236,8 @@ def run(args: argparse.Namespace) -> int:
         state = "wrench"
     bounds = _parse_bounds(args.bounds, axes)
     variables = read_tolerance_args(args, design)
+    if args.geometry == "moving" and variables is not None:
+        raise InputDataError("--tolerances works with the frozen geometry only")
 
     show = not (args.quiet or args.json)
     with progress("map", args.grid * args.grid, enabled=show) as advance:
@@ -246,6 +259,7 @@ def run(args: argparse.Namespace) -> int:
             reference_force=args.reference_force,
             tool_point=tool_point_from_args(args, design),
             quantities=args.quantities,
+            geometry=args.geometry,
         )
 
     if not np.any(smap.reachable):
@@ -345,6 +359,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
         "quantities": {name: QUANTITIES[name][0] for name in smap.quantities},
         "phi": smap.fixed.get("rz"),
         "actuators": smap.actuators,
+        "geometry": smap.geometry,
         "actuator_stiffness": np.asarray(smap.actuator_stiffness).T.tolist(),
         "wrench": None if smap.wrench is None else smap.wrench,
         "tool_point": tool_point_from_args(args, design),
@@ -378,6 +393,7 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
         escape(f"{smap.axes[0]}-{smap.axes[1]} map" + (f" at {where}" if where else ""))
         + f", actuators: {state}"
         + (f" (reference load {reference})" if state == "min" else "")
+        + (f", geometry {smap.geometry}" if state == "wrench" else "")
     )
     console.print(
         f"actuator stiffness ({state}): "

@@ -26,6 +26,7 @@ from ppm_stiffness.cli.common import (
     tool_point_from_args,
 )
 from ppm_stiffness.cli.output_files import output_files
+from ppm_stiffness.cli.tolerances import add_tolerance_arguments, read_tolerance_args
 from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_COMPONENTS
 
 
@@ -34,6 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     add_wrench_argument(parser)
     add_tool_point_argument(parser)
+    add_tolerance_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     parser.add_argument(
         "--out",
@@ -50,18 +52,44 @@ def run(args: argparse.Namespace) -> int:
     pose = pose_from_args(args, design)
     wrench = parse_wrench(args.wrench)
     tool = tool_point_from_args(args, design)
+    variables = read_tolerance_args(args, design)
     from ppm_stiffness.dynamics.analysis import MODES_UNITS, modal_analysis
 
     result = modal_analysis(design, pose, wrench, tool)
+    if variables is not None:
+        result["uncertainty"] = modes_uncertainty(args, design, variables, pose, tool, wrench)
     if out is not None:
         _figure(design, pose, tool, result, out, args.overwrite)
     if args.json:
-        print(json_document("modes", result, MODES_UNITS))
+        units = MODES_UNITS | ({"uncertainty.quantities": "Hz"} if variables else {})
+        print(json_document("modes", result, units))
     else:
         print_tables(result, design.name)
+        if variables is not None:
+            from ppm_stiffness.cli.tolerances import print_pose_uncertainty
+
+            print_pose_uncertainty(result["uncertainty"])
     if out is not None:
         (err_console if args.json else console).print(f"figure written to {escape(out)}")
     return 0
+
+
+def modes_uncertainty(
+    args: argparse.Namespace,
+    design: Any,
+    variables: list[Any],
+    pose: np.ndarray,
+    tool: np.ndarray,
+    wrench: np.ndarray | None,
+) -> dict[str, Any]:
+    """Bands of the six natural frequencies f1..f6 [Hz] (``modes --json``'s
+    ``uncertainty``: as ``analyze``'s, its quantities the frequencies)."""
+    from ppm_stiffness.cli.tolerances import compute_bands, quantity_bands
+    from ppm_stiffness.fit.band_outputs import MODES_FAILED_VALUE, modes_output
+
+    output = modes_output(pose, tool, wrench)
+    bands = compute_bands(args, design, variables, output, MODES_FAILED_VALUE)
+    return quantity_bands(bands, [f"f{j + 1}" for j in range(6)], "Hz")
 
 
 def _figure(

@@ -127,16 +127,20 @@ def pose_uncertainty(
     n = len(ranked)
     output = pose_output(pose, tool_point, wrench)
     failed = pose_failed_value(design, wrench is not None)
+    if design.has_mass_model:  # and the first natural frequency, last
+        output, failed = _with_f1(output, failed, pose, tool_point, wrench)
+        ranked = (*ranked, ("f1", "Hz"))
     bands = compute_bands(args, design, variables, output, failed)
     out = _head(bands)
     quantities = {}
     for i, (name, unit) in enumerate(ranked):
+        j = -1 if name == "f1" else i  # f1 is the output's last value
         quantities[name] = {
             "unit": unit,
-            "nominal": bands.nominal[i],
-            "lower": bands.lower[i],
-            "upper": bands.upper[i],
-            "std": bands.std[i],
+            "nominal": bands.nominal[j],
+            "lower": bands.lower[j],
+            "upper": bands.upper[j],
+            "std": bands.std[j],
         }
     out["quantities"] = quantities
     out["stiffness_matrix_lower"] = bands.lower[n : n + 36].reshape(6, 6)
@@ -144,8 +148,41 @@ def pose_uncertainty(
     if wrench is not None:
         out["twist_lower"] = bands.lower[n + 36 : n + 42]
         out["twist_upper"] = bands.upper[n + 36 : n + 42]
-    out["sensitivity"] = {name: _ranking(bands, i) for i, (name, _) in enumerate(ranked)}
+    out["sensitivity"] = {
+        name: _ranking(bands, -1 if name == "f1" else i) for i, (name, _) in enumerate(ranked)
+    }
     return _json_safe(out)
+
+
+def quantity_bands(bands: Any, names: list[str], unit: str) -> dict[str, Any]:
+    """The JSON entry of bands whose values are the quantities ``names`` in order, all
+    in ``unit`` (``modes``' frequencies): the head, ``quantities`` and ``sensitivity``."""
+    out = _head(bands)
+    out["quantities"] = {
+        name: {
+            "unit": unit,
+            "nominal": bands.nominal[j],
+            "lower": bands.lower[j],
+            "upper": bands.upper[j],
+            "std": bands.std[j],
+        }
+        for j, name in enumerate(names)
+    }
+    out["sensitivity"] = {name: _ranking(bands, j) for j, name in enumerate(names)}
+    return dict(_json_safe(out))
+
+
+def _with_f1(output: Any, failed: Any, pose: Any, tool_point: Any, wrench: Any) -> Any:
+    """``output`` with the first natural frequency [Hz] appended
+    (:func:`~ppm_stiffness.fit.band_outputs.modes_output`), and its failed value."""
+    from ppm_stiffness.fit.band_outputs import MODES_FAILED_VALUE, modes_output
+
+    frequencies = modes_output(pose, tool_point, wrench)
+
+    def both(design: Any) -> Any:
+        return np.concatenate([output(design), frequencies(design)[:1]])
+
+    return both, np.concatenate([failed, [MODES_FAILED_VALUE]])
 
 
 def _json_safe(obj: Any) -> Any:

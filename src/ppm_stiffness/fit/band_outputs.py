@@ -14,7 +14,8 @@ A pose is held at its task coordinates: each sampled design completes the depend
 ones (:mod:`ppm_stiffness.poses`; a tolerance on a tripod's geometry moves its
 parasitic motion). The principal stiffnesses are the paper's k_phi, k_x, k_y for a
 planar design and the spatial ones of :mod:`ppm_stiffness.core.principal` for a
-spatial design (:func:`principal_quantities`).
+spatial design (:func:`principal_quantities`). The natural frequencies of a design
+with a mass model come from the modal analysis (:func:`modes_output`).
 """
 
 from __future__ import annotations
@@ -207,6 +208,34 @@ def map_output(**map_arguments: object) -> Callable[[Design], FloatArray]:
     return output
 
 
+#: :func:`modes_output`'s failed value and lower limit: a sample that cannot reach the
+#: pose, or is singular there, has a zero frequency.
+MODES_FAILED_VALUE = 0.0
+
+
+def modes_output(
+    pose: ArrayLike, tool_point: ArrayLike, wrench: ArrayLike | None = None
+) -> Callable[[Design], FloatArray]:
+    """The six natural frequencies (6,) [Hz, ascending] of a design with a mass model
+    at ``pose`` (its task coordinates, module doc), locked or under ``wrench`` acting at
+    the tool point (the loaded tangent K and actuator stiffnesses, as ``modes
+    --wrench``): :func:`ppm_stiffness.dynamics.analysis.modal_analysis`. The masses
+    are design parameters (``platform.mass``, ``leg*.<part>.mass``,
+    ``leg*.actuator.carriage_mass``, ``leg*.actuator.rotor_inertia``, ...), so that a
+    tolerance file moves them as it moves stiffnesses."""
+    p = np.asarray(pose, dtype=float)
+    tool = np.asarray(tool_point, dtype=float)
+    w = None if wrench is None else np.asarray(wrench, dtype=float)
+
+    def output(design: Design) -> FloatArray:
+        from ppm_stiffness.dynamics.analysis import modal_analysis
+
+        result = modal_analysis(design, _task(design, p), w, tool)
+        return np.asarray(result["frequencies"], dtype=float)
+
+    return output
+
+
 def deflection_output(
     unit_wrench: ArrayLike, loads: ArrayLike, pose: ArrayLike, tool_point: ArrayLike
 ) -> Callable[[Design], FloatArray]:
@@ -234,6 +263,7 @@ __all__ = [
     "SPATIAL_PRINCIPAL",
     "deflection_output",
     "map_output",
+    "modes_output",
     "pose_failed_value",
     "pose_labels",
     "pose_output",

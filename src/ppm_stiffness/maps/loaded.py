@@ -32,6 +32,7 @@ from ppm_stiffness.maps.chunks import masked
 from ppm_stiffness.maps.paper_principal import principal_from_matrices
 from ppm_stiffness.maps.planar_path import PLANAR_CHUNK
 from ppm_stiffness.maps.principal_batch import principal_values, stiffness_at_points, tool_offsets
+from ppm_stiffness.maps.result import PRINCIPAL
 from ppm_stiffness.statics.equilibrium import loaded_states
 
 
@@ -216,3 +217,99 @@ def loaded_poses(
         refusal=refusal.reshape(batch),
         poses=full.reshape(batch + (6,)),
     )
+
+
+def moving_columns(
+    design: Design,
+    poses: FloatArray,
+    wrench: FloatArray,
+    tool: FloatArray,
+    *,
+    paper: bool,
+    spatial: bool,
+) -> tuple[RefusalArray, FloatArray, dict[str, FloatArray]]:
+    """The equilibrium with moving geometry at full poses (n, 6) under ``wrench`` (6,)
+    at the tool point (``map --actuators WRENCH --geometry moving``).
+
+    The same numbers as ``analyze --wrench ... --geometry moving`` at each pose
+    (:func:`ppm_stiffness.statics.moving.moving_states`, of which
+    :func:`~ppm_stiffness.statics.moving.moving_equilibrium` is the batch of one): the
+    quantities are those of the symmetric part of K_F at the displaced tool point.
+
+    Returns
+    -------
+    codes : ndarray of int8 (n,)
+        The refusal codes (:class:`~ppm_stiffness.core.refusals.Refusal`), 0 exactly
+        where ``moving_equilibrium`` returns.
+    actuator_stiffness : ndarray (n, n_legs)
+        The actuators' tangent stiffness at the moving equilibrium.
+    columns : dict of str to ndarray (n,)
+        k_phi, k_x, k_y (``paper``) and the six spatial principal stiffnesses
+        (``spatial``), NaN where refused.
+    """
+    from ppm_stiffness.statics.moving import moving_states
+
+    res = moving_states(design, poses, wrench, tool)
+    ok = res.refusal == 0
+    k_f = res.stiffness
+    k = np.where(ok[:, None, None], 0.5 * (k_f + np.swapaxes(k_f, -1, -2)), np.eye(6))
+    columns: dict[str, FloatArray] = {}
+    if paper:
+        pr = principal_from_matrices(k)
+        columns |= {"k_phi": pr.k_phi, "k_x": pr.k_x, "k_y": pr.k_y}
+    if spatial:
+        rot, tra = principal_values(k)
+        columns |= {n: (rot if j < 3 else tra)[:, j % 3] for j, n in enumerate(PRINCIPAL)}
+    columns = {n: np.where(ok, np.asarray(v, dtype=float), np.nan) for n, v in columns.items()}
+    return res.refusal.astype(np.int8), np.asarray(res.actuator_stiffness), columns
+
+
+def margin_column(
+    design: Design, poses: FloatArray, wrench: FloatArray, tool: FloatArray
+) -> tuple[RefusalArray, FloatArray]:
+    """The ``load_margin`` map quantity at full poses (n, 6): the load factor up to which
+    the load path ``lambda * wrench`` (at the tool point, moving geometry) is stable and
+    within the model, from :func:`ppm_stiffness.statics.margin.margin_batch` (the load
+    margin of ``analyze --geometry moving`` at each pose): the first instability's factor
+    (a bifurcation or a limit point), else the factor where an actuator reaches its whole
+    stroke, else :data:`~ppm_stiffness.statics.margin.MAX_FACTOR` (no instability in the
+    range searched).
+
+    Returns
+    -------
+    codes : ndarray of int8 (n,)
+        ``UNREACHABLE`` or ``SINGULAR`` where the unloaded pose is refused, else 0.
+    values : ndarray (n,)
+        The factor (dimensionless), NaN where refused.
+    """
+    from ppm_stiffness.statics.equilibrium import loaded_states
+    from ppm_stiffness.statics.margin import MAX_FACTOR, MarginKind, margin_batch
+
+    batch = margin_batch(design, poses, wrench, tool)
+    kind = batch.kind
+    values = np.where(
+        np.isfinite(batch.factor),
+        batch.factor,
+        np.where(kind == MarginKind.STROKE, batch.searched_up_to, MAX_FACTOR),
+    )
+    refused = kind == MarginKind.REFUSED
+    codes = np.zeros(poses.shape[0], dtype=np.int8)
+    if np.any(refused):
+        codes[refused] = loaded_states(design, poses[refused], np.zeros(6)).refusal
+        codes[refused & (codes == 0)] = Refusal.UNREACHABLE  # completion failed
+    return codes, np.where(refused, np.nan, values)
+
+
+def with_margin(
+    design: Design, poses: FloatArray, wrench: FloatArray, tool: FloatArray, codes: RefusalArray
+) -> tuple[RefusalArray, FloatArray]:
+    """The ``load_margin`` column at full poses (n, 6) beside a loaded state's refusal
+    codes (n,): computed where those are 0 (:func:`margin_column`), NaN elsewhere; the
+    codes with the margin's refusals added."""
+    values = np.full(poses.shape[0], np.nan)
+    ok = np.flatnonzero(codes == 0)
+    out = codes.copy()
+    if ok.size:
+        extra, values[ok] = margin_column(design, np.take(poses, ok, axis=0), wrench, tool)
+        out[ok] = extra
+    return out, values

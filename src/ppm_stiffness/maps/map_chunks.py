@@ -7,7 +7,9 @@ or, for a planar design's x-y slice on the reduced path at P, through the reduce
 broadcast over the grid's axes (no per-pose copies). Under a wrench they go through
 :func:`ppm_stiffness.maps.loaded.loaded_poses`, the wrench moved from the tool point to
 P at each pose's orientation. The quantities are named as in
-:data:`ppm_stiffness.maps.result.QUANTITIES`.
+:data:`ppm_stiffness.maps.result.QUANTITIES`; the first natural frequency ``f1`` is
+computed from the chunk's own K and actuator stiffnesses
+(:mod:`ppm_stiffness.dynamics.batch`).
 """
 
 from __future__ import annotations
@@ -22,12 +24,12 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.chunks import chunk_result
-from ppm_stiffness.maps.loaded import loaded_poses
+from ppm_stiffness.maps.loaded import loaded_poses, moving_columns, with_margin
 from ppm_stiffness.maps.paper_principal import principal_from_entries
 from ppm_stiffness.maps.principal_batch import tool_offsets
 from ppm_stiffness.maps.reduced_leg import ReducedLeg
 from ppm_stiffness.maps.reduced_path import planar_entries, reduced_projector
-from ppm_stiffness.maps.result import PAPER, PRINCIPAL, QUANTITIES
+from ppm_stiffness.maps.result import EXTRA, PAPER, PRINCIPAL, QUANTITIES
 from ppm_stiffness.maps.slices import MapSlice
 from ppm_stiffness.maps.transmission import nonsingular_from_entries
 from ppm_stiffness.poses import full_poses
@@ -46,9 +48,17 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
     ------
     InputDataError
         An unknown name, or the paper's quantities for a design that is not planar.
+    DesignError
+        ``f1`` for a design without a mass model (no ``[platform]`` table).
     """
     if quantities is None:
         quantities = "paper" if design.planar else "principal"
+    if isinstance(quantities, str) and "," in quantities:  # e.g. "paper,load-margin"
+        items = [q.strip() for q in quantities.split(",")]
+        parts = [quantity_names(design, q if q in QUANTITY_SETS else [q]) for q in items]
+        return tuple(dict.fromkeys(n for part in parts for n in part))
+    if isinstance(quantities, str) and quantities.replace("-", "_") in EXTRA:
+        quantities = [quantities]
     if isinstance(quantities, str):
         if quantities not in QUANTITY_SETS:
             raise InputDataError(
@@ -58,13 +68,19 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
         sets = {"paper": PAPER, "principal": PRINCIPAL, "all": PAPER + PRINCIPAL}
         names = sets[quantities] if design.planar or quantities != "all" else PRINCIPAL
     else:
-        names = tuple(quantities)
+        names = tuple(
+            n.replace("-", "_") if n.replace("-", "_") in EXTRA else n for n in quantities
+        )
         unknown = [n for n in names if n not in QUANTITIES]
         if unknown or not names:
             raise InputDataError(
                 f"unknown map quantity {', '.join(unknown) or '(none)'}: choose from "
                 f"{', '.join(QUANTITIES)}"
             )
+    if "f1" in names:  # the first natural frequency needs a mass model
+        from ppm_stiffness.dynamics.mass import require_mass_model
+
+        require_mass_model(design)
     if not design.planar and any(n in PAPER for n in names):
         raise InputDataError(
             f"k_phi, k_x, k_y are the paper's planar principal stiffnesses: {design.name!r} "
@@ -84,10 +100,12 @@ def _loaded_chunk(
     offsets: FloatArray | None,
     tool: FloatArray,
     spatial: bool,
-) -> tuple[np.ndarray, FloatArray, dict[str, FloatArray]]:
-    """Codes (n,), actuator stiffness (n, n_legs) and quantities of the loaded states
-    at full poses (n, 6), the wrench moved from the tool point to P per orientation
-    (``offsets``: T - P, (3,) for every pose or (n, 3))."""
+    matrices: bool = False,
+) -> tuple[np.ndarray, FloatArray, dict[str, FloatArray], FloatArray | None]:
+    """Codes (n,), actuator stiffness (n, n_legs), quantities of the loaded states at
+    full poses (n, 6), the wrench moved from the tool point to P per orientation
+    (``offsets``: T - P, (3,) for every pose or (n, 3)), and with ``matrices`` their
+    tangent K (n, 6, 6) at P."""
     n = full.shape[0]
     groups = [np.arange(n)]
     moments = np.zeros((1, 3))
@@ -100,12 +118,17 @@ def _loaded_chunk(
     codes = np.zeros(n, dtype=np.int8)
     k_act = np.zeros((n, len(design.legs)))
     columns: dict[str, FloatArray] = {}
+    k_all = np.zeros((n, 6, 6)) if matrices else None
     for rows, extra in zip(groups, moments, strict=True):
         w_p = wrench_tool.copy()
         w_p[:3] += extra
         poses = full if rows.size == n else np.take(full, rows, axis=0)
-        res = loaded_poses(design, poses, w_p, tool_point=tool, principal=spatial)
+        res = loaded_poses(
+            design, poses, w_p, tool_point=tool, principal=spatial, matrices=matrices
+        )
         codes[rows] = res.refusal
+        if k_all is not None and res.stiffness is not None:
+            k_all[rows] = res.stiffness
         k_act[rows] = np.ma.getdata(res.actuator_stiffness)
         found: dict[str, FloatArray] = {}
         if res.paper is not None:
@@ -116,7 +139,7 @@ def _loaded_chunk(
             )
         for name, values in found.items():
             columns.setdefault(name, np.full(n, np.nan))[rows] = values
-    return codes, k_act, columns
+    return codes, k_act, columns, k_all
 
 
 class MapPlan(NamedTuple):
@@ -131,6 +154,30 @@ class MapPlan(NamedTuple):
     wrench: FloatArray | None
     paper: bool
     spatial: bool
+    #: under a wrench: "frozen" (the paper's statics) or "moving" (maps/loaded.py)
+    geometry: str = "frozen"
+    #: the load_margin quantity (maps/loaded.py, :func:`margin_column`)
+    margin: bool = False
+    #: the first natural frequency f1 (:mod:`ppm_stiffness.dynamics.batch`)
+    dynamics: bool = False
+
+
+def _with_f1(
+    plan: MapPlan,
+    full: FloatArray,
+    k: FloatArray | None,
+    k_act: FloatArray,
+    codes: RefusalArray,
+    ok: BoolArray,
+    columns: dict[str, FloatArray],
+) -> tuple[RefusalArray, BoolArray]:
+    """Add ``f1`` to the columns; the poses where it fails refused as singular."""
+    from ppm_stiffness.dynamics.batch import first_frequencies, refuse_failed
+
+    assert k is not None
+    f1, f1_ok = first_frequencies(plan.design, full, k, k_act, ok)
+    columns["f1"] = f1
+    return refuse_failed(codes, ok, f1_ok), ok & f1_ok
 
 
 def grid_rows(
@@ -147,6 +194,7 @@ def grid_rows(
         and k_const is not None
         and not at_tool
         and not plan.spatial
+        and not plan.dynamics
         and sl.axes == ("x", "y")
     ):
         # the reduced form broadcasts over the grid axes (no per-pose copies)
@@ -164,17 +212,28 @@ def grid_rows(
     offsets = tool_offsets(full, tool) if at_tool else None  # (3,) at one orientation
     if k_const is None:
         assert plan.wrench is not None
-        codes, k_act, columns = _loaded_chunk(
-            design, full, plan.wrench, offsets, tool, plan.spatial
-        )
-        return codes, codes == 0, columns, full, k_act
+        if plan.geometry == "moving":
+            codes, k_act, columns = moving_columns(
+                design, full, plan.wrench, tool, paper=plan.paper, spatial=plan.spatial
+            )
+            k_loaded = None
+        else:
+            codes, k_act, columns, k_loaded = _loaded_chunk(
+                design, full, plan.wrench, offsets, tool, plan.spatial, plan.dynamics
+            )
+        if plan.margin:
+            codes, columns["load_margin"] = with_margin(design, full, plan.wrench, tool, codes)
+        ok = codes == 0
+        if plan.dynamics:
+            codes, ok = _with_f1(plan, full, k_loaded, k_act, codes, ok, columns)
+        return codes, ok, columns, full, k_act
     res = chunk_result(
         design,
         plan.legs,
         full,
         np.broadcast_to(k_const, (full.shape[0], len(design.legs))),
         plan.planar,
-        matrices=False,
+        matrices=plan.dynamics,
         completed=None if np.all(completed) else completed,
         offsets=offsets,
         paper=plan.paper,
@@ -186,4 +245,7 @@ def grid_rows(
         columns = {"k_phi": res.paper.k_phi, "k_x": res.paper.k_x, "k_y": res.paper.k_y}
     if res.rotational is not None and res.translational is not None:
         columns |= _spatial_columns(res.rotational, res.translational)
-    return first_refusal(res.valid.shape, checks), res.valid, columns, full, None
+    codes, ok = first_refusal(res.valid.shape, checks), res.valid
+    if plan.dynamics:
+        codes, ok = _with_f1(plan, full, res.stiffness, k_const, codes, ok, columns)
+    return codes, ok, columns, full, None

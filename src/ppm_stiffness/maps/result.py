@@ -10,7 +10,12 @@ slice's two axes:
   ``rotational_min``, ``rotational_mid``, ``rotational_max`` [N·m/rad], the eigenvalues
   of C_rr^-1 in ascending order (``rotational_min`` is the worst-direction rotational
   stiffness), and ``translational_min``, ``..._mid``, ``..._max`` [N/m], those of
-  C_tt^-1 at the tool point.
+  C_tt^-1 at the tool point;
+- the first natural frequency ``f1`` [Hz] (a design with a mass model,
+  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P.
+- under a wrench, on request: ``load_margin`` (dimensionless), the load factor up to
+  which the path ``lambda * wrench`` is stable with moving geometry
+  (:func:`ppm_stiffness.maps.loaded.margin_column`).
 
 A map carries its axis names and their SI units, the fixed task coordinates, for a
 design with dependent coordinates their values at each grid point (a tripod's parasitic
@@ -43,7 +48,12 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "translational_min": ("N/m", "N_per_m", r"$k_{t,\min}$"),
     "translational_mid": ("N/m", "N_per_m", r"$k_{t,\mathrm{mid}}$"),
     "translational_max": ("N/m", "N_per_m", r"$k_{t,\max}$"),
+    "load_margin": ("1", "factor", r"$\lambda$"),
+    "f1": ("Hz", "Hz", r"$f_1$"),
 }
+#: Quantities under a wrench only, never in a set ("load-margin" is accepted too):
+#: the load margin of the map's wrench (:func:`ppm_stiffness.maps.loaded.margin_column`).
+EXTRA = ("load_margin",)
 #: The quantity sets: the paper's (planar designs) and the spatial principal ones.
 PAPER = ("k_phi", "k_x", "k_y")
 PRINCIPAL = (
@@ -95,6 +105,9 @@ class StiffnessMap:
     tool_point : ndarray (3,)
         Where the quantities are taken [m, platform frame] (translational ones depend
         on it).
+    geometry : str
+        Under a wrench, the statics: "frozen" (the unloaded geometry, the paper's) or
+        "moving" (the equilibrium with moving geometry, K_F's symmetric part).
     """
 
     axes: tuple[str, str]
@@ -111,6 +124,7 @@ class StiffnessMap:
     refusal: RefusalArray | None = None
     dependent: dict[str, FloatArray] = field(default_factory=dict)
     tool_point: FloatArray = field(default_factory=lambda: np.zeros(3))
+    geometry: str = "frozen"
 
     # -- the names of the paper's x-y maps ---------------------------------------------
     def values_of(self, name: str) -> FloatArray:
@@ -196,6 +210,8 @@ class StiffnessMap:
             "tool_point": np.asarray(self.tool_point, dtype=float),
             "quantities": list(self.quantities),
         }
+        if self.geometry != "frozen":
+            out["geometry"] = self.geometry
         if self.reference_force is not None:
             out["reference_force"] = self.reference_force
         return out
@@ -253,6 +269,7 @@ class StiffnessMap:
             "design_name": np.str_(self.design_name),
             "tool_point": np.asarray(self.tool_point, dtype=float),
             "dependent_names": np.array(list(self.dependent), dtype=str),
+            "geometry": np.str_(self.geometry),
         }
         if "rz" in self.fixed:
             arrays["phi"] = np.float64(self.fixed["rz"])
@@ -293,6 +310,7 @@ class StiffnessMap:
             fh.write(f"# actuators: {self.actuators}\n")
             if self.wrench is not None:
                 fh.write(f"# wrench (m_x,m_y,m_z,f_x,f_y,f_z): {self.wrench.tolist()}\n")
+                fh.write(f"# geometry: {self.geometry}\n")
             if self.reference_force is not None:
                 fh.write(f"# reference_force_N: {self.reference_force!r}\n")
             fh.write(f"# actuator_stiffness_N_per_m min/max: {self.actuator_stiffness.tolist()}\n")
@@ -352,4 +370,5 @@ def load_npz(path: str | Path) -> StiffnessMap:
             refusal=data["refusal"].astype(np.int8) if "refusal" in files else None,
             dependent=dependent,
             tool_point=tool,
+            geometry=str(data["geometry"]) if "geometry" in files else "frozen",
         )

@@ -36,7 +36,9 @@ point, and ``loaded_state`` under a wrench), and
 :attr:`~ppm_stiffness.maps.result.StiffnessMap.refusal` says why
 (:class:`ppm_stiffness.core.refusals.Refusal`: outside the joint limits, or the pose
 completion failing; singular; no equilibrium; a load beyond the small-displacement
-model; a loaded K not positive definite). A map never raises for a pose.
+model; a loaded K not positive definite; with ``f1`` among the quantities, also a pose
+where the modal analysis fails, as singular: :mod:`ppm_stiffness.dynamics.batch`). A
+map never raises for a pose.
 
 This module also re-exports the names of :mod:`ppm_stiffness.maps.bounds` and
 :mod:`ppm_stiffness.maps.result` that older code imports from it.
@@ -129,6 +131,7 @@ def stiffness_map(
     path: batch.Path = "auto",
     tool_point: ArrayLike | None = None,
     quantities: str | Sequence[str] | None = None,
+    geometry: str = "frozen",
 ) -> StiffnessMap:
     """A stiffness map over a 2-D slice of the task space, any design (module doc).
 
@@ -167,7 +170,11 @@ def stiffness_map(
         K at that point (a wrench of the "wrench" state acts there too); the grid and
         the masks are those of P.
     quantities : str or sequence of str, optional
-        :func:`quantity_names`.
+        :func:`quantity_names`; ``load_margin`` under a wrench only.
+    geometry : {"frozen", "moving"}
+        Under a wrench: the paper's statics on the unloaded geometry, or the equilibrium
+        with moving geometry (the symmetric part of K_F at the displaced tool point,
+        :func:`ppm_stiffness.maps.loaded.moving_columns`).
 
     Returns
     -------
@@ -190,6 +197,19 @@ def stiffness_map(
     if phi is not None and not np.isfinite(phi):
         raise InputDataError("phi must be finite")
     names = quantity_names(design, quantities)
+    if wrench is None and (geometry != "frozen" or "load_margin" in names):
+        raise InputDataError(
+            "the moving geometry and the load_margin quantity need a wrench (actuators="
+            '"wrench"): the geometry moves under a load'
+        )
+    if geometry not in ("frozen", "moving"):
+        raise InputDataError(f"geometry must be 'frozen' or 'moving', got {geometry!r}")
+    if geometry == "moving" and "f1" in names:
+        raise InputDataError(
+            "f1 is not mapped with moving geometry (the mass matrix is that of the "
+            "unloaded pose): use geometry 'frozen', whose f1 under a wrench uses the "
+            "loaded tangent K as `modes --wrench` does"
+        )
     paper = any(n in PAPER for n in names)
     spatial = any(n in PRINCIPAL for n in names)
     sl = map_slice(design, axes, fixed, phi)
@@ -218,7 +238,20 @@ def stiffness_map(
     valid = np.zeros((nv, nu), dtype=bool)
     refusal = np.zeros((nv, nu), dtype=np.int8)
     k_lo, k_hi = np.full(n_legs, np.inf), np.full(n_legs, -np.inf)
-    plan = MapPlan(design, sl, legs, planar, tool, k_const, w, paper, spatial)
+    plan = MapPlan(
+        design,
+        sl,
+        legs,
+        planar,
+        tool,
+        k_const,
+        w,
+        paper,
+        spatial,
+        geometry,
+        "load_margin" in names,
+        "f1" in names,
+    )
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)
         shape = (j1 - j0, nu)
@@ -253,6 +286,7 @@ def stiffness_map(
         w,
         ref,
         tool,
+        geometry if w is not None else "frozen",
     )
 
 
@@ -270,6 +304,7 @@ def _result(
     wrench: FloatArray | None,
     reference_force: float | None,
     tool: FloatArray,
+    geometry: str = "frozen",
 ) -> StiffnessMap:
     from ppm_stiffness.core.pose import POSE_COORDINATES
 
@@ -294,4 +329,5 @@ def _result(
             POSE_COORDINATES[int(i)]: np.where(valid, d, np.nan) for i, d in dependent.items()
         },
         tool_point=tool,
+        geometry=geometry,
     )

@@ -49,7 +49,7 @@ from ppm_stiffness.core.conventions import (
     stiffness_b_from_stiffness_a,
     wrench_b_from_wrench_a,
 )
-from ppm_stiffness.core.errors import EquilibriumError
+from ppm_stiffness.core.errors import EquilibriumError, InputDataError
 from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.core.pose import pose_from_rotation, rotation
 from ppm_stiffness.core.refusals import Refusal, RefusalArray
@@ -86,6 +86,7 @@ __all__ = [
     "follow_load",
     "load_point",
     "moving_equilibrium",
+    "moving_load_states",
     "moving_states",
     "platform_chains",
     "raise_moving_refusal",
@@ -103,8 +104,9 @@ class MovingBatch:
     ----------
     poses : ndarray (k, 6)
         The reference (unloaded) full poses.
-    wrench : ndarray (6,)
-        (m_x, m_y, m_z, f_x, f_y, f_z) at the load point.
+    wrench : ndarray (6,) or (k, 6)
+        (m_x, m_y, m_z, f_x, f_y, f_z) at the load point: one for every pose
+        (:func:`moving_states`) or one per pose (:func:`moving_load_states`).
     tool_point : ndarray (3,)
         The load point in the platform frame [m] ((0, 0, 0): P).
     refusal : ndarray of int8 (k,)
@@ -183,23 +185,72 @@ def moving_states(
     b = load_point(design, tool_point)
     p, completed = full_poses(design, np.asarray(poses, dtype=float))
     p = p.reshape(-1, 6)
+    rows = np.broadcast_to(w, (p.shape[0], 6)).copy()
+    return _solve(design, p, completed.reshape(-1), rows, w, b)
+
+
+def moving_load_states(
+    design: Design,
+    wrenches: ArrayLike,
+    pose: ArrayLike | None = None,
+    tool_point: ArrayLike | None = None,
+) -> MovingBatch:
+    """The equilibrium with moving geometry at one pose under k wrenches (a load path,
+    e.g. ``deflect --geometry moving``), each solved as :func:`moving_equilibrium` solves
+    it: row i of the batch is ``moving_equilibrium(design, wrenches[i], pose, tool_point)``.
+
+    Parameters
+    ----------
+    design : Design
+    wrenches : array_like (k, 6) [N·m, N]
+        At the load point, axes of F_b.
+    pose : array_like (n_task,) or (6,), optional
+        The unloaded pose; the home pose if None.
+    tool_point : array_like (3,), optional
+        The load point in the platform frame [m]; P if None.
+
+    Returns
+    -------
+    MovingBatch
+        ``wrench`` is (k, 6).
+    """
+    rows = np.asarray(wrenches, dtype=float)
+    if rows.ndim != 2 or rows.shape[1] != 6 or rows.shape[0] == 0:
+        raise InputDataError(f"wrenches must be a (k, 6) array, got shape {rows.shape}")
+    for w in rows:
+        validate_wrench(w)
+    p = validate_pose(design, pose)
+    b = load_point(design, tool_point)
+    k = rows.shape[0]
+    return _solve(design, np.tile(p, (k, 1)), np.ones(k, dtype=bool), rows, rows, b)
+
+
+def _solve(
+    design: Design,
+    p: FloatArray,
+    completed: np.ndarray,
+    rows: FloatArray,
+    wrench: FloatArray,
+    b: FloatArray,
+) -> MovingBatch:
+    """:func:`moving_states` at full poses (k, 6) under the wrenches ``rows`` (k, 6);
+    ``wrench`` is stored in the batch as given."""
     k = p.shape[0]
     offsets = tool_offset(p, b).reshape(k, 3)
     to_p = np.stack([wrench_b_from_wrench_a(np.eye(3), o) for o in offsets])
-    w_p = to_p @ w  # the same load about P, for the frozen model
-    frozen = _frozen_states(design, p, w_p, completed.reshape(-1))
+    w_p = np.einsum("kij,kj->ki", to_p, rows)  # the same load about P, for the frozen model
+    frozen = _frozen_states(design, p, w_p, completed)
     refusal = frozen.refusal.copy()
     refusal[refusal > Refusal.SINGULAR] = 0
     idx = np.flatnonzero(refusal == 0)
     if idx.size == 0:
-        return _empty(design, p, w, b, refusal, frozen, offsets, chain_sizes(design))
+        return _empty(design, p, wrench, b, refusal, frozen, offsets, chain_sizes(design))
     system = platform_chains(design, p[idx], offsets[idx])
-    out = _empty(design, p, w, b, refusal, frozen, offsets, [c.n for c in system.chains])
+    out = _empty(design, p, wrench, b, refusal, frozen, offsets, [c.n for c in system.chains])
     sub_frozen = _take_frozen(frozen, idx)
     start = frozen_prediction(system, sub_frozen, offsets[idx])
-    wrenches = np.broadcast_to(w, (idx.size, 6)).copy()
-    path = follow_load(system, wrenches, start, sub_frozen.solved)
-    _fill(out, design, system, path, idx, offsets[idx], w)
+    path = follow_load(system, rows[idx].copy(), start, sub_frozen.solved)
+    _fill(out, design, system, path, idx, offsets[idx], rows[idx])
     return out
 
 
@@ -284,7 +335,8 @@ def _fill(
     offsets: FloatArray,
     wrench: FloatArray,
 ) -> None:
-    """Write the solved rows ``idx`` of ``out`` (in place) from ``path``."""
+    """Write the solved rows ``idx`` of ``out`` (in place) from ``path`` (``wrench``:
+    (len(idx), 6), the rows' wrenches)."""
     st = path.state
     found = path.refusal != Refusal.NO_EQUILIBRIUM
     r_new = st.rotation @ rotation(out.poses[idx])
@@ -294,7 +346,7 @@ def _fill(
     out.displaced_poses[idx] = np.where(found[:, None], displaced, out.poses[idx])
     out.twist[idx] = np.where(found[:, None], st.twist(), 0.0)
     out.stiffness[idx] = np.where(found[:, None, None], path.stiffness, 0.0)
-    elastic = linearize(system, st, np.broadcast_to(wrench, (idx.size, 6)), geometric=False)
+    elastic = linearize(system, st, wrench, geometric=False)
     out.elastic_stiffness[idx] = np.where(found[:, None, None], elastic.stiffness, 0.0)
     out.leg_wrenches[idx] = st.wrenches
     for mine, theirs in zip(out.coordinates, st.coordinates, strict=True):
@@ -351,7 +403,7 @@ def state_of(batch: MovingBatch, i: int) -> MovingEquilibrium:
     return MovingEquilibrium(
         pose=batch.poses[i],
         displaced_pose=batch.displaced_poses[i],
-        wrench=batch.wrench,
+        wrench=batch.wrench if batch.wrench.ndim == 1 else batch.wrench[i],
         tool_point=batch.tool_point,
         twist=batch.twist[i],
         stiffness_matrix=batch.stiffness[i],

@@ -107,14 +107,15 @@ def plot_stiffness_maps(
         raise ValueError("no stiffness map to plot")
     panel = (ROW_HEIGHT - 1.0) * max(aspect_ratio(m) for m in maps)
     rows = [rows_of(m) for m in maps]
+    cols = min(PER_ROW, max(len(m.quantities) for m in maps))  # one map of f1: one panel
     fig = Figure(
-        figsize=(PER_ROW * (panel + _PANEL_EXTRA), ROW_HEIGHT * sum(rows) + 0.4),
+        figsize=(cols * (panel + _PANEL_EXTRA), ROW_HEIGHT * sum(rows) + 0.4),
         layout="constrained",
     )
     subfigs = fig.subfigures(len(maps), 1, squeeze=False, height_ratios=rows)[:, 0]
     for sub, m, n_rows in zip(subfigs, maps, rows, strict=True):
         xs, ys, xlabel, ylabel = axis_grid(m)
-        axes = sub.subplots(n_rows, PER_ROW, squeeze=False).ravel()
+        axes = sub.subplots(n_rows, cols, squeeze=False).ravel()
         for ax in axes[len(m.quantities) :]:
             ax.set_axis_off()
         for ax, (name, values) in zip(axes, m.quantities.items(), strict=False):
@@ -136,7 +137,15 @@ def plot_stiffness_maps(
             ax.set_title(symbol, fontsize=11)
         label = slice_label(m)
         sub.suptitle((f"{label}, " if label else "") + _state_label(m), fontsize=10)
-    fig.suptitle(title if title is not None else "Principal stiffness over the workspace")
+    names = {n for m in maps for n in m.quantities}
+    default = (
+        "Principal stiffness"
+        if "f1" not in names
+        else "First natural frequency"
+        if names == {"f1"}
+        else "Stiffness and first natural frequency"
+    )
+    fig.suptitle(title if title is not None else f"{default} over the workspace")
     return fig
 
 

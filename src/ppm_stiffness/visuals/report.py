@@ -205,6 +205,13 @@ def build_report(
         uri = figure_data_uri(plot_stiffness_maps(smap, title=caption.rstrip(".")))
         map_figs.append((f"{key}-{acts}", caption, uri, tables.map_summary(design, smap)))
     finish(4)
+    from ppm_stiffness.visuals.report_dynamics import dynamics_sections
+
+    extra_sections = dynamics_sections(design, p, grid) + (extra_sections or [])
+    if wrench is not None:  # a given wrench: the "Loaded geometry" section
+        from ppm_stiffness.visuals.report_loaded import loaded_geometry_section
+
+        extra_sections = [loaded_geometry_section(design, p, w), *extra_sections]
     if progress is not None:
         progress("done", 1.0)
     return _assemble(
