@@ -8,15 +8,19 @@ subprocesses, then times the same sweep (``--designs`` values of
 per design, actuators locked) serially in this process (with the allocator tuned, as
 the command line does), on 2 local processes (``--workers 2``) and on the cluster
 through ``ppm_stiffness.optimize.executors.dask_executor`` (``--scheduler``). Executors
-are started and warmed (a short sweep) before the clock runs; the cluster's start-up is
-printed as ``startup_s`` and not timed. The three results must be identical (else exit
-status 1). The load average is printed before and after: the machine may be shared.
+are started and warmed (a sweep of 4 designs) before the clock runs; the cluster's start-up is
+printed as ``startup_s`` and not timed. The executors run in turn, ``--repeats`` rounds
+(default 3), and the medians are compared, so that a load from other processes falls on
+all three alike; the per-round ratios are printed too. The three results must be
+identical (else exit status 1). The load average is printed before and after: the
+machine may be shared.
 
 ``PPM_STIFFNESS_NO_MALLOPT=1`` in the environment (inherited by every process started)
-measures the allocator as Dask leaves it.
+measures the allocator as Dask leaves it. The Dask workers' minor page faults per design
+are printed with each Dask round: a figure the machine's load does not change.
 
 Last line: ``serial_s=... processes2_speedup=... dask2_speedup=... startup_s=...``.
-Run: ``.venv/bin/python benchmarks/bench_dask.py [--designs 256] [--repeats 1]``.
+Run: ``.venv/bin/python benchmarks/bench_dask.py [--designs 256] [--repeats 3]``.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ import argparse
 import os
 import shutil
 import socket
+import statistics
 import subprocess
 import sys
 import time
@@ -55,6 +60,13 @@ def _sweep(executor: Executor, designs: int) -> tuple[float, list[object]]:
     return time.perf_counter() - start, [s.figures() for s in result.summaries]
 
 
+def _minor_faults() -> int:
+    """Minor page faults of this process so far (run on each Dask worker)."""
+    import resource
+
+    return int(resource.getrusage(resource.RUSAGE_SELF).ru_minflt)
+
+
 def _load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
@@ -76,7 +88,7 @@ def _start_cluster(dask: str, port: int) -> list[subprocess.Popen[bytes]]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--designs", type=int, default=256)
-    parser.add_argument("--repeats", type=int, default=1, help="timed runs (best kept)")
+    parser.add_argument("--repeats", type=int, default=3, help="rounds (medians kept)")
     args = parser.parse_args()
     dask = shutil.which("dask", path=str(Path(sys.executable).parent)) or shutil.which("dask")
     if dask is None:
@@ -92,7 +104,7 @@ def main() -> int:
     start = time.perf_counter()
     procs = _start_cluster(dask, port)
     address = f"tcp://127.0.0.1:{port}"
-    times: dict[str, float] = {}
+    times: dict[str, list[float]] = {}
     results: dict[str, list[object]] = {}
     try:
         deadline = time.monotonic() + 60
@@ -109,20 +121,25 @@ def main() -> int:
         startup = time.perf_counter() - start
         print(f"dask scheduler and 2 workers up in {startup:.2f} s")
 
-        def timed(name: str, executor: Executor) -> None:
-            _sweep(executor, 4)  # warm: imports and first calls in every worker
-            best = float("inf")
-            for _ in range(args.repeats):
-                t, results[name] = _sweep(executor, args.designs)
-                best = min(best, t)
-            times[name] = best
-            print(f"{name}: {args.designs} designs x 10,000 poses in {best:.3f} s")
-
-        timed("serial", SerialExecutor())
-        with process_executor(2) as pool:
-            timed("processes2", pool)
-        with dask_executor(address) as executor:
-            timed("dask2", executor)
+        with process_executor(2) as pool, dask_executor(address) as on_dask:
+            executors: dict[str, Executor] = {
+                "serial": SerialExecutor(),
+                "processes2": pool,
+                "dask2": on_dask,
+            }
+            for executor in executors.values():
+                _sweep(executor, 4)  # warm: imports and first calls in every worker
+            client = on_dask._client  # type: ignore[attr-defined]
+            for r in range(args.repeats):  # the executors in turn, so they share the load
+                for name, executor in executors.items():
+                    before = sum(client.run(_minor_faults).values())
+                    t, results[name] = _sweep(executor, args.designs)
+                    times.setdefault(name, []).append(t)
+                    faults = ""
+                    if name == "dask2":
+                        after = sum(client.run(_minor_faults).values())
+                        faults = f" ({(after - before) / args.designs:,.0f} minor faults/design)"
+                    print(f"round {r + 1}, {name}: {args.designs} designs in {t:.3f} s{faults}")
     finally:
         for proc in procs:
             proc.terminate()
@@ -134,10 +151,14 @@ def main() -> int:
     print(f"load average after: {_load()}")
     same = all(r == results["serial"] for r in results.values())
     print("results identical to serial" if same else "RESULTS DIFFER FROM SERIAL")
+    med = {name: statistics.median(t) for name, t in times.items()}
+    for name in ("processes2", "dask2"):
+        ratios = [s / t for s, t in zip(times["serial"], times[name], strict=True)]
+        print(f"{name} speed-up per round: {', '.join(f'{x:.2f}' for x in ratios)}")
     print(
-        f"serial_s={times['serial']:.3f} "
-        f"processes2_speedup={times['serial'] / times['processes2']:.2f} "
-        f"dask2_speedup={times['serial'] / times['dask2']:.2f} startup_s={startup:.2f}"
+        f"serial_s={med['serial']:.3f} "
+        f"processes2_speedup={med['serial'] / med['processes2']:.2f} "
+        f"dask2_speedup={med['serial'] / med['dask2']:.2f} startup_s={startup:.2f}"
     )
     return 0 if same else 1
 
