@@ -4,9 +4,9 @@ cluster, through any ``concurrent.futures``-style executor.
 The library's sweeps and optimiser take an ``executor`` with ``submit(fn, *args)``
 returning a future with ``result()`` and ``cancel()``: :class:`SerialExecutor` (the
 default), :func:`process_executor` (``--workers N``), a Dask ``client.get_executor()``
-(:func:`dask_executor`, ``--scheduler tcp://HOST:PORT``), an MPI pool, ... One task is
-one design, reduced inside the task to its summary figures: the design and a few
-parameter values travel, never the maps.
+(:func:`dask_executor`, ``--scheduler tcp://HOST:PORT``), an MPI pool, ... A task is one
+design or a few (:func:`run_ordered`), each reduced inside the task to its summary
+figures: the design and a few parameter values travel, never the maps.
 
 Each task first calls :func:`limit_threads`: BLAS pools (through ``threadpoolctl`` when
 it is installed) and numba use one thread per worker, so that N workers use N cores,
