@@ -87,3 +87,29 @@ def test_local_workers_are_tuned() -> None:
     # the initializer ran tune_allocator in the worker: later calls return its outcome
     with process_executor(1) as pool:
         assert pool.submit(tune_allocator).result() is True
+
+
+def _worker_state() -> tuple[object, str | None]:
+    import sys as worker_sys
+
+    module = worker_sys.modules.get("ppm_stiffness._allocator")
+    return getattr(module, "_state", None), os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+@needs_glibc
+def test_dask_workers_are_tuned_by_the_plugin() -> None:
+    distributed = pytest.importorskip("distributed")
+    from ppm_stiffness.optimize.executors import open_executor
+
+    # a nanny-started worker process: Dask sets MALLOC_TRIM_THRESHOLD_ in it
+    with distributed.LocalCluster(
+        n_workers=1,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:
+        with open_executor(scheduler=cluster.scheduler_address) as executor:
+            client = executor._client  # type: ignore[attr-defined]
+            states = list(client.run(_worker_state).values())
+    assert states == [(True, "65536")]
