@@ -133,7 +133,7 @@ def sweep_designs(
     executor : concurrent.futures.Executor, optional
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
-        Called with the number of designs each time a task of them finishes.
+        Called with 1 after each design.
 
     Returns
     -------
