@@ -36,6 +36,14 @@ def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) 
     return document(command, payload, units)
 
 
+def solve_legs(design: Design, pose: np.ndarray) -> None:
+    """:func:`ppm_stiffness.model.solve_legs` (imported when called), for its refusal of
+    a pose out of reach."""
+    from ppm_stiffness.model import solve_legs as solve
+
+    solve(design, pose)
+
+
 def __getattr__(name: str) -> Any:
     if name == "JSON_SCHEMA_VERSION":  # defined once, in ppm_stiffness.analysis
         from ppm_stiffness.analysis import JSON_SCHEMA_VERSION
@@ -260,7 +268,6 @@ def pose_from_args(
     for a coordinate that is not a task coordinate is refused, naming the task
     coordinates; unless ``check_reach`` is False, a pose out of reach is refused with
     what is reachable near it."""
-    from ppm_stiffness.model import solve_legs
     from ppm_stiffness.poses import full_pose, home_pose, task_indices
 
     values = home_pose(design)
