@@ -36,11 +36,16 @@ printed before and after:
   springs, bordered inverse: ``general_<design>_poses_per_s``), 20 000 poses
   (``--quick``: 4000), best of two.
 
+- a map call's fixed cost (``map_fixed_ms``): the median time of ``stiffness_map`` on a
+  2 x 2 grid (everything but the per-pose work: bounds, path choice, the legs' reduced
+  forms, result assembly), called 30 times on one design object after a first call;
+  ``--fixed-only`` prints only this (a few seconds).
+
 The last line is ``batched_poses_per_s=N loop_poses_per_s=N ratio=N
 batched_cpu_poses_per_s=N max_rel_diff=X max_rel_diff_k=X peak_mb_1e7=N (peak_mb_gridN with
 --memory-grid N)
 [general_poses_per_s=N general_vs_reduced=R] [planar_<design>_poses_per_s=N
-general_<design>_poses_per_s=N ...]``.
+general_<design>_poses_per_s=N ...] map_fixed_ms=X``.
 Run: ``.venv/bin/python benchmarks/bench_map.py [--design FILE] [--quick]``.
 """
 
@@ -246,6 +251,17 @@ def load_text() -> str:
     return f"load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
 
 
+def time_fixed(design: Design, calls: int = 30) -> float:
+    """Median time of a 2 x 2 map of ``design`` [ms] (its first call not counted)."""
+    stiffness_map(design, grid=2)
+    times = []
+    for _ in range(calls):
+        start = time.perf_counter()
+        stiffness_map(design, grid=2)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times) * 1e3
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--design", help="design file (default: the built-in 3-PPR)")
@@ -257,7 +273,13 @@ def main(argv: list[str] | None = None) -> int:
         metavar="N",
         help="N x N poses of the peak-memory run (default 3163: > 10^7 poses)",
     )
+    parser.add_argument("--fixed-only", action="store_true", help="only map_fixed_ms")
     args = parser.parse_args(argv)
+    if args.fixed_only:
+        design = load_design(args.design) if args.design else default_design()
+        print(f"design {design.name}; {load_text()}")
+        print(f"map_fixed_ms={time_fixed(design):.2f}")
+        return 0
     grid, n_loop = (300, 200) if args.quick else (1000, 2000)
     design = load_design(args.design) if args.design else default_design()
     cores = os.cpu_count()
@@ -338,12 +360,17 @@ def main(argv: list[str] | None = None) -> int:
                 f"reference path {rates[f'general_{name}']:,.0f} poses/s ({n_gen} poses)"
             )
         context = " " + " ".join(f"{k}_poses_per_s={v:.0f}" for k, v in rates.items())
+    fixed_ms = time_fixed(design)
+    print(f"a map call's fixed cost (2 x 2 grid, median of 30): {fixed_ms:.2f} ms")
     memory_key = "peak_mb_1e7" if args.memory_grid == 3163 else f"peak_mb_grid{args.memory_grid}"
     print(f"after the runs: {load_text()}")
     print(
         f"batched_poses_per_s={batched_rate:.0f} loop_poses_per_s={loop_rate:.0f} "
         f"ratio={ratio:.0f} batched_cpu_poses_per_s={cpu_rate:.0f} max_rel_diff={worst:.1e} "
-        f"max_rel_diff_k={worst_k:.1e} {memory_key}={peak_mb:.0f}" + extra + context
+        f"max_rel_diff_k={worst_k:.1e} {memory_key}={peak_mb:.0f}"
+        + extra
+        + context
+        + f" map_fixed_ms={fixed_ms:.2f}"
     )
     if max(worst, worst_k) > AGREEMENT:
         print(f"batched and single-pose paths differ by more than {AGREEMENT:g}")

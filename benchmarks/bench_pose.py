@@ -2,20 +2,26 @@
 
 ``pose_us`` is the median over many calls of ``ppm_stiffness.analyze(design, pose)`` at
 the workspace centre: K (inverse kinematics, joint chains, springs), the nonsingularity
-check, the eigenscrews, the paper's decoupling and the least-squares one, as
-``ppm-stiffness analyze`` prints them by default. For context, the medians of its parts:
-``model.stiffness_at_pose`` (K alone), ``eigenscrews`` and ``decouple(K, "paper")``.
+check, the eigenscrews, the paper's decoupling and the least-squares one, the spatial
+principal compliances and, for a design with a mass model, the first natural frequency,
+as ``ppm-stiffness analyze`` prints them by default. For context, the medians of its
+parts: ``model.stiffness_at_pose`` (K alone), ``analysis.analyze_matrix`` (eigenscrews,
+both decouplings, principal compliances: ``matrix_us``), ``eigenscrews``,
+``decouple(K, "paper")`` and ``dynamics.analysis.first_mode`` (``modes_us``: the mass
+matrix by static condensation of the legs and the first mode).
 
 Calls are timed in batches of 20 (the median of the per-call batch means), so that the
 figure is robust to other processes on a shared machine.
 
-The last line is ``pose_us=N k_us=N eigenscrews_us=N decouple_us=N``.
+The load average is printed before and after (the machine may be shared). The last
+line is ``pose_us=N k_us=N eigenscrews_us=N decouple_us=N matrix_us=N modes_us=N``.
 Run: ``.venv/bin/python benchmarks/bench_pose.py [--design FILE] [--repeats N]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import time
@@ -24,7 +30,14 @@ from collections.abc import Callable
 import numpy as np
 
 import ppm_stiffness as pps
-from ppm_stiffness.model import workspace_centre
+from ppm_stiffness.analysis import analyze_matrix
+from ppm_stiffness.dynamics.analysis import first_mode
+from ppm_stiffness.model import (
+    actuator_stiffness_vector,
+    stiffness_at_tool_point,
+    validate_pose,
+    workspace_centre,
+)
 
 BATCH = 20
 
@@ -50,20 +63,30 @@ def main(argv: list[str] | None = None) -> int:
     pose = workspace_centre(design)
     print(
         f"design {design.name} ({design.architecture}) at pose {np.round(pose, 6).tolist()}; "
-        f"numpy {np.__version__}, python {sys.version.split()[0]}"
+        f"numpy {np.__version__}, python {sys.version.split()[0]}; load average "
+        + " ".join(f"{x:.2f}" for x in os.getloadavg())
     )
     pose_us = median_us(lambda: pps.analyze(design, pose), args.repeats)
     k = pps.stiffness_at_pose(design, pose)
     k_us = median_us(lambda: pps.stiffness_at_pose(design, pose), args.repeats)
     screws_us = median_us(lambda: pps.eigenscrews(k), args.repeats)
     dec_us = median_us(lambda: pps.decouple(k, "paper"), args.repeats)
+    full = validate_pose(design, pose)
+    tool = np.asarray(design.tool_point, dtype=float)
+    k_act = actuator_stiffness_vector(design, None)
+    k_tool = stiffness_at_tool_point(k, full, tool)
+    matrix_us = median_us(lambda: analyze_matrix(k_tool), args.repeats)
+    modes_us = median_us(lambda: first_mode(design, full, k_tool, k_act, tool), args.repeats)
     print(
-        f"analyze (K, eigenscrews, both decouplings): {pose_us:.0f} us; of which K "
-        f"{k_us:.0f} us, eigenscrews {screws_us:.0f} us, paper decoupling {dec_us:.0f} us"
+        f"analyze (K, eigenscrews, both decouplings, principal compliances, first mode): "
+        f"{pose_us:.0f} us; of which K {k_us:.0f} us, the matrix's analysis "
+        f"{matrix_us:.0f} us (eigenscrews {screws_us:.0f} us, paper decoupling "
+        f"{dec_us:.0f} us), the first mode {modes_us:.0f} us"
     )
+    print("load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
     print(
         f"pose_us={pose_us:.0f} k_us={k_us:.0f} eigenscrews_us={screws_us:.0f} "
-        f"decouple_us={dec_us:.0f}"
+        f"decouple_us={dec_us:.0f} matrix_us={matrix_us:.0f} modes_us={modes_us:.0f}"
     )
     return 0
 

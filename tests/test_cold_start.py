@@ -43,3 +43,17 @@ def test_command_help_imports_no_heavy_library() -> None:
     loaded = _modules_after(*([name, "--help"] for name in COMMANDS))
     assert not loaded & set(HEAVY), loaded & set(HEAVY)
     assert "numpy" in loaded  # the check sees what the commands import
+
+
+#: Commands whose ``--help`` needs constants of library modules that import the design
+#: schema (pydantic): deflect (statics.deflection's modes and methods), map (maps'
+#: quantities and paths), validate (the FE comparison's options).
+SCHEMA_AT_HELP = {"deflect", "map", "validate"}
+
+
+def test_command_help_does_not_load_the_design_schema() -> None:
+    # the design schema (pydantic models) is the largest import of the library (about
+    # 0.1 s): the other commands' --help must not need it (issue 22, item 5)
+    for name in sorted(set(COMMANDS) - SCHEMA_AT_HELP):
+        loaded = _modules_after([name, "--help"])
+        assert "pydantic" not in loaded, name

@@ -5,7 +5,10 @@ A thin layer: each command lives in its own module of this package, exposing
 :data:`COMMANDS`); it parses, calls the library and prints. A command module imports
 heavy libraries (scipy, matplotlib, PyNite, ...) inside ``run`` only, so that
 ``--help`` stays fast. Errors of the library (:class:`PPMStiffnessError`)
-become one line on stderr and exit code 2, never a traceback.
+become one line on stderr and exit code 2, never a traceback. Before a command runs,
+glibc's malloc thresholds are raised in this process
+(:func:`ppm_stiffness._allocator.tune_allocator`; ``PPM_STIFFNESS_NO_MALLOPT=1`` opts
+out): batch temporaries then stay on the heap instead of page-faulting on every use.
 """
 
 from __future__ import annotations
@@ -193,6 +196,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(raw)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
         return int(exc.code or 0)
+    from ppm_stiffness._allocator import tune_allocator
+
+    tune_allocator()
     try:
         return int(args._run(args))
     except PPMStiffnessError as exc:

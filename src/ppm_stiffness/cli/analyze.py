@@ -10,7 +10,6 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
-from ppm_stiffness.analysis import ANALYSIS_UNITS, analyze_design, analyze_matrix, json_document
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_pose_arguments,
@@ -34,7 +33,6 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
-from ppm_stiffness.model import check_nonsingular
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -68,6 +66,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # imported here, not at the top: ``analyze --help`` stays light
+    from ppm_stiffness.analysis import ANALYSIS_UNITS, analyze_design, analyze_matrix, json_document
+    from ppm_stiffness.model import check_nonsingular
+
     if args.matrix is not None:
         if (
             args.design is not None

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.markup import escape
@@ -26,8 +26,9 @@ from ppm_stiffness.cli.common import (
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.design import save_design
-from ppm_stiffness.fit.calibration import CalibrationResult, calibrate, evaluations_per_start
+
+if TYPE_CHECKING:
+    from ppm_stiffness.fit.calibration import CalibrationResult
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -109,6 +110,9 @@ def run(args: argparse.Namespace) -> int:
         raise InputDataError("--starts must be >= 1")
     if args.sigma is not None and not args.sigma > 0:
         raise InputDataError("--sigma must be > 0")
+    from ppm_stiffness.design import save_design  # here, not at the top: --help stays light
+    from ppm_stiffness.fit.calibration import calibrate, evaluations_per_start
+
     budget = args.starts * evaluations_per_start(len(names))
     with progress("calibrate", budget) as advance:
         result = calibrate(

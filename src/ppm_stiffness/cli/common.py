@@ -1,4 +1,10 @@
-"""Helpers shared by the CLI commands: options, units at the edges, output."""
+"""Helpers shared by the CLI commands: options, units at the edges, output.
+
+Every command module imports this one, also for its ``--help``: the library's design,
+model and analysis modules (pydantic, the dynamics, ...) are imported inside the helpers
+that use them, so that ``ppm-stiffness COMMAND --help`` stays light
+(``benchmarks/bench_cli.py``, ``tests/test_cold_start.py``).
+"""
 
 from __future__ import annotations
 
@@ -9,18 +15,42 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.console import Console
 
-from ppm_stiffness.analysis import JSON_SCHEMA_VERSION, json_document
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.core.pose import POSE_INDEX
-from ppm_stiffness.design import Design, default_design, load_design
-from ppm_stiffness.legs.base import MAX_LENGTH
-from ppm_stiffness.model import solve_legs
 
-__all__ = ["JSON_SCHEMA_VERSION", "json_document"]  # re-exported for the commands
+if TYPE_CHECKING:
+    from ppm_stiffness.design import Design
+
+__all__ = ["json_document"]  # for the commands (JSON_SCHEMA_VERSION too, lazily)
+
+
+def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) -> str:
+    """:func:`ppm_stiffness.analysis.json_document` (imported when a document is made)."""
+    from ppm_stiffness.analysis import json_document as document
+
+    return document(command, payload, units)
+
+
+def solve_legs(design: Design, pose: np.ndarray) -> None:
+    """:func:`ppm_stiffness.model.solve_legs` (imported when called), for its refusal of
+    a pose out of reach."""
+    from ppm_stiffness.model import solve_legs as solve
+
+    solve(design, pose)
+
+
+def __getattr__(name: str) -> Any:
+    if name == "JSON_SCHEMA_VERSION":  # defined once, in ppm_stiffness.analysis
+        from ppm_stiffness.analysis import JSON_SCHEMA_VERSION
+
+        return JSON_SCHEMA_VERSION
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 #: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
 console = Console(width=None if sys.stdout.isatty() else 80)
@@ -196,6 +226,8 @@ def tool_point_from_args(args: argparse.Namespace, design: Design) -> np.ndarray
     (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, 10 m = 10000 mm), as the design
     file's ``tool_point``; beyond it the error speaks the option's unit (mm).
     """
+    from ppm_stiffness.legs.base import MAX_LENGTH
+
     text = getattr(args, "tool_point", None)
     if text is None:
         return np.asarray(design.tool_point, dtype=float)
@@ -220,6 +252,8 @@ def add_wrench_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def load_design_arg(args: argparse.Namespace) -> Design:
+    from ppm_stiffness.design import default_design, load_design
+
     path = getattr(args, "design", None)
     if path is None:
         return default_design()

@@ -18,8 +18,6 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.design import save_design
-from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -45,6 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.design import save_design  # here, not at the top: --help stays light
+    from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
+
     check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
     check_output_path(args.write_design, "--write-design", (".toml",), overwrite=args.overwrite)
     data = read_force_displacement(check_input_path(args.data, "DATA.csv"))

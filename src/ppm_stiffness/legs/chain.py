@@ -65,6 +65,7 @@ from ppm_stiffness.core.beam import BeamSection, cantilever_compliance
 from ppm_stiffness.core.conventions import (
     Z_AXIS,
     FloatArray,
+    cross,
     rotation_screw,
     translation_screw,
 )
@@ -191,7 +192,7 @@ class Joint:
             e2 = unit(e2)
         else:  # e2 along the part of axis2 normal to e1
             e2 = unit(e2 - np.einsum("...i,...i->...", e2, e1)[..., None] * e1)
-        return e1, e2, np.cross(e1, e2)
+        return e1, e2, cross(e1, e2)
 
 
 @dataclass(frozen=True)
@@ -220,12 +221,12 @@ def frame_from_axis(axis: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray
     """The right-handed frame ``(e1, e2, e3)`` of a joint or link axis (module doc)."""
     e1 = unit(axis)
     z = np.broadcast_to(Z_AXIS, e1.shape)
-    e2 = np.cross(z, e1)
+    e2 = cross(z, e1)
     along_z = np.linalg.norm(e2, axis=-1, keepdims=True) < 1e-12
     if np.any(along_z):
-        e2 = np.where(along_z, np.cross(e1, np.broadcast_to([1.0, 0.0, 0.0], e1.shape)), e2)
+        e2 = np.where(along_z, cross(e1, np.broadcast_to([1.0, 0.0, 0.0], e1.shape)), e2)
     e2 = unit(e2)
-    return e1, e2, np.cross(e1, e2)
+    return e1, e2, cross(e1, e2)
 
 
 def _screws(joint: Joint, directions: tuple[Direction, ...]) -> FloatArray:

@@ -102,6 +102,16 @@ def reciprocal_basis(passive: Sequence[FloatArray], n: int) -> FloatArray:
     if len(passive) > 6:
         raise DesignError(f"{len(passive)} passive twists: a leg has at most 6 freedoms")
     out = np.empty((n, 6, 6 - len(passive)))
+    if n == 1:  # one pose: the same operations on Python floats (no per-call numpy cost)
+        scalar_twists: list[Vec] = [np.asarray(q, dtype=float).reshape(6).tolist() for q in passive]
+        columns, bad = soa.householder_complement(
+            [[soa.mul(LENGTH_SCALE, x) for x in q[:3]] + q[3:] for q in scalar_twists],
+            DEPENDENT_TOLERANCE,
+        )
+        for j, y in enumerate(columns):
+            w = [soa.mul(LENGTH_SCALE, x) for x in y[:3]] + y[3:]
+            out[0, :, j] = [soa.where(bad, math.nan, x) for x in w]
+        return out
     with np.errstate(divide="ignore", invalid="ignore"):
         for lo in range(0, n, CHUNK):
             hi = min(n, lo + CHUNK)

@@ -3,12 +3,21 @@
 The exact P-P-R reduced form lives beside its leg type
 (:mod:`ppm_stiffness.legs.types._ppr_reduced`); this module only asks each leg for its
 reduced form (:meth:`ppm_stiffness.legs.base.LegModel.reduced_form`) and re-exports
-the names the maps use, so that old imports keep working.
+the names the maps use, so that old imports keep working. A leg's reduced form is
+computed once per leg object (legs are frozen; :mod:`ppm_stiffness.core.object_cache`)
+and shared by every map, sweep and optimisation step that uses it: its arrays are
+read-only.
 """
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
+import numpy as np
+
 from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.object_cache import per_object
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.types._ppr_reduced import IN_PLANE, OUT_OF_PLANE, ReducedLeg
 
@@ -22,6 +31,18 @@ __all__ = [
 ]
 
 
+@per_object
+def leg_reduced_form(leg: Any) -> Any | None:
+    """``leg.reduced_form()``, computed once per leg object (arrays read-only)."""
+    form = leg.reduced_form()
+    if dataclasses.is_dataclass(form):
+        for field in dataclasses.fields(form):
+            value = getattr(form, field.name)
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+    return form
+
+
 def reduce_leg(design: Design, index: int) -> ReducedLeg:
     """Reduced form of leg ``index`` (0-based) of ``design``.
 
@@ -30,7 +51,7 @@ def reduce_leg(design: Design, index: int) -> ReducedLeg:
     DesignError
         If that leg offers no reduced form the batched path can evaluate.
     """
-    form = design.legs[index].reduced_form()
+    form = leg_reduced_form(design.legs[index])
     if not isinstance(form, ReducedLeg):
         raise DesignError(
             f"leg {index + 1} ({design.legs[index].type}) has no exact reduced form; "
@@ -43,7 +64,7 @@ def reduced_design(design: Design) -> tuple[ReducedLeg, ...] | None:
     """Reduced form of every leg, or None unless every leg offers one."""
     forms = []
     for leg in design.legs:
-        form = leg.reduced_form()
+        form = leg_reduced_form(leg)
         if not isinstance(form, ReducedLeg):
             return None
         forms.append(form)

@@ -4,13 +4,18 @@ cluster, through any ``concurrent.futures``-style executor.
 The library's sweeps and optimiser take an ``executor`` with ``submit(fn, *args)``
 returning a future with ``result()`` and ``cancel()``: :class:`SerialExecutor` (the
 default), :func:`process_executor` (``--workers N``), a Dask ``client.get_executor()``
-(:func:`dask_executor`, ``--scheduler tcp://HOST:PORT``), an MPI pool, ... One task is
-one design, reduced inside the task to its summary figures: the design and a few
-parameter values travel, never the maps.
+(:func:`dask_executor`, ``--scheduler tcp://HOST:PORT``), an MPI pool, ... A task is one
+design or a few (:func:`run_ordered`), each reduced inside the task to its summary
+figures: the design and a few parameter values travel, never the maps.
 
 Each task first calls :func:`limit_threads`: BLAS pools (through ``threadpoolctl`` when
 it is installed) and numba use one thread per worker, so that N workers use N cores,
-not N times the BLAS pool. Results come back in submission order whatever the order in
+not N times the BLAS pool. Each worker process raises glibc's malloc thresholds once
+(:func:`ppm_stiffness._allocator.tune_allocator`: local workers in :func:`init_worker`,
+Dask workers through a worker plugin), so that a task runs as fast in a worker as in
+this process. A task should take about 0.1 to 1 s, well above an executor's own cost
+per task (1 to 3 ms): :func:`designs_per_task` chooses how many designs one task
+evaluates. Results come back in submission order whatever the order in
 which workers finish (:func:`run_ordered`), so the same inputs give the same results
 with every executor.
 
@@ -71,10 +76,14 @@ def limit_threads() -> None:
 
 def init_worker() -> None:
     """Initializer of local worker processes: one thread each (:func:`limit_threads`),
+    glibc's malloc thresholds raised (:func:`ppm_stiffness._allocator.tune_allocator`),
     and Ctrl-C left to the parent (which cancels the work and keeps what is done)."""
+    from ppm_stiffness._allocator import tune_allocator
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     for name in THREAD_VARIABLES:
         os.environ[name] = "1"
+    tune_allocator()
     limit_threads()
 
 
@@ -118,7 +127,11 @@ def dask_executor(address: str, timeout: float = SCHEDULER_TIMEOUT) -> Iterator[
     """An executor on the Dask distributed cluster at ``address`` (``tcp://HOST:PORT``).
 
     Dask's nanny starts its workers with one BLAS thread already; the tasks call
-    :func:`limit_threads` too.
+    :func:`limit_threads` too. A worker plugin
+    (:class:`ppm_stiffness.optimize._dask_plugin.AllocatorPlugin`) raises glibc's
+    malloc thresholds in every worker, present and future (Dask's nanny sets
+    ``MALLOC_TRIM_THRESHOLD_``, which makes large numpy temporaries page-fault on every
+    use: :mod:`ppm_stiffness._allocator`).
 
     Raises
     ------
@@ -137,6 +150,9 @@ def dask_executor(address: str, timeout: float = SCHEDULER_TIMEOUT) -> Iterator[
     _refused_at_once(address)
     client = _connect(Client, address, timeout)
     try:
+        from ppm_stiffness.optimize._dask_plugin import AllocatorPlugin
+
+        client.register_plugin(AllocatorPlugin())
         yield client.get_executor()
     finally:
         client.close()
@@ -209,6 +225,40 @@ class Interrupted(Exception):
         self.done = done
 
 
+#: Seconds of work one task aims at when :func:`run_ordered` groups items into tasks:
+#: well above an executor's own cost per task (1 to 3 ms for a process pool or Dask)
+#: and well below a run's length (documented rule: a task takes 0.1 to 1 s).
+TASK_SECONDS = 0.25
+#: :func:`run_ordered` makes at least this many tasks (when there are that many items),
+#: so that the workers finish together.
+MIN_TASKS = 16
+
+
+def items_per_task(items: int, seconds_per_item: float) -> int:
+    """How many items one task evaluates: about :data:`TASK_SECONDS` of work, but at
+    least :data:`MIN_TASKS` tasks (fewer only when there are fewer items).
+
+    Parameters
+    ----------
+    items : int
+        Items to evaluate.
+    seconds_per_item : float
+        Measured time of one item [s] (non-positive or non-finite: one item per task).
+    """
+    import math
+
+    if items <= 1 or not math.isfinite(seconds_per_item) or seconds_per_item <= 0:
+        return 1
+    by_time = max(1, int(TASK_SECONDS / seconds_per_item))
+    by_balance = max(1, math.ceil(items / MIN_TASKS))
+    return min(by_time, by_balance)
+
+
+def _run_items(fn: Callable[..., T], argument_tuples: list[tuple[Any, ...]]) -> list[T]:
+    """One task: ``fn`` over several argument tuples, in order."""
+    return [fn(*args) for args in argument_tuples]
+
+
 def run_ordered(
     executor: Executor,
     fn: Callable[..., T],
@@ -217,37 +267,59 @@ def run_ordered(
 ) -> list[T]:
     """``[fn(*args) for args in argument_tuples]`` on ``executor``, in order.
 
-    ``advance(1)`` is called as each task finishes (in any order).
+    On an executor other than :class:`SerialExecutor`, the first item is evaluated in
+    this process and timed, and the others are grouped into tasks of
+    :func:`items_per_task` items (about :data:`TASK_SECONDS` each), so that the
+    executor's cost per task is paid once per group, not once per design; each item's
+    result is the same as when evaluated alone. ``advance(k)`` is called as each task
+    of ``k`` items finishes (in any order).
 
     Raises
     ------
     Interrupted
         On Ctrl-C: the unstarted tasks are cancelled and the finished results kept.
     """
+    import time
     from concurrent.futures import FIRST_COMPLETED, wait
 
-    futures: list[Future[T]] = []
+    items = list(argument_tuples)
+    futures: list[Future[list[T]]] = []
+    starts: list[int] = []
     done: dict[int, T] = {}
     try:
-        for args in argument_tuples:
-            futures.append(executor.submit(fn, *args))
+        first = 0
+        if not isinstance(executor, SerialExecutor) and len(items) > 1:
+            start = time.perf_counter()
+            done[0] = fn(*items[0])
+            elapsed = time.perf_counter() - start
+            if advance is not None:
+                advance(1)
+            first = 1
+            per_task = items_per_task(len(items) - 1, elapsed)
+        else:
+            per_task = 1
+        for i in range(first, len(items), per_task):
+            starts.append(i)
+            futures.append(executor.submit(_run_items, fn, items[i : i + per_task]))
         index = {id(f): i for i, f in enumerate(futures)}
         pending = set(futures)
         while pending:
             finished, pending = wait(pending, return_when=FIRST_COMPLETED)
             for future in finished:
-                done[index[id(future)]] = future.result()
+                results = future.result()
+                for j, result in enumerate(results):
+                    done[starts[index[id(future)]] + j] = result
                 if advance is not None:
-                    advance(1)
+                    advance(len(results))
     except KeyboardInterrupt:
         for future in futures:
             future.cancel()
-        for i, future in enumerate(futures):
-            if i not in done and future.done() and not future.cancelled():
-                if future.exception() is None:
-                    done[i] = future.result()
+        for k, future in enumerate(futures):
+            if future.done() and not future.cancelled() and future.exception() is None:
+                for j, result in enumerate(future.result()):
+                    done[starts[k] + j] = result
         raise Interrupted(done) from None
-    return [done[i] for i in range(len(futures))]
+    return [done[i] for i in range(len(items))]
 
 
 @contextmanager

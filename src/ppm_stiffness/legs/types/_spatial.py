@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray, cross
 from ppm_stiffness.legs.chain import unit
 
 #: Tolerance on the norm of a unit vector given in a design file (and on the
@@ -43,12 +43,12 @@ def universal_axes(direction: ArrayLike) -> tuple[FloatArray, FloatArray]:
     unit(z x n), e2 = n x e1 (so that e1 x e2 = n); e1 = unit(n x x) for a vertical leg."""
     n = unit(direction)
     z = np.broadcast_to(np.array([0.0, 0.0, 1.0]), n.shape)
-    e1 = np.cross(z, n)
+    e1 = cross(z, n)
     vertical = np.linalg.norm(e1, axis=-1, keepdims=True) < 1e-12
     if np.any(vertical):
-        e1 = np.where(vertical, np.cross(n, np.broadcast_to([1.0, 0.0, 0.0], n.shape)), e1)
+        e1 = np.where(vertical, cross(n, np.broadcast_to([1.0, 0.0, 0.0], n.shape)), e1)
     e1 = unit(e1)
-    return e1, np.cross(n, e1)
+    return e1, cross(n, e1)
 
 
 def joint_angle(direction: ArrayLike, mounting_axis: ArrayLike) -> FloatArray:
@@ -71,7 +71,7 @@ def plane_constraint(
     residual = np.einsum("...i,i->...", platform_point_abs - base_point, axis)[..., None]
     b = np.asarray(platform_point, dtype=float)
     e = np.broadcast_to(axis, b.shape)
-    wrench = np.concatenate([np.cross(b, e), e], axis=-1)[..., None]
+    wrench = np.concatenate([cross(b, e), e], axis=-1)[..., None]
     return residual, wrench
 
 
