@@ -135,7 +135,8 @@ def sweep_designs(
     executor : concurrent.futures.Executor, optional
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
-        Called with 1 after each design.
+        Called with the number of designs of each task as it finishes
+        (:func:`~ppm_stiffness.optimize.executors.run_ordered`).
     margin : bool
         Also the load margin of ``wrench`` on the margin sub-grid
         (:mod:`ppm_stiffness.optimize.margin`; about 0.1 s per pose).
