@@ -57,8 +57,8 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
         items = [q.strip() for q in quantities.split(",")]
         parts = [quantity_names(design, q if q in QUANTITY_SETS else [q]) for q in items]
         return tuple(dict.fromkeys(n for part in parts for n in part))
-    if isinstance(quantities, str) and quantities.replace("-", "_") in EXTRA:
-        quantities = [quantities]
+    if isinstance(quantities, str) and quantities.replace("-", "_") in QUANTITIES:
+        quantities = [quantities]  # one name, e.g. "f1" or "load-margin"
     if isinstance(quantities, str):
         if quantities not in QUANTITY_SETS:
             raise InputDataError(
