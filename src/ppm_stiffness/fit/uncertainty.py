@@ -280,9 +280,9 @@ def _warn_below_limit(lower: FloatArray, nominal: FloatArray, limit: ArrayLike) 
     worst = np.unravel_index(np.argmin(np.where(below, lower - floor, np.inf)), below.shape)
     warnings.warn(
         f"the first-order band of {int(np.sum(below))} of {below.size} outputs reaches "
-        f"below its physical limit (a negative stiffness, down to {lower[worst]:.4g} for a "
-        f"nominal {nominal[worst]:.4g}): the tolerances are too wide for linear "
-        "propagation and the band means nothing there; use the QMC method "
+        "below its physical limit (a stiffness or frequency below zero, down to "
+        f"{lower[worst]:.4g} for a nominal {nominal[worst]:.4g}): the tolerances are too "
+        "wide for linear propagation and the band means nothing there; use the QMC method "
         "(--tolerance-method qmc)",
         LinearisationWarning,
         stacklevel=3,
