@@ -79,6 +79,23 @@ POSE_MATCH = 1e-9
 _ONE_TABLE_LEGS = 3
 
 
+def _twist_table(title: str, unit: str, loads: np.ndarray, twists: np.ndarray) -> Table:
+    """The deflections (n, 6) [rad, m] at each load as a table in deg and mm."""
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    t = Table(
+        title=f"{title} (axes of F_b): rotations phi \\[deg], displacements \\[mm]",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    t.add_column(f"load \\[{unit}]", justify="right")
+    for name in TWIST_COMPONENTS:
+        t.add_column(name, justify="right", no_wrap=True)
+    for k, load in enumerate(loads):
+        t.add_row(f"{load:g}", *(eng(v) for v in twists[k] * scale))
+    return t
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_overwrite_argument(parser)
     add_design_argument(parser)
@@ -394,24 +411,15 @@ def _write_both_csv(curve: DeflectionCurve, moving: MovingDeflection, path: str 
 def _print_moving(moving: MovingDeflection) -> None:
     """The moving-geometry curve and where the curves stop."""
     m = moving.moving
-    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     console.print(
         "[bold]geometry moving[/bold]: the equilibrium with the platform and legs moving "
         "under each load (docs/statics.md); finite rotation vector and displacement"
     )
-    t = Table(
-        title="moving geometry: deflection at the tool point (axes of F_b): rotations "
-        "phi \\[deg], displacements \\[mm]",
-        title_justify="left",
-        box=box.SIMPLE_HEAD,
-        pad_edge=False,
+    console.print(
+        _twist_table(
+            "moving geometry: deflection at the tool point", m.load_unit, m.loads, m.twists
+        )
     )
-    t.add_column(f"load \\[{m.load_unit}]", justify="right")
-    for name in TWIST_COMPONENTS:
-        t.add_column(name, justify="right", no_wrap=True)
-    for k, load in enumerate(m.loads):
-        t.add_row(f"{load:g}", *(eng(v) for v in m.twists[k] * scale))
-    console.print(t)
     if m.loads.size:
         console.print(
             f"||K_F - K|| / ||K|| at the load {m.loads[-1]:g}: "
@@ -545,20 +553,7 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
             f"  f = ({eng(w[3])}, {eng(w[4])}, {eng(w[5])}) N, "
             f"m = ({eng(w[0])}, {eng(w[1])}, {eng(w[2])}) N·m"
         )
-    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
-    t = Table(
-        title=f"platform deflection at {at} (axes of F_b): rotations phi \\[deg], "
-        "displacements \\[mm]",
-        title_justify="left",
-        box=box.SIMPLE_HEAD,
-        pad_edge=False,
-    )
-    t.add_column(f"load \\[{unit}]", justify="right")
-    for name in TWIST_COMPONENTS:
-        t.add_column(name, justify="right", no_wrap=True)
-    for k, load in enumerate(curve.loads):
-        t.add_row(f"{load:g}", *(eng(v) for v in curve.twists[k] * scale))
-    c.print(t)
+    c.print(_twist_table(f"platform deflection at {at}", unit, curve.loads, curve.twists))
     _print_actuators(curve)
     if rms is not None:
         o, q = rms["orientation_deg"], rms["position_mm"]
