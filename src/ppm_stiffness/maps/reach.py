@@ -3,10 +3,10 @@
 :func:`reach_hint` says, for a pose outside the workspace, in the CLI's units (mm,
 deg): for a planar design, the x and y extent of the workspace at its phi and the
 range of phi reachable at its (x, y); for any other design, the reachable interval of
-each task coordinate with the others fixed (sampled, :data:`LINE_SAMPLES` values over
-:data:`LINE_SPAN`). Reachability is the joint-limit test of the legs (the pose
-completed, every leg's inverse kinematics solvable and its joint coordinates within
-limits); singular poses are not excluded.
+each task coordinate with the others fixed (:func:`reachable_along`: sampled about
+the home pose, the ends refined by bisection). Reachability is the joint-limit test of
+the legs (the pose completed, every leg's inverse kinematics solvable and its joint
+coordinates within limits); singular poses are not excluded.
 """
 
 from __future__ import annotations
@@ -49,26 +49,56 @@ def reachable_orientations(design: Design, x: float, y: float) -> list[tuple[flo
 
 
 #: Samples along one task coordinate for the hint of a design that is not planar.
-LINE_SAMPLES = 801
-#: Half-span of those samples about the pose: lengths [m], angles [rad].
-LINE_SPAN = {"length": 0.5, "angle": 1.2}
+LINE_SAMPLES = 2001
+#: Half-span of those samples about the home pose's value: lengths [m], angles [rad].
+LINE_SPAN = {"length": 1.0, "angle": math.pi}
+#: Bisection steps that refine each end of a sampled interval (to span / 2^steps).
+REFINE_STEPS = 30
 
 
 def reachable_along(design: Design, pose: ArrayLike, name: str) -> list[tuple[float, float]]:
     """Intervals of task coordinate ``name`` [m or rad] reachable with the other task
-    coordinates of the full pose (6,) fixed (sampled, module doc)."""
-    from ppm_stiffness.poses import full_poses, task_indices
+    coordinates of the full pose (6,) fixed.
+
+    Sampled over :data:`LINE_SPAN` about the home pose's value of ``name`` (not about
+    the pose's: an unreachable value far out would shift the window off the workspace),
+    each end then refined by bisection to well below a micrometre or microradian.
+    """
+    from ppm_stiffness.poses import full_poses, home_pose, task_indices
 
     p = as_poses(pose)
     i = POSE_INDEX[name]
+    task = list(task_indices(design))
+
+    def reachable(values: np.ndarray) -> np.ndarray:
+        grid = np.tile(p, (values.size, 1))
+        grid[:, i] = values
+        full, ok = full_poses(design, grid[:, task])
+        for leg in design.legs:
+            ok &= np.asarray(leg.reachable(leg.solve(full)), dtype=bool)
+        return np.asarray(ok, dtype=bool)
+
     half = LINE_SPAN["angle" if name in ANGLE_COORDINATES else "length"]
-    values = p[i] + np.linspace(-half, half, LINE_SAMPLES)
-    grid = np.tile(p, (LINE_SAMPLES, 1))
-    grid[:, i] = values
-    full, ok = full_poses(design, grid[:, list(task_indices(design))])
-    for leg in design.legs:
-        ok &= np.asarray(leg.reachable(leg.solve(full)), dtype=bool)
-    return _intervals(values, ok)
+    centre = float(home_pose(design)[i])
+    values = centre + np.linspace(-half, half, LINE_SAMPLES)
+    ok = reachable(values)
+    spans = _intervals(values, ok)
+    if not spans:
+        return spans
+    # refine every end that has an unreachable neighbour sample: inside (reachable) and
+    # outside (not) bracket the boundary
+    step = values[1] - values[0]
+    ends = np.array([v for span in spans for v in span])
+    outward = np.tile([-step, step], len(spans))
+    inside, outside = ends.copy(), ends + outward
+    open_end = (outside >= values[0]) & (outside <= values[-1])
+    for _ in range(REFINE_STEPS):
+        mid = 0.5 * (inside + outside)
+        good = reachable(mid)
+        inside = np.where(good, mid, inside)
+        outside = np.where(good, outside, mid)
+    ends = np.where(open_end, inside, ends)
+    return [(float(ends[2 * k]), float(ends[2 * k + 1])) for k in range(len(spans))]
 
 
 def _intervals(values: np.ndarray, ok: np.ndarray) -> list[tuple[float, float]]:
