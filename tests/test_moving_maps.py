@@ -184,3 +184,17 @@ def test_spatial_masks_carry_the_single_pose_refusal() -> None:
         for i in range(2):
             with pytest.raises(EquilibriumError, match=messages[Refusal(smap.refusal[j, i])]):
                 moving_equilibrium(design, wrench, _task(design, smap, i, j))
+
+
+def test_a_margin_at_the_end_of_the_search_is_named_as_such(capsys) -> None:
+    """The table's load_margin 1e3 is MAX_FACTOR, the end of the search, not a measured
+    margin: the text says at how many poses no instability was found (a 3-PRS under a
+    load it carries far beyond 1000 times)."""
+    from ppm_stiffness.statics.margin import MAX_FACTOR
+
+    argv = ["map", "--design", str(ROOT / "examples" / "3prs.toml"), "--axes", "rx,ry"]
+    argv += ["--z", "380", "--actuators", "100,0,-500,0,0,0", "--grid", "3"]
+    assert main([*argv, "--quantities", "principal,load-margin"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"load_margin {MAX_FACTOR:g} is the end of the search" in out
+    assert "times the wrench at" in out

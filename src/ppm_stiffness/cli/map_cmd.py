@@ -413,3 +413,14 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
         console.print(escape(smap.masked_text()))
     for table in _summary_tables(smap):
         console.print(table)
+    if "load_margin" in smap.quantities:
+        from ppm_stiffness.statics.margin import MAX_FACTOR
+
+        margin = np.ma.filled(smap.quantities["load_margin"].astype(float), np.nan)
+        capped = int(np.sum(margin >= MAX_FACTOR))
+        if capped:
+            console.print(
+                f"load_margin {MAX_FACTOR:g} is the end of the search: no instability and no "
+                f"stroke end up to {MAX_FACTOR:g} times the wrench at {capped} of "
+                f"{int(np.sum(np.isfinite(margin)))} poses"
+            )
