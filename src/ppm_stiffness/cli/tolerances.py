@@ -240,6 +240,11 @@ def print_pose_uncertainty(unc: dict[str, Any]) -> None:
             q["unit"],
         )
     console.print(t)
+    if any(name.startswith("k_rot_") for name in unc["quantities"]):
+        console.print(
+            "k_rot_1..3 and k_trans_1..3: the principal stiffnesses in ascending order "
+            "(1 the worst direction), not in the order of the principal table"
+        )
     print_sensitivity(unc["sensitivity"])
 
 
