@@ -295,3 +295,16 @@ def test_the_python_example_of_docs_dynamics_runs(monkeypatch: pytest.MonkeyPatc
     assert blocks
     for block in blocks:
         exec(compile(block, "docs/dynamics.md", "exec"), {})
+
+
+def test_modes_prints_the_actuator_stiffness_in_its_unit(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The text names the actuators' stiffness unit (N/m for linear, N·m/rad for the
+    3-RRR's rotary actuators), not "SI"."""
+    assert main(["modes"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "actuators locked (stiffness 1.111e+05, 1.111e+05, 1.111e+05 N/m)" in out
+    assert main(["modes", "--design", str(ROOT / "examples/3rrr.toml")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "N·m/rad)" in out and "SI)" not in out

@@ -64,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
         units = MODES_UNITS | ({"uncertainty.quantities": "Hz"} if variables else {})
         print(json_document("modes", result, units))
     else:
-        print_tables(result, design.name)
+        k_units = [leg.actuator_units()[2] for leg in design.legs]
+        print_tables(result, design.name, k_units)
         if variables is not None:
             from ppm_stiffness.cli.tolerances import print_pose_uncertainty
 
@@ -118,8 +119,9 @@ def _figure(
         save_figure(fig, files.temp(out, "--out"))
 
 
-def print_tables(result: dict[str, Any], title: str) -> None:
-    """Readable tables of a modal analysis (:mod:`ppm_stiffness.dynamics.analysis`)."""
+def print_tables(result: dict[str, Any], title: str, units: list[str]) -> None:
+    """Readable tables of a modal analysis (:mod:`ppm_stiffness.dynamics.analysis`);
+    ``units``: each leg's actuator stiffness unit."""
     from ppm_stiffness.poses import format_pose
 
     c = console
@@ -128,15 +130,19 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     full = [p[n] for n in ("x", "y", "z", "rx", "ry", "rz")]
     task = [("x", "y", "z", "rx", "ry", "rz").index(n) for n in result["task_coordinates"]]
     c.print(f"pose: {format_pose(full, task)} (P in F_b)")
-    k_act = ", ".join(f"{v:.4g}" for v in result["actuator_stiffness"])
+    values = result["actuator_stiffness"]
+    if len(set(units)) == 1:
+        k_act = ", ".join(f"{v:.4g}" for v in values) + f" {units[0]}"
+    else:
+        k_act = ", ".join(f"{v:.4g} {u}" for v, u in zip(values, units, strict=True))
     if result["state"] == "locked":
-        c.print(f"actuators locked (stiffness {k_act}, SI)")
+        c.print(f"actuators locked (stiffness {k_act})")
     else:
         w = result["wrench"]
         loads = ", ".join(f"{v:.4g}" for v in w[3:]), ", ".join(f"{v:.4g}" for v in w[:3])
         c.print(
             f"under the wrench f = ({loads[0]}) N, m = ({loads[1]}) N·m: the loaded tangent "
-            f"K, actuator stiffness {k_act} (SI)"
+            f"K, actuator stiffness {k_act}"
         )
     m = result["masses"]
     c.print(
