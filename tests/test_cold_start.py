@@ -46,9 +46,9 @@ def test_command_help_imports_no_heavy_library() -> None:
 
 
 #: Commands whose ``--help`` needs constants of library modules that import the design
-#: schema (pydantic): deflect (statics.deflection's modes and methods), map (maps'
-#: quantities and paths), validate (the FE comparison's options).
-SCHEMA_AT_HELP = {"deflect", "map", "validate"}
+#: schema (pydantic): deflect (statics.deflection's modes and methods), validate (the FE
+#: comparison's options).
+SCHEMA_AT_HELP = {"deflect", "validate"}
 
 
 def test_command_help_does_not_load_the_design_schema() -> None:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.markup import escape
@@ -37,16 +37,12 @@ from ppm_stiffness.cli.tolerances import (
     print_map_uncertainty,
     read_tolerance_args,
 )
+from ppm_stiffness.core.conventions import DEFAULT_REFERENCE_FORCE
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
-from ppm_stiffness.design import Design
-from ppm_stiffness.maps.result import QUANTITIES
-from ppm_stiffness.maps.slices import cli_scale, map_slice, unit_of
-from ppm_stiffness.maps.workspace import (
-    DEFAULT_REFERENCE_FORCE,
-    StiffnessMap,
-    quantity_names,
-    stiffness_map,
-)
+
+if TYPE_CHECKING:  # the design schema and the maps load when a map is made, not for --help
+    from ppm_stiffness.design import Design
+    from ppm_stiffness.maps.result import StiffnessMap
 
 DATA_SUFFIXES = (".csv", ".npz")
 #: Largest grid accepted (points per axis): 10^8 poses.
@@ -152,6 +148,8 @@ def _fixed(args: argparse.Namespace, design: Design, axes: tuple[str, str]) -> d
 
 
 def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:
+    from ppm_stiffness.maps.slices import cli_scale
+
     if text is None:
         return None
     (fa, ua), (fb, ub) = cli_scale(axes[0]), cli_scale(axes[1])
@@ -161,6 +159,8 @@ def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:
 
 
 def _header(name: str) -> str:
+    from ppm_stiffness.maps.result import QUANTITIES
+
     text = f"{name} [{QUANTITIES[name][0]}]"
     return text if len(text) <= 16 else f"{name}\n[{QUANTITIES[name][0]}]"
 
@@ -168,6 +168,8 @@ def _header(name: str) -> str:
 def _summary_tables(smap: StiffnessMap) -> list[Table]:
     """Per table up to three quantities, one column each; rows: the extremes, where
     they are (in mm or deg), their ratio."""
+    from ppm_stiffness.maps.slices import cli_scale
+
     summary = smap.summary()
     names = list(summary)
     a, b = smap.axes
@@ -199,6 +201,8 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
 
 def _estimate(args: argparse.Namespace, design: Design) -> None:
     """Refuse a grid whose estimated peak memory exceeds --max-memory."""
+    from ppm_stiffness.maps.workspace import quantity_names
+
     n_quantities = len(quantity_names(design, args.quantities))
     per_pose = BYTES_PER_POSE + BYTES_PER_QUANTITY * max(n_quantities - 3, 0)
     estimate = per_pose * args.grid**2 / 1e9
@@ -213,6 +217,9 @@ def _estimate(args: argparse.Namespace, design: Design) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.maps.slices import map_slice
+    from ppm_stiffness.maps.workspace import stiffness_map
+
     design = load_design_arg(args)
     check_output_path(args.out, "--out", FIGURE_FORMATS, overwrite=args.overwrite)
     check_output_path(args.data, "--data", DATA_SUFFIXES, overwrite=args.overwrite)
@@ -314,6 +321,8 @@ def _home_fixed(design: Design, axes: tuple[str, str]) -> dict[str, float]:
 
 def _slice_text(smap: StiffnessMap) -> str:
     """``"rz = 0 deg"``: the fixed coordinates in mm and deg."""
+    from ppm_stiffness.maps.slices import cli_scale
+
     parts = []
     for name, value in smap.fixed.items():
         scale, unit = cli_scale(name)
@@ -322,6 +331,8 @@ def _slice_text(smap: StiffnessMap) -> str:
 
 
 def _json_units(smap: StiffnessMap) -> dict[str, str]:
+    from ppm_stiffness.maps.result import QUANTITIES
+
     ua, ub = smap.units()
     units = {
         "phi": "rad",
@@ -342,6 +353,9 @@ def _json_units(smap: StiffnessMap) -> dict[str, str]:
 
 
 def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[str, Any]:
+    from ppm_stiffness.maps.result import QUANTITIES
+    from ppm_stiffness.maps.slices import unit_of
+
     return {
         "design": design.name,
         "architecture": design.architecture,
@@ -378,6 +392,8 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
 
 
 def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namespace) -> None:
+    from ppm_stiffness.maps.slices import cli_scale
+
     k_lo, k_hi = smap.actuator_stiffness
     units = [leg.actuator_units()[2] for leg in design.legs]
 

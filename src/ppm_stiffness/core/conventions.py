@@ -221,3 +221,8 @@ def stiffness_b_from_stiffness_a(
     t = twist_b_from_twist_a(rotation_ba, origin_a_in_b)
     w = GAMMA @ t @ GAMMA
     return np.asarray(w @ np.asarray(stiffness_a, dtype=float) @ np.linalg.inv(t))
+
+
+#: Reference actuator load [N, or N·m for a rotary actuator] that defines a map's "min"
+#: actuator state (the tangent stiffness under this load, eq. 21).
+DEFAULT_REFERENCE_FORCE = 10.0

@@ -51,7 +51,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import DEFAULT_REFERENCE_FORCE, FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps import batch
@@ -86,8 +86,6 @@ __all__ = [
     "workspace_grid",
 ]
 
-#: Reference actuator load [N, or N·m for a rotary actuator] that defines "min".
-DEFAULT_REFERENCE_FORCE = 10.0
 ACTUATOR_STATES = ("max", "min", "wrench")
 
 
