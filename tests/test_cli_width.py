@@ -108,6 +108,15 @@ LINES = [
         "10,-20,50",
     ],
     ["deflect", "--design", str(ROOT / "examples/3prs.toml"), "--rx", "5", "--mode", "moment"],
+    [  # both curves' tables; the round-off components once cut the load header
+        "deflect",
+        "--design",
+        str(ROOT / "examples/3prs.toml"),
+        "--direction",
+        "0,0,-1,0,0,0",
+        "--geometry",
+        "moving",
+    ],
     [
         "identify",
         "--design",

@@ -102,7 +102,8 @@ def test_cli_json_csv_and_text(capsys: pytest.CaptureFixture[str], tmp_path: Pat
     assert rows[-1].split(",")[1] == ""  # the frozen curve stopped before 3
     assert main([*argv, "--geometry", "moving"]) == 0
     text = capsys.readouterr().out
-    assert "geometry frozen" in text and "geometry moving" in text
+    assert "geometry moving (the frozen curve first" in " ".join(text.split())
+    assert "frozen geometry: platform deflection" in text and "moving geometry:" in text
     assert "loses stability at 3.26181" in " ".join(text.split())
     assert main([*argv[:5], "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["geometry"] == "frozen"

@@ -38,7 +38,8 @@ from ppm_stiffness.cli.tolerances import (
     print_curve_uncertainty,
     read_tolerance_args,
 )
-from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+from ppm_stiffness.core.conventions import BALANCE, TWIST_COMPONENTS, FloatArray
+from ppm_stiffness.core.decoupling import DECOUPLED_TOLERANCE
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.design import Design
@@ -61,6 +62,7 @@ from ppm_stiffness.statics.measurements import (
     rms_differences,
 )
 from ppm_stiffness.statics.moving_deflection import CurveStop, MovingDeflection
+from ppm_stiffness.visuals.deflection import round_off_as_zero
 
 #: Default largest load of each mode [N or N·m] ("direction": 10 N, 0.5 N·m for a pure
 #: moment).
@@ -79,21 +81,47 @@ POSE_MATCH = 1e-9
 _ONE_TABLE_LEGS = 3
 
 
-def _twist_table(title: str, unit: str, loads: np.ndarray, twists: np.ndarray) -> Table:
-    """The deflections (n, 6) [rad, m] at each load as a table in deg and mm."""
-    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+def _load_table(title: str, unit: str) -> Table:
+    """A table whose first column is the load [``unit``]: two blanks between columns,
+    so that six of eng()'s widest cells (``-123.4e-15``) leave the load (up to six
+    characters) and its header whole at 80 columns."""
     t = Table(
-        title=f"{title} (axes of F_b): rotations phi \\[deg], displacements \\[mm]",
+        title=title,
         title_justify="left",
         box=box.SIMPLE_HEAD,
         pad_edge=False,
+        collapse_padding=True,
     )
     t.add_column(f"load \\[{unit}]", justify="right")
+    return t
+
+
+def _twist_table(title: str, unit: str, loads: np.ndarray, twists: np.ndarray) -> Table:
+    """The deflections (n, 6) [rad, m] at each load as a table in deg and mm, the
+    components that are round-off along the curve printed as 0
+    (:func:`~ppm_stiffness.visuals.deflection.round_off_as_zero`, the figure's rule)."""
+    scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
+    t = _load_table(f"{title} (axes of F_b): rotations phi \\[deg], displacements \\[mm]", unit)
     for name in TWIST_COMPONENTS:
         t.add_column(name, justify="right", no_wrap=True)
+    shown = round_off_as_zero(twists) if np.size(twists) else np.zeros((0, 6))
     for k, load in enumerate(loads):
-        t.add_row(f"{load:g}", *(eng(v) for v in twists[k] * scale))
+        t.add_row(f"{load:g}", *(eng(v) for v in shown[k] * scale))
     return t
+
+
+def _actuator_forces_shown(curve: DeflectionCurve) -> FloatArray:
+    """The actuator forces (n, n_legs) [N, N·m if rotary] as the tables print them: a
+    leg's forces are round-off, 0, when their largest |value| along the curve is at
+    most :data:`~ppm_stiffness.core.decoupling.DECOUPLED_TOLERANCE` of the largest
+    actuator force or length-balanced load (|f|, |m| / ``LENGTH_SCALE``): the rule of
+    :func:`~ppm_stiffness.visuals.deflection.round_off_as_zero` for the twists, with the
+    load as a floor (a load the legs' constraints carry whole leaves the actuators only
+    round-off, 1e-15 N against 10 N)."""
+    g = np.asarray(curve.actuator_forces, dtype=float)
+    big = np.max(np.abs(g), axis=0, initial=0.0)
+    load = np.max(np.abs(np.asarray(curve.wrenches) * BALANCE), initial=0.0)
+    return np.asarray(g * (big > DECOUPLED_TOLERANCE * max(float(np.max(big, initial=0.0)), load)))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -531,13 +559,16 @@ def _print_pose(curve: DeflectionCurve) -> None:
         console.print(f"  parasitic (from the legs): {text(others)}")
 
 
-def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
+def _print(curve: DeflectionCurve, rms: dict[str, Any] | None, moving: bool = False) -> None:
+    """The frozen-geometry curve; ``moving``: the header says so (``--geometry moving``,
+    whose curve :func:`_print_moving` prints after this one)."""
     c = console
     unit = curve.load_unit
     head = f"[bold]deflection, mode {curve.mode}"
     if curve.mode == "planar-force":
         head += f" (α = {math.degrees(curve.alpha):g}°)"
-    c.print(head + f", method {curve.method}, geometry frozen[/bold]")
+    geometry = "moving (the frozen curve first, then the moving one)" if moving else "frozen"
+    c.print(head + f", method {curve.method}, geometry {geometry}[/bold]")
     _print_pose(curve)
     at = "T" if np.any(curve.tool_point) else "P"
     if at == "T":
@@ -553,7 +584,8 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None) -> None:
             f"  f = ({eng(w[3])}, {eng(w[4])}, {eng(w[5])}) N, "
             f"m = ({eng(w[0])}, {eng(w[1])}, {eng(w[2])}) N·m"
         )
-    c.print(_twist_table(f"platform deflection at {at}", unit, curve.loads, curve.twists))
+    title = ("frozen geometry: " if moving else "") + f"platform deflection at {at}"
+    c.print(_twist_table(title, unit, curve.loads, curve.twists))
     _print_actuators(curve)
     if rms is not None:
         o, q = rms["orientation_deg"], rms["position_mm"]
@@ -572,7 +604,7 @@ def _print_actuators(curve: DeflectionCurve) -> None:
     unit = curve.load_unit
     n_legs = curve.actuator_forces.shape[1]
     what = "force G \\[N] and tangent stiffness K \\[N/m] per leg"
-    groups = [("G", curve.actuator_forces), ("K", curve.actuator_stiffness)]
+    groups = [("G", _actuator_forces_shown(curve)), ("K", curve.actuator_stiffness)]
     tables = [groups] if n_legs <= _ONE_TABLE_LEGS else [[g] for g in groups]
     for n, group in enumerate(tables):
         if len(tables) == 1:
@@ -581,8 +613,7 @@ def _print_actuators(curve: DeflectionCurve) -> None:
             title = "actuator forces G \\[N] (N·m if rotary)"
         else:
             title = "actuator tangent stiffness K \\[N/m] (N·m/rad if rotary)"
-        a = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
-        a.add_column(f"load \\[{unit}]", justify="right")
+        a = _load_table(title, unit)
         for name, _ in group:
             for i in range(n_legs):
                 a.add_column(f"{name}{i + 1}", justify="right", no_wrap=True)
@@ -621,7 +652,7 @@ def run(args: argparse.Namespace) -> int:
         doc = _json(curve, rms, moving) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("deflect", doc, _JSON_UNITS))
         return 0
-    _print(curve, rms)
+    _print(curve, rms, moving is not None)
     if moving is not None:
         _print_moving(moving)
     if unc is not None:
