@@ -93,7 +93,10 @@ def _needs_distributed(message: str) -> None:
         ([*RADIUS, "--scheduler", "tcp://127.0.0.1:1"], "connection refused"),
         ([*RADIUS, "--scheduler", "nonsense"], "tcp://HOST:PORT"),
         ([*RADIUS, "--region=-90,90,-10,10,0,0,5,5,1"], "does not cover the required region"),
-        (["--vary", "leg1.alpha=0.3:0.5", "--budget", "10"], "none of the 5 candidates"),
+        (
+            ["--vary", "leg*.platform_radius=0.04:0.06", "--budget", "10"],
+            "needs at least 11 evaluations here: the start design (outside the --vary ranges",
+        ),
         ([*RADIUS, "--objective", "max-displacement"], "needs --wrench"),
         ([*RADIUS, "--constraint", "stiffness>=3"], "unknown quantity 'stiffness'"),
         ([*RADIUS, "--region=-10,10,-10,10,-5,5,5,5,2.5"], "must be integers"),
@@ -110,6 +113,57 @@ def test_bad_optimize_input_is_one_line_and_writes_nothing(
     assert main([*argv, "--out", str(best), "--maps", str(tmp_path / "m.png")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("ppm-stiffness: error:") and message in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_start_design_outside_the_ranges_is_warned_and_a_worse_best_said(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The new user's run: the 3-RPS's cylinder length, 0.25 m in examples/3rps.toml,
+    lies outside --vary 0.15:0.22, so the start design is not a candidate. A one-line
+    warning names the parameter, its value and the range; the smallest budget (11: the
+    start design, a population of 5, one generation of 5) runs one generation; the best
+    in the range is worse than the start and the output says so."""
+    from rich.console import Console
+
+    from ppm_stiffness.cli import common
+
+    monkeypatch.setattr(common, "console", Console(width=200))
+    monkeypatch.setattr("ppm_stiffness.cli.optimize.console", common.console)
+    start = pps.load_design(ROOT / "examples/3rps.toml").parameter("leg*.cylinder_length")
+    assert start == 0.25
+    argv = ["optimize", "--design", str(ROOT / "examples/3rps.toml"), "--quiet", "--seed", "1"]
+    argv += ["--vary", "leg*.cylinder_length=0.15:0.22", "--objective", "first-frequency"]
+    assert main([*argv, "--budget", "10", "--out", str(tmp_path / "no.toml")]) == 2
+    assert "needs at least 11 evaluations" in capsys.readouterr().err
+    assert main([*argv, "--budget", "11", "--out", str(tmp_path / "best.toml")]) == 0
+    out, err = capsys.readouterr()
+    assert err == (
+        "ppm-stiffness: warning: the start design is not a candidate: leg*.cylinder_length "
+        "= 0.25 m lies outside its --vary range 0.15:0.22 m; the best design found may be "
+        "worse than the start\n"
+    )
+    assert "11 evaluations (population 5, 1 generation) in" in out
+    assert "worse than the start design (which lies outside the ranges); best design" in out
+    doc = _json(capsys, [*argv, "--budget", "11", "--json", "--out", str(tmp_path / "b.toml")])
+    assert (doc["evaluations"], doc["generations"]) == (11, 1)
+    assert [h["evaluations"] for h in doc["history"]] == [1, 6, 11]
+    assert doc["start_outside_ranges"] == [{"name": "leg*.cylinder_length", "value": start}]
+    assert doc["best_objective"] < doc["initial_objective"] and doc["worse_than_start"]
+    assert doc["improvement"] == doc["best_objective"] / doc["initial_objective"] < 1
+
+
+def test_no_covering_candidate_follows_the_warning_and_writes_nothing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Nothing in alpha 0.3:0.5 covers the region; the start design (alpha = 0) is not a
+    candidate, which the warning line says before the error line."""
+    argv = [*OPTIMIZE, "--vary", "leg1.alpha=0.3:0.5", "--out", str(tmp_path / "best.toml")]
+    assert main(argv) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and "leg1.alpha = 0 rad lies outside its --vary range" in lines[0]
+    assert lines[1].startswith("ppm-stiffness: error: none of the ")
+    assert "candidates evaluated covers the region" in lines[1]
     assert list(tmp_path.iterdir()) == []
 
 

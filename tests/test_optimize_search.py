@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import ppm_stiffness as pps
-from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.optimize.executors import SerialExecutor
 from ppm_stiffness.optimize.objectives import OBJECTIVES, parse_constraint
 from ppm_stiffness.optimize.optimizer import optimize_design
@@ -103,8 +103,31 @@ def test_a_constraint_excludes_candidates() -> None:
 def test_no_covering_candidate_is_an_error() -> None:
     design = _symmetric()  # covers at alpha = 0; nothing in [0.3, 0.5] does
     variable = parse_variable("leg1.alpha=0.3:0.5", design, False)
-    with pytest.raises(DesignError, match="none of the 5 candidates evaluated covers the region"):
-        optimize_design(design, [variable], WORST_K, REGION, budget=10, seed=0)
+    # the start design (alpha = 0) is outside the range: it and 5 + 5 candidates, of
+    # which repeats are evaluated once
+    with pytest.raises(DesignError, match=r"none of the \d+ candidates evaluated covers the"):
+        optimize_design(design, [variable], WORST_K, REGION, budget=11, seed=0)
+
+
+@pytest.mark.parametrize(
+    ("spec", "minimum"),
+    [("leg*.platform_radius=0.02:0.06", 10), ("leg*.platform_radius=0.04:0.06", 11)],
+)
+def test_the_stated_minimum_budget_runs_one_generation(spec: str, minimum: int) -> None:
+    """The refusal of a budget one below the minimum states the minimum, and that budget
+    runs a population of 5 and one generation of 5: 10 evaluations when the start
+    design (platform radius 0.03 m) is the population's first member, 11 when it lies
+    outside the range and is evaluated on top of the population. Before the fix, 10 was
+    the stated minimum in both cases and gave 6 evaluations and 0 generations outside."""
+    design = _symmetric()
+    variable = parse_variable(spec, design, False)
+    with pytest.raises(InputDataError, match=f"needs at least {minimum} evaluations here"):
+        optimize_design(design, [variable], WORST_K, REGION, budget=minimum - 1, seed=1)
+    result = optimize_design(design, [variable], WORST_K, REGION, budget=minimum, seed=1)
+    assert (result.population, result.generations, result.evaluations) == (5, 1, minimum)
+    # start, initial population, one generation
+    assert [n for n, _ in result.history] == [1, minimum - 5, minimum]
+    assert result.outside == ([] if minimum == 10 else [("leg*.platform_radius", 0.03)])
 
 
 class _InterruptAfter(SerialExecutor):

@@ -146,6 +146,8 @@ def _payload(
         "population": result.population,
         "generations": result.generations,
         "interrupted": result.interrupted,
+        "start_outside_ranges": [{"name": n, "value": v} for n, v in result.outside],
+        "worse_than_start": result.worse_than_start,
         "initial_parameters": result.initial_parameters,
         "best_parameters": result.best_parameters,
         "variables": [
@@ -173,7 +175,12 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor
     from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
-    from ppm_stiffness.optimize.optimizer import optimize_design, population_plan
+    from ppm_stiffness.optimize.optimizer import (
+        optimize_design,
+        outside_note,
+        outside_ranges,
+        population_plan,
+    )
     from ppm_stiffness.optimize.summary import FIGURE_UNITS, PAPER_FIGURES, figure_names
     from ppm_stiffness.optimize.variables import check_distinct, parse_variable
 
@@ -190,7 +197,8 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args)
     variables = [parse_variable(t, design, count=False) for t in args.vary]
     check_distinct(variables)
-    population_plan(args.budget, len(variables))
+    outside = outside_ranges(design, variables)
+    population_plan(args.budget, len(variables), not outside)
     objective = OBJECTIVES[args.objective]
     constraints = [parse_constraint(t) for t in args.constraint]
     region = region_from_args(args, [design])
@@ -202,6 +210,10 @@ def run(args: argparse.Namespace) -> int:
         design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
     )
     names = list(dict.fromkeys([*PAPER_FIGURES, *shown, *FIGURE_UNITS]))
+    if outside:  # one line on stderr, before the search
+        import warnings
+
+        warnings.warn(outside_note(outside), UserWarning, stacklevel=1)
 
     start = time.perf_counter()
     with (
@@ -262,7 +274,8 @@ def run(args: argparse.Namespace) -> int:
     console.print(f"region: {region_text(region)}")
     console.print(
         f"{result.evaluations} evaluations (population {result.population}, "
-        f"{result.generations} generations) in {wall:.3g} s, {executor_label(args)}"
+        f"{result.generations} generation{'' if result.generations == 1 else 's'}) "
+        f"in {wall:.3g} s, {executor_label(args)}"
         + (" [interrupted: best so far]" if result.interrupted else "")
     )
     table = Table(
@@ -294,8 +307,12 @@ def run(args: argparse.Namespace) -> int:
             figure_cell(result.best_parameters[v.name]),
         )
     console.print(table)
+    worse = ""
+    if result.worse_than_start:
+        why = "lies outside the ranges" if result.outside else "misses a constraint"
+        worse = f", worse than the start design (which {why})"
     console.print(
-        f"improvement: x{result.improvement:.4g}; best design written to {escape(args.out)}"
+        f"improvement: x{result.improvement:.4g}{worse}; best design written to {escape(args.out)}"
     )
     if margin:
         console.print(margin_note(result.best_summary.margin_poses))

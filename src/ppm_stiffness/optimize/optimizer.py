@@ -22,11 +22,15 @@ of the start design's (``-value / |initial|`` for a maximised objective,
 ranks above every infeasible one and the less infeasible above the more.
 
 Budget: every evaluation of a design counts, the start design's included (it is
-evaluated first, and reused as the first member of the population). The population has
-``S = max(5, min(15 d, budget // 10))`` members for d variables and the evolution runs
-``budget // S - 1`` generations, so evaluations never exceed the budget. Polishing is
-off: the objectives are minima and maxima over a grid of poses (not smooth), so a
-gradient polish would spend evaluations on finite differences of kinks.
+evaluated first, and reused as the first member of the population when its values lie
+in the box). The population has ``S = max(5, min(15 d, budget // 10))`` members for d
+variables and the evolution runs ``(budget - e) // S - 1`` generations, e = 0 when the
+start design is the population's first member and 1 when it lies outside the box (an
+evaluation outside the population), so evaluations never exceed the budget and the
+smallest budget, ``2 S + e`` = 10 or 11, runs one generation
+(:func:`population_plan`). Polishing is off: the objectives are minima and maxima over
+a grid of poses (not smooth), so a gradient polish would spend evaluations on finite
+differences of kinks.
 """
 
 from __future__ import annotations
@@ -61,7 +65,8 @@ INFEASIBLE = 1e9
 MIN_POPULATION = 5
 #: Population members per variable when the budget allows (scipy's default popsize).
 POPULATION_PER_VARIABLE = 15
-#: Smallest budget: a population of 5 and one generation.
+#: Smallest budget when the start design lies in the box (it is then the population's
+#: first member): a population of 5 and one generation. One more when it lies outside.
 MIN_BUDGET = 2 * MIN_POPULATION
 
 
@@ -95,6 +100,10 @@ class OptimizationResult:
         Stopped by Ctrl-C: the best so far.
     budget : int
         The evaluations asked for.
+    outside : list of (str, float or None)
+        (variable name, the start design's value) of each variable whose start value
+        lies outside its range (None: a glob's matches differ); empty when the start
+        design is a candidate (the population's first member).
     """
 
     objective: Quantity
@@ -113,6 +122,7 @@ class OptimizationResult:
     interrupted: bool = False
     constraints: list[Constraint] = field(default_factory=list)
     budget: int = 0
+    outside: list[tuple[str, float | None]] = field(default_factory=list)
 
     def partial_note(self) -> str | None:
         """One line saying that the result is partial (None when it is not): for a
@@ -135,24 +145,81 @@ class OptimizationResult:
         )
         return num / den if den != 0 else math.nan
 
+    @property
+    def worse_than_start(self) -> bool:
+        """The best candidate's objective is worse than the start design's: possible
+        only when the start design is not a candidate (outside the ranges) or not
+        feasible (misses a constraint)."""
+        if self.objective.maximise:
+            return self.best_objective < self.initial_objective
+        return self.best_objective > self.initial_objective
 
-def population_plan(budget: int, n_variables: int) -> tuple[int, int]:
+
+def outside_ranges(
+    design: Design, variables: Sequence[Variable]
+) -> list[tuple[Variable, float | None]]:
+    """The variables whose value on ``design`` lies outside their range, with that
+    value (None where a glob's matches differ): when there are any, the start design is
+    not a candidate of the search (module doc)."""
+    out = []
+    for v in variables:
+        value = v.start(design)
+        if value is None or not v.lo <= value <= v.hi:
+            out.append((v, value))
+    return out
+
+
+def outside_note(outside: Sequence[tuple[Variable, float | None]]) -> str:
+    """One line saying why the start design is not a candidate (``outside_ranges``)."""
+    parts = [
+        f"{v.name} differs between its {len(v.matches)} matches"
+        if value is None
+        else f"{v.name} = {value:g} {v.unit} lies outside its --vary range "
+        f"{v.lo:g}:{v.hi:g} {v.unit}"
+        for v, value in outside
+    ]
+    return (
+        "the start design is not a candidate: "
+        + "; ".join(parts)
+        + "; the best design found may be worse than the start"
+    )
+
+
+def population_plan(budget: int, n_variables: int, start_in_ranges: bool = True) -> tuple[int, int]:
     """Population size S and generations for a budget (module doc).
+
+    Parameters
+    ----------
+    budget : int
+        Most evaluations, the start design's included.
+    n_variables : int
+    start_in_ranges : bool
+        The start design is the population's first member; otherwise its evaluation
+        comes on top of the population's.
 
     Raises
     ------
     InputDataError
-        Budget below 1, or below :data:`MIN_BUDGET`.
+        Budget below 1, or below the smallest that runs one generation
+        (:data:`MIN_BUDGET`, one more when ``start_in_ranges`` is false), saying which.
     """
     if budget < 1:
         raise InputDataError(f"--budget must be at least 1, got {budget}")
-    if budget < MIN_BUDGET:
+    extra = 0 if start_in_ranges else 1
+    if budget < MIN_BUDGET + extra:
+        what = (
+            f"a population of {MIN_POPULATION} (the start design its first member)"
+            if start_in_ranges
+            else "the start design (outside the --vary ranges, so not in the population), "
+            f"a population of {MIN_POPULATION}"
+        )
         raise InputDataError(
             f"--budget {budget} is too small: differential evolution needs at least "
-            f"{MIN_BUDGET} evaluations (a population of {MIN_POPULATION} and one generation)"
+            f"{MIN_BUDGET + extra} evaluations here: {what} and one generation of "
+            f"{MIN_POPULATION}"
         )
     size = max(MIN_POPULATION, min(POPULATION_PER_VARIABLE * n_variables, budget // 10))
-    return size, budget // size - 1
+    return size, (budget - extra) // size - 1
 
 
 class _Evaluator:
@@ -287,7 +354,8 @@ def optimize_design(
     from scipy.stats import qmc
 
     check_distinct(variables)
-    size, generations = population_plan(budget, len(variables))
+    outside = outside_ranges(design, variables)
+    size, generations = population_plan(budget, len(variables), not outside)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     quantities = (objective, *(c.quantity for c in constraints))
     check_quantities(design, quantities, w is not None)
@@ -313,9 +381,7 @@ def optimize_design(
     unit = qmc.LatinHypercube(d=len(variables), seed=np.random.default_rng(streams[0])).random(size)
     init = lo + unit * (hi - lo)
     x0 = np.array([np.nan if s is None else s for s in starts])
-    use_start = bool(np.all(np.isfinite(x0)) and np.all((x0 >= lo) & (x0 <= hi)))
-    if not use_start:  # the start design is an evaluation outside the population
-        generations = (budget - 1) // size - 1
+    use_start = not outside  # otherwise an evaluation outside the population
     evaluator = _Evaluator(
         design,
         variables,
@@ -382,6 +448,7 @@ def optimize_design(
         interrupted=interrupted,
         constraints=list(constraints),
         budget=budget,
+        outside=[(v.name, value) for v, value in outside],
     )
 
 
