@@ -46,9 +46,8 @@ def test_command_help_imports_no_heavy_library() -> None:
 
 
 #: Commands whose ``--help`` needs constants of library modules that import the design
-#: schema (pydantic): deflect (statics.deflection's modes and methods), validate (the FE
-#: comparison's options).
-SCHEMA_AT_HELP = {"deflect", "validate"}
+#: schema (pydantic): deflect (statics.deflection's modes and methods).
+SCHEMA_AT_HELP = {"deflect"}
 
 
 def test_command_help_does_not_load_the_design_schema() -> None:

@@ -17,6 +17,7 @@ import argparse
 import csv
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from rich import box
@@ -36,20 +37,16 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES, POSE_INDEX
-from ppm_stiffness.design import Design
-from ppm_stiffness.validation.compare import (
-    POSE_COLUMNS,
-    TOLERANCES,
-    PoseComparison,
-    compare_at_pose,
-    csv_rows,
-    describe_box,
-    figure_names,
-    sampling_box,
-    validation_poses,
+from ppm_stiffness.core.pose import (
+    ANGLE_COORDINATES,
+    POSE_COORDINATES,
+    POSE_CSV_COLUMNS,
+    POSE_INDEX,
 )
-from ppm_stiffness.validation.fe_model import require_pynite
+
+if TYPE_CHECKING:  # the design schema and the FE model load when run, not for --help
+    from ppm_stiffness.design import Design
+    from ppm_stiffness.validation.compare import PoseComparison
 
 #: Upper bound of --poses: 2 to 10 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
@@ -89,7 +86,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--csv",
         metavar="FILE",
-        help="write " + ", ".join(POSE_COLUMNS) + " (= pose_rz_deg), block, max_rel_diff "
+        help="write "
+        + ", ".join(POSE_CSV_COLUMNS)
+        + ", phi_deg (= pose_rz_deg), block, max_rel_diff "
         "(one row per pose and figure)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -124,6 +123,8 @@ def _check_args(args: argparse.Namespace) -> None:
 
 
 def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:
+    from ppm_stiffness.validation.compare import compare_at_pose
+
     out: list[PoseComparison] = []
     with progress("FE model", len(poses), enabled=not (args.quiet or args.json)) as advance:
         for pose in poses:
@@ -159,6 +160,8 @@ def _coordinate(name: str, value: float, planar: bool) -> str:
 
 
 def _table(design: Design, results: list[PoseComparison]) -> Table:
+    from ppm_stiffness.validation.compare import figure_names
+
     names = figure_names(design)
     shown = _shown_coordinates(design)
     table = Table(
@@ -185,6 +188,8 @@ def _table(design: Design, results: list[PoseComparison]) -> Table:
 
 def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
     """Write the rows to ``path`` (a temporary file for ``--csv name``)."""
+    from ppm_stiffness.validation.compare import csv_rows
+
     rows = csv_rows(results)
     try:
         with path.open("w", newline="", encoding="utf-8") as fh:
@@ -203,6 +208,15 @@ def _pose_json(pose: np.ndarray) -> dict[str, float]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.validation.compare import (
+        TOLERANCES,
+        describe_box,
+        figure_names,
+        sampling_box,
+        validation_poses,
+    )
+    from ppm_stiffness.validation.fe_model import require_pynite
+
     _check_args(args)
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
     require_pynite()

@@ -39,6 +39,10 @@ POSE_INDEX = {name: i for i, name in enumerate(POSE_COORDINATES)}
 PLANAR_INDEX = (0, 1, 5)
 #: Pose coordinates that are angles.
 ANGLE_COORDINATES = frozenset({"rx", "ry", "rz"})
+#: CSV columns of a full pose in the command line's units: pose_x_mm, ..., pose_rz_deg.
+POSE_CSV_COLUMNS = tuple(
+    f"pose_{n}_deg" if n in ANGLE_COORDINATES else f"pose_{n}_mm" for n in POSE_COORDINATES
+)
 
 
 #: The nine entries of R, row by row (each an array of the batch shape).

@@ -35,7 +35,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, length_balanced
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError, UnreachablePoseError
-from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES, POSE_CSV_COLUMNS
 from ppm_stiffness.core.singularity import nonsingular
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import stiffness_at_pose, transmission_at_pose, validate_pose
@@ -360,9 +360,7 @@ def compare_poses(
 
 #: CSV pose columns: the six coordinates in mm and degrees, and phi_deg (= rz, the
 #: planar name of earlier files).
-POSE_COLUMNS = tuple(
-    f"pose_{n}_deg" if n in ANGLE_COORDINATES else f"pose_{n}_mm" for n in POSE_COORDINATES
-) + ("phi_deg",)
+POSE_COLUMNS = POSE_CSV_COLUMNS + ("phi_deg",)
 
 
 def csv_rows(comparisons: Iterable[PoseComparison]) -> list[dict[str, float | str]]:
