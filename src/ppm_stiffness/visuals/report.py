@@ -170,7 +170,7 @@ def build_report(
 
     map_figs: list[tuple[str, str, str, str]] = []
     # planar: the paper's x-y maps at two orientations; else the default slice (the
-    # first two task coordinates at the home values of the others)
+    # design's first two task coordinates, x-y for a hexapod), the others at the pose
     slices: list[float | None] = (
         [math.radians(d) for d in MAP_PHIS_DEG] if design.planar else [None]
     )
