@@ -35,7 +35,7 @@ from pydantic import model_validator
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose
-from ppm_stiffness.legs.chain import Element, Joint, Link, unit
+from ppm_stiffness.legs.chain import Element, Joint, unit
 from ppm_stiffness.legs.parts import (
     Finite,
     GuideModel,
@@ -45,7 +45,8 @@ from ppm_stiffness.legs.parts import (
     SphericalModel,
     joint_springs,
 )
-from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, joint_angle, plane_constraint
+from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, plane_constraint
+from ppm_stiffness.legs.types._strut import check_stroke, strut_elements, strut_pose
 
 Vector3 = tuple[Finite, Finite, Finite]
 
@@ -86,13 +87,7 @@ class RPSLeg(LegModel):
 
     @model_validator(mode="after")
     def _ranges(self) -> RPSLeg:
-        if not self.stroke[0] < self.stroke[1]:
-            raise ValueError("stroke must be [min, max] with min < max")
-        if not self.stroke[0] > self.cylinder_length:
-            raise ValueError(
-                "stroke: the shortest leg must exceed cylinder_length (the rod needs a "
-                "positive free length)"
-            )
+        check_stroke(self.stroke, self.cylinder_length)
         check_unit("revolute_axis", self.revolute_axis)
         check_unit("platform_joint_axis", self.platform_joint_axis)
         return self
@@ -112,20 +107,7 @@ class RPSLeg(LegModel):
         return out
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
-        b = self.platform_offset(pose)
-        a = np.asarray(self.base_point, dtype=float) - pose6.position(pose)
-        r = b - a
-        length = np.linalg.norm(r, axis=-1)
-        n = unit(r)
-        c = a + self.cylinder_length * n
-        platform_axis = pose6.platform_offset(pose, np.asarray(self.platform_joint_axis))
-        return LegPose(
-            poses=pose,
-            points={"A": a, "C": c, "B": b},
-            coordinates={"length": length, "platform_joint_angle": joint_angle(-n, platform_axis)},
-            solvable=np.asarray(length > self.cylinder_length),
-        )
+        return strut_pose(self, poses)
 
     def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """``(B - A) . e_R`` [m] and its wrench, a force along e_R through B."""
@@ -139,30 +121,10 @@ class RPSLeg(LegModel):
         )
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
-        pts = leg_pose.points
-        n = unit(pts["B"] - pts["A"])
         e = self.revolute_direction()
-        return [
-            Joint("R", e, pts["A"], joint_springs(self.base_revolute), name="base_revolute"),
-            Link(
-                pts["A"],
-                pts["C"],
-                self.cylinder.section(),
-                name="cylinder",
-                mass=self.cylinder.link_mass(),
-            ),
-            Joint(
-                "P",
-                n,
-                pts["C"],
-                joint_springs(self.guide),
-                actuated=True,
-                name="guide",
-                mass=self.actuator.moving_parts(),
-            ),
-            Link(pts["C"], pts["B"], self.rod.section(), name="rod", mass=self.rod.link_mass()),
-            Joint("S", n, pts["B"], joint_springs(self.platform_joint), name="platform_joint"),
-        ]
+        base_point = leg_pose.points["A"]
+        base = Joint("R", e, base_point, joint_springs(self.base_revolute), name="base_revolute")
+        return [base, *strut_elements(self, leg_pose)]
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The revolute at ``base_point`` (pose-independent)."""

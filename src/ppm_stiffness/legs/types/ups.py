@@ -42,7 +42,7 @@ from pydantic import model_validator
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose
-from ppm_stiffness.legs.chain import Element, Joint, Link, unit
+from ppm_stiffness.legs.chain import Element, Joint, unit
 from ppm_stiffness.legs.parts import (
     Finite,
     GuideModel,
@@ -52,7 +52,8 @@ from ppm_stiffness.legs.parts import (
     UniversalModel,
     joint_springs,
 )
-from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, joint_angle, universal_axes
+from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, universal_axes
+from ppm_stiffness.legs.types._strut import check_stroke, strut_elements, strut_pose
 
 Vector3 = tuple[Finite, Finite, Finite]
 
@@ -94,13 +95,7 @@ class UPSLeg(LegModel):
 
     @model_validator(mode="after")
     def _ranges(self) -> UPSLeg:
-        if not self.stroke[0] < self.stroke[1]:
-            raise ValueError("stroke must be [min, max] with min < max")
-        if not self.stroke[0] > self.cylinder_length:
-            raise ValueError(
-                "stroke: the shortest leg must exceed cylinder_length (the rod needs a "
-                "positive free length)"
-            )
+        check_stroke(self.stroke, self.cylinder_length)
         check_unit("base_joint_axis", self.base_joint_axis)
         check_unit("platform_joint_axis", self.platform_joint_axis)
         return self
@@ -120,50 +115,13 @@ class UPSLeg(LegModel):
         return out
 
     def solve(self, poses: ArrayLike) -> LegPose:
-        pose = np.asarray(poses, dtype=float)
-        b = self.platform_offset(pose)
-        a = np.asarray(self.base_point, dtype=float) - pose6.position(pose)
-        r = b - a
-        length = np.linalg.norm(r, axis=-1)
-        n = unit(r)
-        c = a + self.cylinder_length * n
-        platform_axis = pose6.platform_offset(pose, np.asarray(self.platform_joint_axis))
-        return LegPose(
-            poses=pose,
-            points={"A": a, "C": c, "B": b},
-            coordinates={
-                "length": length,
-                "base_joint_angle": joint_angle(n, np.asarray(self.base_joint_axis)),
-                "platform_joint_angle": joint_angle(-n, platform_axis),
-            },
-            solvable=np.asarray(length > self.cylinder_length),
-        )
+        return strut_pose(self, poses, self.base_joint_axis)
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
         pts = leg_pose.points
-        n = unit(pts["B"] - pts["A"])
-        e1, e2 = universal_axes(n)
-        return [
-            Joint("U", e1, pts["A"], joint_springs(self.base_joint), name="base_joint", axis2=e2),
-            Link(
-                pts["A"],
-                pts["C"],
-                self.cylinder.section(),
-                name="cylinder",
-                mass=self.cylinder.link_mass(),
-            ),
-            Joint(
-                "P",
-                n,
-                pts["C"],
-                joint_springs(self.guide),
-                actuated=True,
-                name="guide",
-                mass=self.actuator.moving_parts(),
-            ),
-            Link(pts["C"], pts["B"], self.rod.section(), name="rod", mass=self.rod.link_mass()),
-            Joint("S", n, pts["B"], joint_springs(self.platform_joint), name="platform_joint"),
-        ]
+        e1, e2 = universal_axes(unit(pts["B"] - pts["A"]))
+        base = Joint("U", e1, pts["A"], joint_springs(self.base_joint), name="base_joint", axis2=e2)
+        return [base, *strut_elements(self, leg_pose)]
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The universal joint at ``base_point`` (pose-independent)."""
