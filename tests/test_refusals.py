@@ -7,8 +7,7 @@ the map's code (:class:`ppm_stiffness.core.refusals.Refusal`) at every grid poin
 the one the single-pose call's error names (``stiffness_at_pose`` without a load,
 ``loaded_state`` with one). Loads: the asymmetric wrench of test_loaded_batch.py times
 1 to 3000 (an actuator beyond its stroke for the P-P-R designs from 3 times, rotations
-beyond 5.7 deg for the others from 30 to 3000 times, Newton's method still crawling
-after 100 iterations at one pose of the redundant 4-PPR at 3000 times); singular maps:
+beyond 5.7 deg for the others from 30 to 3000 times); singular maps:
 the 3-RPR at phi = -60 deg (its base and platform triangles are then similar and
 parallel: the leg lines meet at one point wherever the platform is) and near it.
 Before, the wrench
@@ -61,7 +60,7 @@ GRID = (9, 7)
 CASES: dict[str, tuple[float, list[float], set[Refusal]]] = {
     "paper": (0.0, [0.1, 1.0, 3.0], {Refusal.BEYOND_STROKE, Refusal.LARGE_ROTATION}),
     "symmetric_3ppr": (0.0, [1.0, 3.0], {Refusal.BEYOND_STROKE}),
-    "redundant_4ppr": (0.0, [1.0, 3.0, 3000.0], {Refusal.BEYOND_STROKE, Refusal.NO_EQUILIBRIUM}),
+    "redundant_4ppr": (0.0, [1.0, 3.0, 3000.0], {Refusal.BEYOND_STROKE}),
     "3rpr": (0.0, [1.0, 3000.0], {Refusal.LARGE_ROTATION}),
     "3prr": (0.0, [1.0, 1000.0], {Refusal.LARGE_ROTATION}),
     "3rrr": (0.0, [1.0, 300.0], {Refusal.LARGE_ROTATION}),
@@ -328,7 +327,12 @@ def test_the_map_command_says_how_many_points_are_masked_and_why(
 
 def test_no_equilibrium_is_masked_like_loaded_state(monkeypatch: pytest.MonkeyPatch) -> None:
     """With the iteration limit lowered to 2, the redundant 4-PPR's Newton iterations
-    (5 at this load) do not converge anywhere: every reachable pose is refused by both."""
+    (5 at this load) do not converge anywhere: every reachable pose is refused by both.
+
+    The map test above once also required a NO_EQUILIBRIUM point from the 3000x load,
+    where Newton's method crawled past 100 iterations at one pose; whether it does is a
+    knife edge of the floating-point path (it converges with numpy 2.4), so this test,
+    which lowers the limit, is the one that holds the code path."""
     monkeypatch.setattr(statics, "MAX_ITERATIONS", 2)
     design = design_named("redundant_4ppr")
     poses = np.array([[0.015, -0.015, math.radians(-12.0)], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
