@@ -99,21 +99,25 @@ def test_read_metres_equals_millimetres(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    "text",
+    ("text", "message"),
     [
-        "",  # empty
-        "# only a comment\n",
-        "displacement,force\n0.1,5\n",  # no units in the header
-        "displacement_mm,force_N\n0.1,abc\n",  # non-numeric
-        "displacement_mm,force_N\n0.1\n",  # short row
-        "displacement_mm,displacement_m,force_N\n0.1,1e-4,5\n",  # two displacements
-        "displacement_mm,force_N\nnan,5\n",
+        ("", "no header row and no data"),  # empty
+        ("# only a comment\n", "no header row and no data"),
+        # no units in the header
+        ("displacement,force\n0.1,5\n", "the header row must name one displacement column"),
+        ("displacement_mm,force_N\n0.1,abc\n", r"line 2: not numeric: \['0.1', 'abc'\]"),
+        ("displacement_mm,force_N\n0.1\n", "line 2: 1 fields, the header has 2"),  # short row
+        (  # two displacements
+            "displacement_mm,displacement_m,force_N\n0.1,1e-4,5\n",
+            "the header row must name one displacement column",
+        ),
+        ("displacement_mm,force_N\nnan,5\n", "displacements and forces must be finite"),
     ],
 )
-def test_malformed_csv_raises(tmp_path: Path, text: str) -> None:
+def test_malformed_csv_raises(tmp_path: Path, text: str, message: str) -> None:
     p = tmp_path / "bad.csv"
     p.write_text(text)
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=message):
         read_force_displacement(p)
 
 
@@ -123,14 +127,14 @@ def test_missing_file_raises(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    ("d", "g"),
+    ("d", "g", "message"),
     [
-        ([1e-5, 1e-4], [3.0, 5.0]),  # too few points
-        ([1e-5, 1e-5, 1e-5], [3.0, 3.1, 2.9]),  # one distinct displacement
-        ([1e-5, 1e-4, 1e-3], [3.0, 5.0]),  # unequal lengths
-        ([1e-5, np.inf, 1e-3], [3.0, 5.0, 9.0]),
+        ([1e-5, 1e-4], [3.0, 5.0], "needs at least 3 points"),  # too few points
+        ([1e-5, 1e-5, 1e-5], [3.0, 3.1, 2.9], "at least 2 distinct nonzero displacements"),
+        ([1e-5, 1e-4, 1e-3], [3.0, 5.0], r"equal length, got \(3,\) and \(2,\)"),
+        ([1e-5, np.inf, 1e-3], [3.0, 5.0, 9.0], "displacements and forces must be finite"),
     ],
 )
-def test_bad_arrays_raise(d: list[float], g: list[float]) -> None:
-    with pytest.raises(InputDataError):
+def test_bad_arrays_raise(d: list[float], g: list[float], message: str) -> None:
+    with pytest.raises(InputDataError, match=message):
         fit_power_law(d, g)

@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from ppm_stiffness._allocator import OPT_OUT, tune_allocator
+from ppm_stiffness._allocator import OPT_OUT
 from ppm_stiffness.optimize.executors import process_executor
 
 GLIBC = sys.platform.startswith("linux") and hasattr(ctypes.CDLL(None), "gnu_get_libc_version")
@@ -82,18 +82,22 @@ def test_importing_the_library_does_not_tune() -> None:
     assert faults > 100_000
 
 
-@needs_glibc
-def test_local_workers_are_tuned() -> None:
-    # the initializer ran tune_allocator in the worker: later calls return its outcome
-    with process_executor(1) as pool:
-        assert pool.submit(tune_allocator).result() is True
-
-
 def _worker_state() -> tuple[object, str | None]:
+    """The allocator's recorded outcome in this process, read without tuning it (None
+    when nothing has called tune_allocator), and the trim variable of its environment."""
     import sys as worker_sys
 
     module = worker_sys.modules.get("ppm_stiffness._allocator")
     return getattr(module, "_state", None), os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+@needs_glibc
+def test_local_workers_are_tuned() -> None:
+    # the pool's initializer ran tune_allocator before any task: the worker's recorded
+    # outcome is read, not produced by the task (without the initializer it is None)
+    with process_executor(1) as pool:
+        state, _ = pool.submit(_worker_state).result()
+    assert state is True
 
 
 @needs_glibc

@@ -173,7 +173,7 @@ def test_principal_from_matrices_equals_decouple_on_single_pose_matrices() -> No
 
 
 def test_bad_inputs_raise_library_errors() -> None:
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=r"poses must have shape .* got \(4, 2\)"):
         batch.evaluate_poses(DESIGN, np.zeros((4, 2)))
     with pytest.raises(DesignError, match="actuator stiffness"):
         batch.evaluate_poses(DESIGN, np.zeros((4, 3)), [1.0, -2.0, 3.0])

@@ -71,11 +71,11 @@ def test_reports_flat_direction_for_springs_in_series() -> None:
 
 def test_bad_calibration_input() -> None:
     k = stiffness_at_pose(DESIGN)
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=r"target must be 6x6, got shape \(5, 5\)"):
         calibrate(DESIGN, k[:5, :5], ["leg1.bearing_offset"])
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="no free parameters given"):
         calibrate(DESIGN, k, [])
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=r"each bound must be \(low, high\) with low < high"):
         calibrate(DESIGN, k, ["leg1.bearing_offset"], bounds={"leg1.bearing_offset": (1, 0)})
     from ppm_stiffness.core.errors import DesignError
 

@@ -143,7 +143,7 @@ def test_unreachable_pose_names_what_is_reachable(capsys: pytest.CaptureFixture[
     for phi in (lo, hi):
         solve_legs(design, [0.0, 0.0, np.radians(phi)])
     for phi in (lo - 0.2, hi + 0.2):
-        with pytest.raises(UnreachablePoseError):
+        with pytest.raises(UnreachablePoseError, match=r"leg \d: actuator coordinate .* outside"):
             solve_legs(design, [0.0, 0.0, np.radians(phi)])
 
     assert main(["analyze", "--x", "100"]) == 2

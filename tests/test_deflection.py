@@ -372,20 +372,20 @@ def test_shipped_synthetic_measurements_match_the_model_within_their_noise(
 
 
 @pytest.mark.parametrize(
-    "text",
+    ("text", "message"),
     [
-        "load,phi_z_deg,x_m\n1,0.1,0.2\n",  # unknown column
-        "phi_z_deg,x_mm\n0.1,0.2\n",  # no load column
-        "load\n1\n",  # no component
-        "load,x_mm\n1,abc\n",
-        "load,x_mm\n1\n",
-        "load,x_mm\n-1,0.2\n",
-        "load,x_mm,x_mm\n1,0.2,0.2\n",
-        "load,x_mm\n",  # no data
+        ("load,phi_z_deg,x_m\n1,0.1,0.2\n", r"unknown column 'x_m' \(did you mean 'x_mm'\?\)"),
+        ("phi_z_deg,x_mm\n0.1,0.2\n", "displacements with no wrench"),  # no load column
+        ("load\n1\n", "no displacement column"),  # no component
+        ("load,x_mm\n1,abc\n", "line 2, column 'x_mm': 'abc' is not numeric"),
+        ("load,x_mm\n1\n", "line 2: 1 fields, the header has 2"),
+        ("load,x_mm\n-1,0.2\n", "line 2: load -1: loads must be >= 0"),
+        ("load,x_mm,x_mm\n1,0.2,0.2\n", "column 'x_mm' appears more than once"),
+        ("load,x_mm\n", "needs a header row and at least one data row"),  # no data
     ],
 )
-def test_malformed_measurements(tmp_path: Path, text: str) -> None:
+def test_malformed_measurements(tmp_path: Path, text: str, message: str) -> None:
     p = tmp_path / "m.csv"
     p.write_text(text)
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=message):
         read_measurements(p)

@@ -129,9 +129,9 @@ def test_unsolvable_poses_are_masked_without_nan() -> None:
 def test_path_requests() -> None:
     with pytest.raises(DesignError, match="no exact reduced form"):
         batch.evaluate_poses(design_named("3rrr"), np.zeros(3), path="reduced")
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="path must be 'auto', .* got 'fast'"):
         batch.evaluate_poses(default_design(), np.zeros(3), path="fast")  # type: ignore[arg-type]
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="poses must be finite"):
         batch.evaluate_poses(default_design(), [np.nan, 0.0, 0.0])
 
 

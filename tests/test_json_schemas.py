@@ -218,8 +218,9 @@ def test_a_schema_rejects_a_wrong_document(capsys: pytest.CaptureFixture[str]) -
     document = _document(capsys, ["analyze", "--json"])
     document["stiffness_matrix"] = document["stiffness_matrix"][:5]  # type: ignore[index]
     spec = json.loads((SCHEMAS / "analyze.schema.json").read_text(encoding="utf-8"))
-    with pytest.raises(jsonschema.ValidationError):
+    with pytest.raises(jsonschema.ValidationError, match="is too short") as err:
         jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+    assert list(err.value.absolute_path) == ["stiffness_matrix"]
 
 
 def test_optimize_json_validates(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -237,8 +238,9 @@ def test_uncertainty_is_described_by_the_schemas(capsys: pytest.CaptureFixture[s
     spec = json.loads((SCHEMAS / "analyze.schema.json").read_text(encoding="utf-8"))
     jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
     document["uncertainty"]["stiffness_matrix_lower"] = [[0.0]]  # type: ignore[index]
-    with pytest.raises(jsonschema.ValidationError):
+    with pytest.raises(jsonschema.ValidationError, match="is too short") as err:
         jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+    assert list(err.value.absolute_path) == ["uncertainty", "stiffness_matrix_lower"]
 
 
 def test_every_schema_has_a_case() -> None:

@@ -86,7 +86,7 @@ def test_workspace_bounds_follow_the_joint_limits(phi: float) -> None:
         (centre[0], box[2] - eps),
         (centre[0], box[3] + eps),
     ):
-        with pytest.raises(UnreachablePoseError):
+        with pytest.raises(UnreachablePoseError, match=r"leg \d: .* mm outside \["):
             solve_legs(DESIGN, [x, y, phi])
 
 
@@ -95,7 +95,7 @@ def test_reconstructed_limits_of_the_built_in_design() -> None:
     x spans [3 mm - rod_1(0), rod_2(0) - 3 mm] ~ [-14.97, 8.67] mm and y +-25 mm."""
     box = workspace.workspace_bounds(DESIGN, 0.0) * 1e3
     np.testing.assert_allclose(box, [-14.969, 8.669, -25.0, 25.0], atol=2e-3)
-    with pytest.raises(UnreachablePoseError):
+    with pytest.raises(UnreachablePoseError, match="no reachable position at phi = 90.00 deg"):
         workspace.workspace_bounds(DESIGN, np.radians(90.0))
 
 
@@ -240,15 +240,16 @@ def test_progress_reports_every_chunk_up_to_the_total() -> None:
 
 
 def test_bad_map_requests_raise() -> None:
-    with pytest.raises(InputDataError):
+    needed = 'a wrench is needed for actuators="wrench" and only for it'
+    with pytest.raises(InputDataError, match=needed):
         stiffness_map(DESIGN, actuators="wrench")  # no wrench
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match=needed):
         stiffness_map(DESIGN, actuators="max", wrench=PAPER_WRENCH)
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="actuators must be one of .* got 'medium'"):
         stiffness_map(DESIGN, actuators="medium")
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="a map grid needs at least 2 x 2 points, got 1 x 1"):
         stiffness_map(DESIGN, grid=1)
-    with pytest.raises(UnreachablePoseError):
+    with pytest.raises(UnreachablePoseError, match="no reachable position at phi = 90.00 deg"):
         stiffness_map(DESIGN, phi=np.radians(90.0))
 
 

@@ -16,6 +16,20 @@ from ppm_stiffness.validation.second_order import compare_second_order
 
 pytest.importorskip("Pynite", reason="PyNite is in the 'validate' extra")
 
+# Regression pins (issue 27, item 12): differences between the two models read back from
+# compare_second_order when the tests were written, not independent values. They pin
+# the size of an effect the models are known to treat differently; an independent value
+# would need a third second-order model (e.g. a large-displacement FE solution of the
+# frame under the same load, from which both corrections follow).
+#: The hexapod truss under 200 kN: PyNite's P-Delta against the virtual-joint tangent
+#: without the platform-shear term, 11.0-11.1 % (10ad86f; `pytest
+#: tests/test_second_order_fe.py -k both_leave_out`, printing c.correction_difference).
+REGRESSION_PIN_SHEAR_TERM_EFFECT = (0.10, 0.12)
+#: The shipped 3-RPR under 20 kN: the moving-geometry correction against P-Delta's
+#: (1.8 times it, a relative difference of 0.572; e681172; `pytest
+#: tests/test_second_order_fe.py -k shipped_3rpr`, printing c.moving_correction_difference).
+REGRESSION_PIN_MOVING_AGAINST_PDELTA = (0.5, 0.65)
+
 
 def _stiff_guide_rotations(name: str):
     """The example with its guides' roll, pitch and yaw springs 1e4 times stiffer."""
@@ -80,7 +94,8 @@ def test_spatial_pdelta_agrees_once_both_leave_out_the_platform_shear(
     c = compare_second_order(design, _force(2e5, direction))
     assert 0.01 < c.geometric_fraction < 0.10
     assert c.axial_only_difference < 3e-3
-    assert 0.10 < c.correction_difference < 0.12
+    lo, hi = REGRESSION_PIN_SHEAR_TERM_EFFECT
+    assert lo < c.correction_difference < hi
     assert c._relative(c.fe_linear, c.vjm_linear) < 1e-3  # measured 3.4e-4
 
 
@@ -156,7 +171,8 @@ def test_pdelta_on_the_shipped_3rpr() -> None:
     c = compare_second_order(design, np.array([0.0, 0.0, 0.0, 2e4, 0.0, 0.0]))
     assert 0.01 < c.geometric_fraction < 0.10
     assert c.correction_difference < 0.04
-    assert 0.5 < c.moving_correction_difference < 0.65
+    lo, hi = REGRESSION_PIN_MOVING_AGAINST_PDELTA
+    assert lo < c.moving_correction_difference < hi
 
 
 def test_released_members_get_no_made_up_axial_force() -> None:

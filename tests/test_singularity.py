@@ -168,7 +168,7 @@ def test_the_3rpr_index_near_its_singularity() -> None:
     tau = [transmission_at_pose(design, [0.0, 0.0, math.radians(-60 + d)]) for d in (0.1, 1.0)]
     assert tau[1] / tau[0] == pytest.approx(100, rel=0.01)
     assert tau[0] > SINGULARITY_TOLERANCE
-    with pytest.raises(SingularConfigurationError):
+    with pytest.raises(SingularConfigurationError, match="transmission index .* at or below"):
         stiffness_at_pose(design, [0.0, 0.0, math.radians(-60.05)])
 
 

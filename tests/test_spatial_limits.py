@@ -97,7 +97,8 @@ def test_rigid_structure_limit_is_reached_at_first_order(name: str) -> None:
 
 def test_shipped_hexapod_is_a_sum_of_two_force_legs() -> None:
     """K = sum k_i w_i w_i^T with w_i = ((B_i - P) x n_i; n_i) and 1/k_i the axial
-    compliances in series (actuator, cylinder, rod, U and S joints), to 1e-10."""
+    compliances in series (actuator, cylinder, rod, U and S joints), to 2e-15 of the
+    largest balanced entry (measured 3.7e-16)."""
     design = design_named("hexapod_6ups")
     worst = 0.0
     for pose in sample_poses(design, 6, seed=4):
@@ -121,7 +122,7 @@ def test_shipped_hexapod_is_a_sum_of_two_force_legs() -> None:
         s = np.array([10.0, 10.0, 10.0, 1.0, 1.0, 1.0])
         scale = np.max(np.abs(expected * s[:, None] * s[None, :]))
         worst = max(worst, float(np.max(np.abs((k - expected) * s[:, None] * s[None, :]))) / scale)
-    assert worst < 1e-10
+    assert worst < 2e-15  # measured 3.7e-16
 
 
 @pytest.mark.parametrize("name", SPATIAL)

@@ -162,7 +162,7 @@ def test_bad_input_is_a_library_error() -> None:
         build_model(design, centre, legs=(7,))
     with pytest.raises(InputDataError, match="pose"):
         fe_stiffness_at_pose(design, [0.0, 0.0])
-    with pytest.raises(UnreachablePoseError):
+    with pytest.raises(UnreachablePoseError, match=r"leg \d: rod free length .* outside \["):
         fe_stiffness_at_pose(design, centre + [5.0, 0.0, 0.0])
     with pytest.raises(DesignError, match="actuator stiffness"):
         fe_stiffness_at_pose(design, centre, actuator_stiffness=-1.0)
@@ -170,7 +170,7 @@ def test_bad_input_is_a_library_error() -> None:
         joint_stiffness(
             Joint("R", np.array([0.0, 0.0, 1.0]), np.zeros(3), np.array([1.0, 2.0])), 1.0
         )
-    with pytest.raises(InputDataError):
+    with pytest.raises(InputDataError, match="the number of poses must be >= 0, got -1"):
         sample_reachable_poses(design, -1)
 
 

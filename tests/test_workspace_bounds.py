@@ -120,5 +120,5 @@ def test_half_planes_hold_for_a_rod_oblique_to_its_rail() -> None:
 
 def test_no_reachable_orientation_raises_for_sampled_bounds() -> None:
     design = load_design(ROOT / "examples" / "3prr.toml")
-    with pytest.raises(UnreachablePoseError):
+    with pytest.raises(UnreachablePoseError, match="no reachable position at phi = 170.00 deg"):
         workspace_bounds(design, np.radians(170.0))

@@ -27,7 +27,7 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import add_tolerance_arguments, read_tolerance_args
-from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_COMPONENTS
+from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_BALANCE, TWIST_COMPONENTS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -165,7 +165,7 @@ def print_tables(result: dict[str, Any], title: str, units: list[str]) -> None:
     s.add_column("mode", justify="right")
     for name in TWIST_COMPONENTS:
         s.add_column(name, justify="right")
-    scale = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+    scale = TWIST_BALANCE
     for j, mode in enumerate(result["modes"], start=1):
         b = np.asarray(mode["shape"]) * scale
         s.add_row(str(j), *(f"{x + 0.0:+.3f}" for x in np.where(np.abs(b) < 5e-4, 0.0, b)))

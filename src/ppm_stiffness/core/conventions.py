@@ -58,6 +58,19 @@ Z_AXIS: FloatArray = np.array([0.0, 0.0, 1.0])
 LENGTH_SCALE = 0.1
 #: The diagonal of ``S``: the balanced stiffness is ``S K S`` (module doc).
 BALANCE: FloatArray = np.array([1 / LENGTH_SCALE] * 3 + [1.0] * 3)
+#: The diagonal of ``S^-1`` = (L, L, L, 1, 1, 1): a twist's balanced form is
+#: ``(omega L, v)`` = ``TWIST_BALANCE * t`` [m] (a wrench's is ``BALANCE * w`` = (m / L, f) [N]).
+TWIST_BALANCE: FloatArray = 1.0 / BALANCE
+
+#: The name of each twist component when it dominates a mode or a twist, in order.
+DIRECTION_NAMES = (
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+    "x translation",
+    "y translation",
+    "z translation",
+)
 
 #: Names of the six twist / wrench components, in order.
 TWIST_COMPONENTS = ("phi_x", "phi_y", "phi_z", "x", "y", "z")

@@ -55,7 +55,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
-from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.conventions import TWIST_BALANCE, FloatArray
 from ppm_stiffness.dynamics.inertia import spatial_inertia
 from ppm_stiffness.dynamics.links import link_mass_matrix
 from ppm_stiffness.legs import engine
@@ -70,9 +70,6 @@ from ppm_stiffness.legs.chain import (
     freedom_screws,
     link_screws,
 )
-
-#: Length-balancing of twists for the passive rates' least squares: (omega L, v).
-_TWIST_BALANCE = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
 
 
 @dataclass(frozen=True)
@@ -238,9 +235,9 @@ def leg_motion(
         passive_rates: list[FloatArray | None] = [None] * len(chain)
         if q_all:
             residual = np.eye(6) - total @ h
-            jb = _TWIST_BALANCE[:, None] * np.stack(q_all, axis=-1)  # (n, 6, p)
+            jb = TWIST_BALANCE[:, None] * np.stack(q_all, axis=-1)  # (n, 6, p), (omega L, v)
             jbt = np.swapaxes(jb, -1, -2)
-            dq = _solve(jbt @ jb, jbt @ (_TWIST_BALANCE[:, None] * residual))  # (n, p, 6)
+            dq = _solve(jbt @ jb, jbt @ (TWIST_BALANCE[:, None] * residual))  # (n, p, 6)
             i = 0
             for e, q in enumerate(passive):
                 if q is not None:

@@ -30,19 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.conventions import DIRECTION_NAMES, TWIST_BALANCE, FloatArray
 from ppm_stiffness.core.errors import InputDataError
-
-#: The name of each twist component when it dominates a mode shape.
-DIRECTION_NAMES = (
-    "rotation about x",
-    "rotation about y",
-    "rotation about z",
-    "x translation",
-    "y translation",
-    "z translation",
-)
-_BALANCE = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)  # twist -> (omega L, v)
 
 
 @dataclass(frozen=True)
@@ -128,7 +117,7 @@ def natural_frequencies(stiffness: ArrayLike, mass: ArrayLike) -> FloatArray:
 def dominant_direction(twist: ArrayLike) -> tuple[int, float]:
     """Index (into phi_x, ..., z) of the largest length-balanced component of a twist
     (6,), and its share of the balanced norm squared."""
-    b = np.asarray(twist, dtype=float) * _BALANCE
+    b = np.asarray(twist, dtype=float) * TWIST_BALANCE
     sq = b**2
     i = int(np.argmax(sq))
     return i, float(sq[i] / np.sum(sq))
@@ -138,7 +127,7 @@ def normalised_shape(twist: ArrayLike) -> FloatArray:
     """A mode shape (6,) scaled to unit length-balanced norm, its largest balanced
     component positive."""
     t = np.asarray(twist, dtype=float)
-    b = t * _BALANCE
+    b = t * TWIST_BALANCE
     norm = float(np.linalg.norm(b))
     i = int(np.argmax(np.abs(b)))
     return np.asarray(t / norm * (1.0 if b[i] >= 0 else -1.0))
@@ -207,7 +196,7 @@ def _closest_to_axes(vectors: FloatArray) -> FloatArray:
     """The basis ``V Q`` (6, k) of a repeated group's space whose balanced twists lie
     closest to the k coordinate axes most represented in it (module doc), in axis
     order: ``Q = U W^T`` from the SVD ``B[axes] = W S U^T`` (B the balanced ``V``)."""
-    b = _BALANCE[:, None] * vectors
+    b = TWIST_BALANCE[:, None] * vectors
     k = vectors.shape[1]
     norms = np.sum(b**2, axis=1)
     axes = sorted(np.argsort(-norms, kind="stable")[:k].tolist())

@@ -35,7 +35,7 @@ from enum import IntEnum
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import BALANCE, LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.conventions import BALANCE, DIRECTION_NAMES, LENGTH_SCALE, FloatArray
 from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.core.refusals import Refusal
 from ppm_stiffness.design import Design
@@ -67,16 +67,6 @@ ZERO_INDEX = 1e-13
 BEYOND = 1e-6
 #: Continuation and refinement steps at most.
 MAX_STEPS = 400
-
-#: Names of the six twist directions.
-DIRECTION_NAMES = (
-    "rotation about x",
-    "rotation about y",
-    "rotation about z",
-    "x translation",
-    "y translation",
-    "z translation",
-)
 
 
 class MarginKind(IntEnum):

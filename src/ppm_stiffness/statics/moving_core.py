@@ -252,7 +252,7 @@ def _solve_equilibrated(a: FloatArray, rhs: FloatArray) -> tuple[FloatArray, Boo
 
 def _balanced_norm(w: FloatArray) -> FloatArray:
     """``max |(m / L, f)|`` of wrenches (..., 6) [N]."""
-    return np.asarray(np.max(np.abs(w * np.array([1 / LENGTH_SCALE] * 3 + [1.0] * 3)), axis=-1))
+    return np.asarray(np.max(np.abs(w * BALANCE), axis=-1))
 
 
 def linearize_leg(

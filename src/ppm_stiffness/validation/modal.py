@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.conventions import BALANCE, FloatArray
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, platform_mass_matrix
@@ -334,7 +334,7 @@ def modal_comparison(
     link = float(_lowest(k_ss, m_ff[np.ix_(slave, slave)], 1)[0])
     k_model = stiffness_at_pose(design, p)
     m_model = mass_matrix_at_pose(design, p)
-    balance = np.array([1.0 / LENGTH_SCALE] * 3 + [1.0] * 3)  # M_rr / L^2, M_rt / L
+    balance = BALANCE  # M_rr / L^2, M_rt / L
     mb = balance[:, None] * m_model * balance[None, :]
     fb_ = balance[:, None] * m_p * balance[None, :]
     return ModalComparison(

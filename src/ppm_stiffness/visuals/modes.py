@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core import pose as pose6
-from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
+from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_BALANCE, FloatArray
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.chain import Link
 
@@ -92,7 +92,7 @@ def _view(shape: FloatArray, planar: bool) -> str:
     """The view of a mode's panel (module doc)."""
     if not planar:
         return "3d"
-    balanced = shape * np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+    balanced = shape * TWIST_BALANCE
     if np.sum(balanced[list(_OUT_OF_PLANE)] ** 2) <= 0.5 * np.sum(balanced**2):
         return "top"
     # a tilt about x shows in the y-z plane, one about y in the x-z plane
