@@ -452,7 +452,7 @@ def raise_refusal(design: Design, batch: EquilibriumBatch, i: int) -> None:
     code = Refusal(int(batch.refusal[i]))
     if code == Refusal.NONE:
         return
-    where = pose_label(batch.poses[i])
+    where = pose_label(batch.poses[i], design)
     if code == Refusal.UNREACHABLE:
         solve_legs(design, batch.poses[i])  # names the leg and the limit
         raise UnreachablePoseError(f"pose unreachable{where}")
