@@ -162,3 +162,42 @@ def test_a_file_that_is_not_utf8_is_still_refused(tmp_path: Path) -> None:
     path.write_bytes("# caf\xe9\n1,2\n".encode("latin-1"))
     with pytest.raises(InputDataError, match="cannot read"):
         read_matrix_csv(path)
+
+
+# -- help text of the spatial era (item 13) ---------------------------------------------
+
+
+def test_top_level_help_is_not_planar_only(capsys: pytest.CaptureFixture[str]) -> None:
+    """It said "Stiffness of compliant planar parallel manipulators"."""
+    assert main(["--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "compliant planar parallel manipulators" not in text
+    assert "planar (3-PPR, 3-RPR, ...) and spatial (hexapods" in text
+
+
+def test_map_help_names_the_spatial_quantities(capsys: pytest.CaptureFixture[str]) -> None:
+    """`map`'s help named only k_phi, k_x, k_y; every quantity a map of any design may
+    show (maps.result.QUANTITIES) is now named in `map --help`."""
+    from ppm_stiffness.maps.result import QUANTITIES
+
+    assert main(["map", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    for name in QUANTITIES:
+        assert name.replace("_", "-") in text or name in text, name
+    assert main(["--help"]) == 0
+    top = " ".join(capsys.readouterr().out.split())
+    assert "spatial principal stiffnesses (rotational_min/mid/max" in top
+
+
+def test_equilibrium_docstring_documents_the_poses_it_takes() -> None:
+    """`equilibrium` takes task coordinates or a full 6-D pose and returns a 6-D pose;
+    its docstring said ``pose : array_like (3,) [m, m, rad]``."""
+    from ppm_stiffness.statics import equilibrium as module
+
+    for doc in (module.__doc__, module.equilibrium.__doc__, module.Equilibrium.__doc__):
+        assert doc is not None and "(3,)" not in doc
+    assert "pose : array_like (n_task,) or (6,) [m, rad]" in (module.equilibrium.__doc__ or "")
+    hexapod = load_design(HEXAPOD)
+    pose = np.array([0.002, -0.001, 0.2, 0.01, -0.02, 0.03])
+    state = module.equilibrium(hexapod, [0, 0, 0, 0, 0, -10.0], pose)
+    np.testing.assert_array_equal(state.pose, pose)

@@ -52,8 +52,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "map": (
         "ppm_stiffness.cli.map_cmd",
-        "contour maps of k_phi, k_x, k_y over the constant-orientation workspace "
-        "(Figs. 6-7), any architecture",
+        "contour maps over a 2-D slice of the workspace (Figs. 6-7), any architecture: "
+        "k_phi, k_x, k_y of a planar design; the spatial principal stiffnesses "
+        "(rotational_min/mid/max, translational_min/mid/max) of any design; f1, load margin",
     ),
     "springs": (
         "ppm_stiffness.cli.springs",
@@ -127,8 +128,9 @@ def build_parser(commands: Iterable[str] | None = None) -> OneLineErrorParser:
     """
     parser = OneLineErrorParser(
         prog="ppm-stiffness",
-        description="Stiffness of compliant planar parallel manipulators "
-        "(virtual-spring model, eigenscrews, decoupling, actuation compliance).",
+        description="Stiffness of compliant parallel manipulators, planar (3-PPR, "
+        "3-RPR, ...) and spatial (hexapods, 3-PRS and 3-RPS tripods): virtual-spring "
+        "model, eigenscrews, decoupling, actuation compliance, natural frequencies.",
     )
     from ppm_stiffness import __version__
 

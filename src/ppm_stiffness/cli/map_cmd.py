@@ -74,7 +74,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--quantities",
         metavar="SET[,NAME...]",
         help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
-        "spatial principal stiffnesses (any design, the others' default); all: both; "
+        "six spatial principal stiffnesses rotational_min, rotational_mid, "
+        "rotational_max [N·m/rad], translational_min, translational_mid, "
+        "translational_max [N/m] (any design, the others' default); all: both; "
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
         "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
         "first natural frequency [Hz], a design with a mass model)",
