@@ -74,3 +74,35 @@ def test_a_signal_during_the_write_leaves_no_temporary_file(
     assert proc.returncode == code, err
     assert "Traceback" not in err and err.count("\n") == 1
     assert err.startswith("ppm-stiffness: ")
+
+
+def test_sigterm_during_a_sweep_writes_the_partial_csv_and_exits_143(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A real SIGTERM sent to this process at the 5th design (the handler main installs
+    turns it into Ctrl-C's path): the CSV holds the 4 designs done and says it is
+    partial, the exit code is 143; after main returns, SIGTERM's handler is restored."""
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.optimize.executors import SerialExecutor
+
+    calls = {"n": 0}
+    submit = SerialExecutor.submit
+
+    def terminating(self, fn, /, *args, **kwargs):  # type: ignore[no-untyped-def]
+        calls["n"] += 1
+        if calls["n"] == 5:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return submit(self, fn, *args, **kwargs)
+
+    monkeypatch.setattr(SerialExecutor, "submit", terminating)
+    before = signal.getsignal(signal.SIGTERM)
+    table = tmp_path / "s.csv"
+    argv = ["sweep", "--design", str(Path(__file__).parents[1] / "examples/symmetric_3ppr.toml")]
+    argv += ["--region=-10,10,-10,10,-5.7,5.7,3,3,3", "--quiet", "--csv", str(table)]
+    argv += ["--vary", "leg*.platform_radius=0.02:0.04:6"]
+    assert main(argv) == 128 + 15
+    assert signal.getsignal(signal.SIGTERM) is before
+    lines = table.read_text(encoding="utf-8").splitlines()
+    assert lines[0].startswith("# partial: interrupted after 4 of 6 designs")
+    assert len(lines) == 2 + 4  # the comment, the header, 4 rows
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.csv"]
