@@ -130,6 +130,36 @@ def test_the_stated_minimum_budget_runs_one_generation(spec: str, minimum: int) 
     assert result.outside == ([] if minimum == 10 else [("leg*.platform_radius", 0.03)])
 
 
+class _Counting(SerialExecutor):
+    """Counts the design evaluations actually submitted."""
+
+    def __init__(self) -> None:
+        self.tasks = 0
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[no-untyped-def]
+        self.tasks += 1
+        return super().submit(fn, *args, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "spec", ["leg*.platform_radius=0.012:0.043", "leg*.platform_radius=0.014:0.059"]
+)
+def test_the_budget_bounds_the_evaluations_when_the_start_does_not_round_trip(spec: str) -> None:
+    """scipy scales the population to [0, 1] and back: the start radius 0.03 m in these
+    ranges comes back as 0.030000000000000002 or 0.029999999999999995. The start design
+    is then still the population's first member, not a new candidate: budget 10 gives
+    at most 10 evaluations, counted at the executor (before the fix: 11, the start
+    design evaluated twice, history 1, 6, 11)."""
+    design = _symmetric()
+    variable = parse_variable(spec, design, False)
+    counting = _Counting()
+    result = optimize_design(
+        design, [variable], WORST_K, REGION, budget=10, seed=1, executor=counting
+    )
+    assert counting.tasks == result.evaluations <= 10
+    assert [n for n, _ in result.history][:2] == [1, 5]  # start, then 4 new members
+
+
 class _InterruptAfter(SerialExecutor):
     """Ctrl-C after ``n`` tasks."""
 

@@ -1,7 +1,11 @@
 """Reading the small CSV files the CLI takes: ``#`` comment lines, then rows.
 
 Each comment and row keeps its line number in the file (1-based, as a text editor
-shows it, comment and blank lines counted), so that an error can name the line.
+shows it, comment and blank lines counted), so that an error can name the line. Every
+CSV reader of the package reads through :func:`read_numbered_csv` (measurements,
+force-displacement data, ``--matrix`` and ``--target`` matrices), which accepts UTF-8
+with or without a byte-order mark (:data:`CSV_ENCODING`: spreadsheet programs write
+one).
 """
 
 from __future__ import annotations
@@ -11,6 +15,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ppm_stiffness.core.errors import InputDataError
+
+#: The encoding of the CSV files read: UTF-8, a leading byte-order mark dropped.
+CSV_ENCODING = "utf-8-sig"
 
 
 @dataclass(frozen=True)
@@ -38,7 +45,7 @@ class CommentedCsv:
 def read_numbered_csv(path: str | Path) -> CommentedCsv:
     """Comment lines and the other non-blank rows (as strings) with their line numbers.
     Raises :class:`InputDataError` for a missing file, a directory or a file that is
-    not UTF-8 text."""
+    not UTF-8 text (a byte-order mark is allowed: :data:`CSV_ENCODING`)."""
     p = Path(path)
     if p.is_dir():
         raise InputDataError(f"{p}: is a directory")
@@ -46,7 +53,7 @@ def read_numbered_csv(path: str | Path) -> CommentedCsv:
         raise InputDataError(f"file not found: {p}")
     out = CommentedCsv([], [], [], [])
     try:
-        with p.open(newline="", encoding="utf-8") as fh:
+        with p.open(newline="", encoding=CSV_ENCODING) as fh:
             for number, line in enumerate(fh, start=1):
                 s = line.strip()
                 if s.startswith("#"):

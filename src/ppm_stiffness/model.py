@@ -172,11 +172,13 @@ def check_transmission(
         raise SingularConfigurationError(singular_message(stiffness, projector, where))
 
 
-def pose_label(pose: ArrayLike) -> str:
-    """`` at pose (x mm, y mm, phi deg)`` for messages; a pose out of the plane (z, rx
-    or ry not 0) as `` at pose (x = .. mm, ..., rz = .. deg)``."""
+def pose_label(pose: ArrayLike, design: Design | None = None) -> str:
+    """`` at pose (x mm, y mm, phi deg)`` for messages about a planar design's pose; the
+    pose of a spatial design (``design.planar`` False), or one out of the plane (z, rx
+    or ry not 0), in full: `` at pose (x = .. mm, y = .. mm, z = .. mm, rx = .. deg,
+    ry = .. deg, rz = .. deg)``."""
     p = as_poses(pose)
-    if np.any(p[[2, 3, 4]] != 0):
+    if np.any(p[[2, 3, 4]] != 0) or (design is not None and not design.planar):
         from ppm_stiffness.poses import format_pose
 
         return f" at pose ({format_pose(p)})"
@@ -245,7 +247,7 @@ def stiffness_at_pose(
     p = full_pose(design, pose)
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
     k, pi, ok = _stiffness_and_transmission(design, solve_legs(design, p), k_act)
-    check_transmission(ok, k, pi, pose_label(p))
+    check_transmission(ok, k, pi, pose_label(p, design))
     return k
 
 

@@ -9,15 +9,23 @@ become one line on stderr and exit code 2, never a traceback. Before a command r
 glibc's malloc thresholds are raised in this process
 (:func:`ppm_stiffness._allocator.tune_allocator`; ``PPM_STIFFNESS_NO_MALLOPT=1`` opts
 out): batch temporaries then stay on the heap instead of page-faulting on every use.
+SIGTERM (``timeout``, ``kill``, a job scheduler) takes the path of Ctrl-C while
+:func:`main` runs (:class:`Terminated`, a KeyboardInterrupt): temporary output files are
+removed, an interrupted sweep or optimisation writes what it has done, and the exit code
+is 143 (128 + 15, as a shell reports a terminated process) instead of Ctrl-C's 130.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
 import warnings
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from types import FrameType
 from typing import NoReturn, TextIO
 
 from ppm_stiffness.core.errors import PPMStiffnessError
@@ -44,8 +52,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "map": (
         "ppm_stiffness.cli.map_cmd",
-        "contour maps of k_phi, k_x, k_y over the constant-orientation workspace "
-        "(Figs. 6-7), any architecture",
+        "contour maps over a 2-D slice of the workspace (Figs. 6-7), any architecture: "
+        "k_phi, k_x, k_y of a planar design; the spatial principal stiffnesses "
+        "(rotational_min/mid/max, translational_min/mid/max) of any design; f1, load margin",
     ),
     "springs": (
         "ppm_stiffness.cli.springs",
@@ -119,8 +128,9 @@ def build_parser(commands: Iterable[str] | None = None) -> OneLineErrorParser:
     """
     parser = OneLineErrorParser(
         prog="ppm-stiffness",
-        description="Stiffness of compliant planar parallel manipulators "
-        "(virtual-spring model, eigenscrews, decoupling, actuation compliance).",
+        description="Stiffness of compliant parallel manipulators, planar (3-PPR, "
+        "3-RPR, ...) and spatial (hexapods, 3-PRS and 3-RPS tripods): virtual-spring "
+        "model, eigenscrews, decoupling, actuation compliance, natural frequencies.",
     )
     from ppm_stiffness import __version__
 
@@ -184,6 +194,46 @@ def _one_line_warning(
     print(f"ppm-stiffness: warning: {message}", file=sys.stderr)
 
 
+#: Exit code of Ctrl-C (SIGINT) and of SIGTERM: 128 + the signal's number.
+INTERRUPTED_EXIT = 128 + signal.SIGINT
+TERMINATED_EXIT = 128 + signal.SIGTERM
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received by the CLI process: raised where the signal arrives, so that it
+    takes Ctrl-C's path (temporary files removed, partial results written)."""
+
+
+@contextmanager
+def _sigterm_as_interrupt() -> Iterator[list[int]]:
+    """While the block runs, SIGTERM in this process raises :class:`Terminated` (once; a
+    second SIGTERM during the clean-up is ignored). Yields the list of signals received.
+    A process forked meanwhile (a local worker) that inherits the handler gets the
+    default action instead: it is not the CLI. Outside the main thread (where no handler
+    can be installed) nothing changes."""
+    received: list[int] = []
+    pid = os.getpid()
+
+    def handler(signum: int, frame: FrameType | None) -> None:
+        if os.getpid() != pid:
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        if not received:
+            received.append(signum)
+            raise Terminated
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread
+        yield received
+        return
+    try:
+        yield received
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit code (0 ok, 2 bad input)."""
     warnings.showwarning = _one_line_warning
@@ -199,6 +249,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ppm_stiffness._allocator import tune_allocator
 
     tune_allocator()
+    with _sigterm_as_interrupt() as received:
+        code = _run_command(args)
+    if received and code == INTERRUPTED_EXIT:
+        return TERMINATED_EXIT
+    return code
+
+
+def _run_command(args: argparse.Namespace) -> int:
+    """Run the parsed command; the library's errors as one line and exit code 2."""
     try:
         return int(args._run(args))
     except PPMStiffnessError as exc:
@@ -208,9 +267,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"ppm-stiffness: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
+    except Terminated:
+        print("ppm-stiffness: terminated (SIGTERM)", file=sys.stderr)
+        return INTERRUPTED_EXIT  # main: TERMINATED_EXIT
     except KeyboardInterrupt:
         print("ppm-stiffness: interrupted", file=sys.stderr)
-        return 130
+        return INTERRUPTED_EXIT
 
 
 if __name__ == "__main__":  # pragma: no cover

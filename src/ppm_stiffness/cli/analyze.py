@@ -11,6 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
+    POSE_OPTIONS,
     add_design_argument,
     add_pose_arguments,
     add_tool_point_argument,
@@ -76,12 +77,13 @@ def run(args: argparse.Namespace) -> int:
             or args.wrench is not None
             or args.geometry != "frozen"
             or any(
-                getattr(args, k) is not None for k in ("x", "y", "phi", "tool_point", "tolerances")
+                getattr(args, k) is not None for k in (*POSE_OPTIONS, "tool_point", "tolerances")
             )
         ):
             raise InputDataError(
-                "--matrix cannot be combined with --design, a pose, --wrench, --tool-point, "
-                "--geometry or --tolerances"
+                "--matrix cannot be combined with --design, a pose ("
+                + ", ".join(f"--{k}" for k in POSE_OPTIONS)
+                + "), --wrench, --tool-point, --geometry or --tolerances"
             )
         k = validate_stiffness_matrix(
             read_matrix_csv(args.matrix), args.matrix, PRINTED_SYMMETRY_TOLERANCE

@@ -9,7 +9,6 @@ that use them, so that ``ppm-stiffness COMMAND --help`` stays light
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import sys
 from collections.abc import Callable, Iterator
@@ -350,15 +349,17 @@ def parse_wrench(text: str | None) -> np.ndarray | None:
 
 
 def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
-    """A 6x6 matrix from CSV (``#`` comments allowed); raises InputDataError."""
+    """A 6x6 matrix from CSV (``#`` comments allowed, read by
+    :func:`ppm_stiffness.csvio.read_numbered_csv`); raises InputDataError."""
+    from ppm_stiffness.csvio import read_numbered_csv
+
     p = check_input_path(str(path), option)
     rows: list[list[float]] = []
     try:
-        with p.open(newline="", encoding="utf-8") as fh:
-            for line in csv.reader(row for row in fh if not row.lstrip().startswith("#")):
-                if not line or all(not c.strip() for c in line):
-                    continue
-                rows.append([float(c) for c in line])
+        for line in read_numbered_csv(p).rows:
+            if not line or all(not c.strip() for c in line):
+                continue
+            rows.append([float(c) for c in line])
     except ValueError as exc:
         raise InputDataError(f"{p}: not a numeric CSV ({exc})") from None
     if len(rows) != 6 or any(len(r) != 6 for r in rows):

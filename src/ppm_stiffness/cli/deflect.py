@@ -172,7 +172,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=METHODS,
         default="integrate",
         help="integrate the tangent stiffness along the load (default), its closed form, "
-        "or 'linear': the unloaded K (actuators locked) for every load",
+        "or 'linear': the unloaded K (actuators locked) for every load. With --geometry "
+        "moving it is the frozen curve's method; the moving curve solves the equilibrium "
+        "with the actuator law exactly (as 'integrate' and 'closed-form' do), so 'linear' "
+        "is refused there",
     )
     parser.add_argument("--k-a", type=float, metavar="N/m^q", help="override actuator k_a")
     parser.add_argument(
@@ -631,6 +634,12 @@ def run(args: argparse.Namespace) -> int:
         raise InputDataError(
             "--tolerances and --measurements work with the frozen geometry only "
             "(leave out --geometry moving)"
+        )
+    if args.geometry == "moving" and args.method == "linear":
+        raise InputDataError(
+            "--method linear cannot be combined with --geometry moving: the moving curve "
+            "solves the equilibrium with the actuator law, not with the unloaded K; use "
+            "--method integrate or closed-form, or leave out --geometry moving"
         )
     curve, meas, moving = compute(args)
     rms = rms_differences(curve, meas) if meas is not None else None

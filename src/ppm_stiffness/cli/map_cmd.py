@@ -74,7 +74,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--quantities",
         metavar="SET[,NAME...]",
         help="paper: k_phi, k_x, k_y (planar designs, their default); principal: the "
-        "spatial principal stiffnesses (any design, the others' default); all: both; "
+        "six spatial principal stiffnesses rotational_min, rotational_mid, "
+        "rotational_max [N·m/rad], translational_min, translational_mid, "
+        "translational_max [N/m] (any design, the others' default); all: both; "
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
         "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
         "first natural frequency [Hz], a design with a mass model)",
@@ -165,6 +167,18 @@ def _header(name: str) -> str:
     return text if len(text) <= 16 else f"{name}\n[{QUANTITIES[name][0]}]"
 
 
+def _table_heading(names: list[str]) -> str:
+    """What the summary tables show: "principal stiffness" when every quantity is one
+    (the paper's or the spatial ones), "load margin" or "first natural frequency"
+    alone, else "quantities"."""
+    from ppm_stiffness.maps.result import PAPER, PRINCIPAL
+
+    if all(n in PAPER or n in PRINCIPAL for n in names):
+        return "principal stiffness"
+    alone = {"load_margin": "load margin", "f1": "first natural frequency"}
+    return alone[names[0]] if len(names) == 1 and names[0] in alone else "quantities"
+
+
 def _summary_tables(smap: StiffnessMap) -> list[Table]:
     """Per table up to three quantities, one column each; rows: the extremes, where
     they are (in mm or deg), their ratio."""
@@ -186,7 +200,7 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
     tables = []
     for start in range(0, len(names), _PER_TABLE):
         group = names[start : start + _PER_TABLE]
-        what = "principal stiffness" if "f1" not in summary else "quantities"
+        what = _table_heading(names)
         title = f"{what} over the workspace" if start == 0 else None
         table = Table(title=title, title_justify="left")
         table.add_column("")

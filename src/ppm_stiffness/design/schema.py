@@ -190,6 +190,21 @@ class WorkspaceModel(PartModel):
 
     model_config = {**PartModel.model_config, "populate_by_name": True}
 
+    @field_validator("centre_x", "centre_y", "centre_z", "rx", "ry", "phi")
+    @classmethod
+    def _pose_in_si(cls, value: float, info: ValidationInfo) -> float:
+        """A home-pose coordinate in SI: a length beyond :data:`MAX_LENGTH` (10 m) or an
+        angle beyond pi (a pose's angles lie in [-pi, pi]) is refused with the likely
+        unit mistake (mm, degrees) named, as the required region's ranges are."""
+        key = str(info.field_name)
+        if key in ("rx", "ry", "phi") and abs(value) > MAX_REGION_ANGLE:
+            raise ValueError(
+                f"{key} = {value:g}: angles in design files are in radians (a pose's "
+                f"|{key}| <= pi); did you mean {math.radians(value):.6g}?"
+            )
+        check_plausible(key, value, "m" if key.startswith("centre_") else "rad")
+        return value
+
     def start(self) -> tuple[float, float, float, float, float, float]:
         """The home pose as written (x, y, z, rx, ry, rz) [m, rad]."""
         return (self.centre_x, self.centre_y, self.centre_z, self.rx, self.ry, self.phi)

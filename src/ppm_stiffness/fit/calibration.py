@@ -152,8 +152,10 @@ def calibrate(
         Dotted parameter names (``leg1.bearing_offset``...).
     bounds : mapping name -> (low, high), optional
         Missing names get :func:`default_bounds`.
-    pose : array_like, shape (3,), optional
-        (x, y, phi) [m, m, rad]; the workspace centre if None.
+    pose : array_like, shape (n_task,) or (6,), optional
+        The design's task coordinates ((x, y, phi) [m, m, rad] for a planar design) or
+        the full pose (x, y, z, rx, ry, rz) [m, rad] (:mod:`ppm_stiffness.poses`); the
+        home pose if None.
     sigma : array_like (6, 6) or float, optional
         Uncertainty of the target entries; :func:`default_sigma` if None.
     starts : int

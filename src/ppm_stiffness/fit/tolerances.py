@@ -180,7 +180,7 @@ def read_tolerances(path: str | Path) -> list[ToleranceEntry]:
     """Entries of a tolerance file (:func:`parse_tolerances`)."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not content
     except (OSError, UnicodeDecodeError) as exc:
         raise InputDataError(f"cannot read tolerance file {p}: {exc}") from None
     return parse_tolerances(text, str(p))

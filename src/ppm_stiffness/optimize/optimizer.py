@@ -249,6 +249,8 @@ class _Evaluator:
         self.best: tuple[float, tuple[float, ...], RegionSummary] | None = None
         self.history: list[tuple[int, float]] = []
         self.generations = -1  # the initial population is not a generation
+        #: the start design's values when it is the initial population's first member
+        self.start_key: tuple[float, ...] | None = None
 
     def energy(self, summary: RegionSummary) -> float:
         gap = violation(summary, self.constraints)
@@ -264,11 +266,26 @@ class _Evaluator:
             self.best = (e, key, summary)
         return e
 
+    def _as_start(self, key: tuple[float, ...]) -> tuple[float, ...]:
+        """The start design's key for the initial population's first member: scipy
+        scales the population to [0, 1] and back, which may move a value by an ulp
+        (0.03 in 0.012:0.043 comes back as 0.030000000000000002); without this the
+        start design would be evaluated twice and the budget exceeded by one."""
+        start = self.start_key
+        assert start is not None
+        span = [abs(v.hi - v.lo) for v in self.variables]
+        close = all(
+            abs(a - b) <= 1e-12 * max(w, abs(b)) for a, b, w in zip(key, start, span, strict=True)
+        )
+        return start if close else key
+
     def best_objective(self) -> float:
         return math.nan if self.best is None else self.objective.value(self.best[2])
 
     def __call__(self, func: Any, iterable: Iterable[ArrayLike]) -> list[float]:
         keys = [tuple(float(v) for v in np.asarray(x, dtype=float)) for x in iterable]
+        if self.generations == -1 and self.start_key is not None and keys:
+            keys[0] = self._as_start(keys[0])
         todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
         args = [
             (
@@ -402,6 +419,7 @@ def optimize_design(
         key = tuple(float(v) for v in x0)
         evaluator.cache[key] = start
         evaluator.record(key, start)
+        evaluator.start_key = key
 
     interrupted = False
     try:

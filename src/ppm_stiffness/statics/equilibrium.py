@@ -28,7 +28,9 @@ At the solution the module reports the forces, the displacements ``delta(G)``, t
 tangent stiffness ``K_act(G)`` (eq. 21), the secant stiffness ``G/delta(G)``, the
 platform twist t and the tangent Cartesian stiffness
 ``sum_i bordered(S_i + a_i a_i^T / K_act,i, J_i)`` (the matrix the paper reports under
-load, eq. 33). Poses are (x, y, phi) [m, m, rad]; twists and wrenches at P, axes of F_b.
+load, eq. 33). Poses are full poses (x, y, z, rx, ry, rz) [m, rad] (given as the
+design's task coordinates or in full, :mod:`ppm_stiffness.poses`; (x, y, phi) for a
+planar design); twists and wrenches at P, axes of F_b.
 
 One implementation for one pose and for many: :func:`loaded_states` solves these
 equations at k poses at once (the legs' linear parts from
@@ -222,7 +224,8 @@ class Equilibrium:
 
     Attributes
     ----------
-    pose : ndarray (3,)
+    pose : ndarray (6,)
+        The full pose (x, y, z, rx, ry, rz) [m, rad] of P in F_b.
     wrench : ndarray (6,)
     actuator_forces : ndarray (n,) [N or N·m]
         Signed, ``G_i = a_i . w_i``.
@@ -260,7 +263,8 @@ class EquilibriumBatch:
 
     Attributes
     ----------
-    poses : ndarray (k, 3)
+    poses : ndarray (k, 6)
+        Full poses (x, y, z, rx, ry, rz) [m, rad] of P in F_b.
     wrench : ndarray (6,)
     refusal : ndarray of int8 (k,)
         :class:`~ppm_stiffness.core.refusals.Refusal` codes: 0 exactly where
@@ -452,7 +456,7 @@ def raise_refusal(design: Design, batch: EquilibriumBatch, i: int) -> None:
     code = Refusal(int(batch.refusal[i]))
     if code == Refusal.NONE:
         return
-    where = pose_label(batch.poses[i])
+    where = pose_label(batch.poses[i], design)
     if code == Refusal.UNREACHABLE:
         solve_legs(design, batch.poses[i])  # names the leg and the limit
         raise UnreachablePoseError(f"pose unreachable{where}")
@@ -492,7 +496,10 @@ def equilibrium(
     ----------
     design : Design
     wrench : array_like (6,) [N·m, N]
-    pose : array_like (3,) [m, m, rad]
+    pose : array_like (n_task,) or (6,) [m, rad]
+        The design's task coordinates ((x, y, phi) for a planar design; all six for a
+        hexapod; (z, rx, ry) for a tripod) or the full pose (x, y, z, rx, ry, rz) of P
+        in F_b (:mod:`ppm_stiffness.poses`).
     structures : LegStructures, optional
         Reuse the springs of an earlier call at the same pose.
 
@@ -503,7 +510,8 @@ def equilibrium(
     Raises
     ------
     InputDataError
-        If the wrench is not 6 finite numbers or the pose not 3.
+        If the wrench is not 6 finite numbers or the pose neither the task coordinates
+        nor a full pose.
     UnreachablePoseError, SingularConfigurationError, EquilibriumError
     InputDataError
         A load beyond the small-displacement model (an actuator beyond its stroke, a

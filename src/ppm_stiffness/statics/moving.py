@@ -424,7 +424,7 @@ def raise_moving_refusal(design: Design, batch: MovingBatch, i: int) -> None:
     code = Refusal(int(batch.refusal[i]))
     if code == Refusal.NONE:
         return
-    where = pose_label(batch.poses[i])
+    where = pose_label(batch.poses[i], design)
     if code in (Refusal.UNREACHABLE, Refusal.SINGULAR):
         raise_refusal(design, batch.frozen, i)
     if code == Refusal.NO_EQUILIBRIUM:

@@ -166,10 +166,17 @@ def moving_deflection(
     Raises
     ------
     InputDataError
-        Bad loads, direction, method or mode.
+        Bad loads, direction, method or mode; ``method="linear"`` (the unloaded K for
+        every load), which the moving curve, solved with the actuator law, cannot follow.
     UnreachablePoseError, SingularConfigurationError
         At the unloaded pose.
     """
+    if method == "linear":
+        raise InputDataError(
+            "method 'linear' (the unloaded K for every load) cannot be combined with "
+            "moving geometry: the moving curve solves the equilibrium with the actuator "
+            "law; use 'integrate' or 'closed-form' (or the frozen curve alone)"
+        )
     p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     try:
