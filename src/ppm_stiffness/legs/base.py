@@ -245,6 +245,8 @@ class LegModel(PartModel):
         """Each link body's density against its section (a mass in grams) and its centre
         of mass within the leg (module doc of :mod:`ppm_stiffness.dynamics.links`)."""
         ranges = self.link_length_ranges()
+        if any(not 0 < shortest <= longest for shortest, longest in ranges.values()):
+            return self  # the leg type's own check of its lengths names what is wrong
         longest_leg = sum(longest for _, longest in ranges.values())
         for name, (shortest, longest) in ranges.items():
             section = getattr(self, name)
