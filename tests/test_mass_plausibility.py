@@ -139,13 +139,26 @@ def test_a_rotor_reflecting_tonnes_is_refused(
     pattern = (
         r"actuator\.gear_ratio = 4500 with actuator\.rotor_inertia = 0\.5: implausible "
         r"reflected inertia, rotor_inertia \* gear_ratio\^2 = 1\.01e\+07 kg .*\(<= 10000 kg\); "
-        r"did you mean rotor_inertia = 5e-05 \(kg·cm\^2, 1\.01e\+03 kg\)"
+        r"did you mean rotor_inertia = 5e-05 \(kg·cm\^2, reflecting 1\.01e\+03 kg\)\? "
+        r"gear_ratio is 2 pi / lead \[rad/m\]"
     )
     with pytest.raises(DesignError, match=pattern):
         load_design(path)
     _cli_refuses(["modes", "--design", str(path)], capsys, pattern)
     fine = _edited(tmp_path, HEXAPOD, old, drive.format(5e-5))
     assert load_design(fine).legs[0].actuator.moving_parts().rotor == pytest.approx(1012.5)
+
+
+def test_a_rotary_actuators_reflected_inertia_is_checked_too(tmp_path: Path) -> None:
+    """3-RRR: 0.5 kg·m^2 through a 200:1 gear reflects 2e4 kg·m^2 onto the joint
+    (refused); 5e-5 kg·m^2 (0.5 kg·cm^2) through it reflects 2 kg·m^2 (accepted)."""
+    old = "threshold_displacement = 0.0\n"
+    drive = "threshold_displacement = 0.0\nrotor_inertia = {}\ngear_ratio = 200.0\n"
+    path = _edited(tmp_path, RRR, old, drive.format(0.5))
+    with pytest.raises(DesignError, match=r"gear_ratio\^2 = 2e\+04 kg·m\^2 .*motor turns"):
+        load_design(path)
+    fine = _edited(tmp_path, RRR, old, drive.format(5e-5))
+    assert load_design(fine).legs[0].actuator.moving_parts().rotor == pytest.approx(2.0)
 
 
 def test_a_platform_lighter_than_a_milligram_is_refused(

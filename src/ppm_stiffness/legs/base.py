@@ -230,13 +230,18 @@ class LegModel(PartModel):
         if reflected > MAX_REFLECTED:
             unit = "kg·m^2" if self.ACTUATED_KIND == "R" else "kg"
             cm2 = law.rotor_inertia * 1e-4
-            hint = "2 pi / lead [rad/m]: 1257 for a 5 mm lead" if unit == "kg" else "[rad/rad]"
+            ratio = (
+                "2 pi / lead [rad/m] (1257 for a 5 mm lead)"
+                if unit == "kg"
+                else "motor turns per joint turn [rad/rad]"
+            )
             raise ValueError(
                 f"actuator.gear_ratio = {law.gear_ratio:g} with actuator.rotor_inertia = "
                 f"{law.rotor_inertia:g}: implausible reflected inertia, rotor_inertia * "
                 f"gear_ratio^2 = {reflected:.3g} {unit} on the actuated coordinate (<= "
                 f"{MAX_REFLECTED:g} {unit}); did you mean rotor_inertia = {cm2:.6g} "
-                f"(kg·cm^2, {cm2 * law.gear_ratio**2:.3g} {unit}), or a gear_ratio of {hint}?"
+                f"(kg·cm^2, reflecting {cm2 * law.gear_ratio**2:.3g} {unit})? gear_ratio "
+                f"is {ratio}"
             )
         return self
 

@@ -35,7 +35,10 @@ e.g. 2 pi / lead of a ball screw), reflected to the actuated coordinate as
 ``rotor_inertia * gear_ratio^2``. Masses are in kg, inertias in kg·m^2: a mass beyond
 :data:`MAX_MASS` or a radius of gyration ``sqrt(I / m)`` beyond
 :data:`~ppm_stiffness.legs.base.MAX_LENGTH` is refused naming the likely unit mistake
-(g, kg·mm^2).
+(g, kg·mm^2), and so is a nonzero mass below :data:`MIN_MASS`. The leg
+(:class:`~ppm_stiffness.legs.base.LegModel`) checks what needs its lengths: a link's
+density against its section (:func:`check_density`, :data:`MAX_LINK_DENSITY`), its
+centre of mass within the leg, and a rotor's reflection (:data:`MAX_REFLECTED`).
 """
 
 from __future__ import annotations
