@@ -29,3 +29,7 @@ class DesignFormatWarning(FutureWarning):
 
 class EquilibriumError(PPMStiffnessError):
     """The loaded equilibrium could not be solved (no convergence)."""
+
+
+class ImplausibleDesignWarning(UserWarning):
+    """A design value that is possible but likely a mistake (it is used as given)."""

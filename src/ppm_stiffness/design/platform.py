@@ -25,9 +25,10 @@ centre of mass; :mod:`ppm_stiffness.dynamics.inertia`)::
 The mass is in kg (beyond :data:`~ppm_stiffness.legs.parts.MAX_MASS` grams are named as
 the likely mistake), inertias in kg·m^2 (a radius of gyration beyond 10 m names
 kg·mm^2). A solid whose density ``mass / volume`` exceeds :data:`MAX_DENSITY` (denser
-than any material) is refused as a mass in grams. An explicit inertia must be symmetric
-with positive principal moments that satisfy the triangle inequality (those of a real
-body).
+than any material) is refused as a mass in grams
+(:func:`~ppm_stiffness.legs.parts.check_density`, which checks each link's body too).
+An explicit inertia must be symmetric with positive principal moments that satisfy the
+triangle inequality (those of a real body).
 """
 
 from __future__ import annotations
@@ -42,17 +43,17 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.dynamics.inertia import box_inertia, cylinder_inertia
 from ppm_stiffness.legs.base import check_plausible
 from ppm_stiffness.legs.parts import (
+    MAX_DENSITY,
     Finite,
     PartModel,
     Positive,
+    check_density,
     check_gyration,
     check_mass,
 )
 
 Vector3 = tuple[Finite, Finite, Finite]
 
-#: Largest density of a solid [kg/m^3]: above any material's (osmium, 22 590 kg/m^3).
-MAX_DENSITY = 25_000.0
 #: Relative tolerance of the symmetry and the triangle inequality of an inertia tensor.
 INERTIA_TOLERANCE = 1e-9
 
@@ -127,13 +128,14 @@ class PlatformModel(PartModel):
             if self.radius is not None and self.height is not None
             else math.prod(self.size or (1.0,))
         )
-        density = self.mass / volume
-        if density > MAX_DENSITY:
-            raise ValueError(
-                f"mass = {self.mass:g}: a {self.shape} of {volume:.4g} m^3 would be "
-                f"{density:.4g} kg/m^3, denser than any material (<= {MAX_DENSITY:g}); "
-                f"masses are in kg: did you mean {self.mass * 1e-3:.6g} (g)?"
-            )
+        check_density(
+            "mass",
+            self.mass,
+            volume,
+            f"a {self.shape} of {volume:.4g} m^3",
+            MAX_DENSITY,
+            "denser than any material",
+        )
         return self
 
     def _check_tensor(self, tensor: FloatArray) -> None:

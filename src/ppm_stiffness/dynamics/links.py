@@ -18,7 +18,12 @@ kinetic energy on that shape:
 - a link given as a body (its centre of mass or transverse inertia given): a rigid body
   riding on that shape at its centre of mass s_c, moving with the section's
   displacement and rotation there: ``(m |u(s_c)|^2 + omega(s_c)^T I omega(s_c)) / 2``
-  (an approximation of its elastic motion; exact for a rigid one).
+  (an approximation of its elastic motion; exact for a rigid one). A centre outside
+  the link (s_c < 0: behind its start, as the rod of a strut inside its cylinder;
+  s_c > L: past its end) moves rigidly with the section at that end: its rotation, and
+  the end's displacement plus that rotation times the offset (a rigid continuation of
+  the clamp or tip section; the axial displacement is the end section's, since the
+  offset is along the link).
 
 Both are exact for a rigid motion of the link (t_s = t_e), where they are the spatial
 inertia of the body (:func:`ppm_stiffness.dynamics.inertia.spatial_inertia`). The
@@ -48,13 +53,16 @@ def section_motion(xi: FloatArray, length: FloatArray) -> FloatArray:
     Parameters
     ----------
     xi : array_like (...)
-        Position along the link over its length (0: start, 1: end; outside: the shape
-        extended).
+        Position along the link over its length (0: start, 1: end). Outside [0, 1] the
+        section at the nearer end continued rigidly (module doc): its rotation, and its
+        displacement plus that rotation times the offset ``(xi - end) L`` along x.
     length : array_like (...) [m]
     """
-    x = np.asarray(xi, dtype=float)
+    xi_given = np.asarray(xi, dtype=float)
     ell = np.asarray(length, dtype=float)
-    x, ell = np.broadcast_arrays(x, ell)
+    xi_given, ell = np.broadcast_arrays(xi_given, ell)
+    x = np.clip(xi_given, 0.0, 1.0)
+    offset = (xi_given - x) * ell  # [m] along the link, zero on it
     n1 = 1 - 3 * x**2 + 2 * x**3
     n2 = ell * (x - 2 * x**2 + x**3)
     n3 = 3 * x**2 - 2 * x**3
@@ -70,6 +78,9 @@ def section_motion(xi: FloatArray, length: FloatArray) -> FloatArray:
     out[..., 3, 3], out[..., 3, 9] = 1 - x, x
     out[..., 4, 2], out[..., 4, 4], out[..., 4, 8], out[..., 4, 10] = -d1, d2, -d3, d4
     out[..., 5, 1], out[..., 5, 5], out[..., 5, 7], out[..., 5, 11] = d1, d2, d3, d4
+    # theta x (offset e_x) = (0, theta_z offset, -theta_y offset)
+    out[..., 1, :] += offset[..., None] * out[..., 5, :]
+    out[..., 2, :] -= offset[..., None] * out[..., 4, :]
     return out
 
 

@@ -27,6 +27,7 @@ frame (:meth:`LegModel.attachment`), at ``p + R b_i`` in F_b. A planar leg
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any, ClassVar, Literal
@@ -37,9 +38,19 @@ from pydantic import ValidationInfo, field_validator, model_validator
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.core.errors import UnreachablePoseError
+from ppm_stiffness.core.errors import ImplausibleDesignWarning, UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
-from ppm_stiffness.legs.parts import ActuatorModel, Finite, PartModel, Positive, StrictNumber
+from ppm_stiffness.legs.parts import (
+    MAX_LINK_DENSITY,
+    MAX_REFLECTED,
+    ActuatorModel,
+    Finite,
+    PartModel,
+    Positive,
+    SectionModel,
+    StrictNumber,
+    check_density,
+)
 
 #: Largest length a design file may give [m]: beyond it, a length in mm is likely.
 MAX_LENGTH = 10.0
@@ -208,6 +219,62 @@ class LegModel(PartModel):
             )
         return self
 
+    @model_validator(mode="after")
+    def _reflected_rotor(self) -> LegModel:
+        """A rotor may not reflect more than :data:`~ppm_stiffness.legs.parts.
+        MAX_REFLECTED` (kg, or kg·m^2 for a rotary actuator) onto its coordinate."""
+        law = self.actuator
+        if law.rotor_inertia is None or law.gear_ratio is None:
+            return self
+        reflected = law.rotor_inertia * law.gear_ratio**2
+        if reflected > MAX_REFLECTED:
+            unit = "kg·m^2" if self.ACTUATED_KIND == "R" else "kg"
+            cm2 = law.rotor_inertia * 1e-4
+            ratio = (
+                "2 pi / lead [rad/m] (1257 for a 5 mm lead)"
+                if unit == "kg"
+                else "motor turns per joint turn [rad/rad]"
+            )
+            raise ValueError(
+                f"actuator.gear_ratio = {law.gear_ratio:g} with actuator.rotor_inertia = "
+                f"{law.rotor_inertia:g}: implausible reflected inertia, rotor_inertia * "
+                f"gear_ratio^2 = {reflected:.3g} {unit} on the actuated coordinate (<= "
+                f"{MAX_REFLECTED:g} {unit}); did you mean rotor_inertia = {cm2:.6g} "
+                f"(kg·cm^2, reflecting {cm2 * law.gear_ratio**2:.3g} {unit})? gear_ratio "
+                f"is {ratio}"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _link_bodies(self) -> LegModel:
+        """Each link body's density against its section (a mass in grams) and its centre
+        of mass within the leg (module doc of :mod:`ppm_stiffness.dynamics.links`)."""
+        ranges = self.link_length_ranges()
+        if any(not 0 < shortest <= longest for shortest, longest in ranges.values()):
+            return self  # the leg type's own check of its lengths names what is wrong
+        longest_leg = sum(longest for _, longest in ranges.values())
+        for name, (shortest, longest) in ranges.items():
+            section = getattr(self, name)
+            if not isinstance(section, SectionModel) or section.mass is None:
+                continue
+            check_density(
+                f"{name}.mass",
+                section.mass,
+                section.area * longest,
+                f"a link of section {section.area:.3g} m^2 and {longest:.4g} m (its longest)",
+                MAX_LINK_DENSITY,
+                "ten times the densest material: a motor or a nut on a thin tube stays below",
+            )
+            if section.mass_centre is not None:
+                _check_centre(name, section, shortest, longest, longest_leg)
+        return self
+
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The shortest and longest length [m] over the stroke of each link, by the name
+        of its section's field (``{"rod": (0.035, 0.125)}``); a leg type that has links
+        overrides it (the default: none, so its link bodies are not checked)."""
+        return {}
+
     def drive_units(self) -> dict[str, str]:
         """SI units of the actuator's mass fields (carriage, rotor, gear ratio)."""
         ratio = "rad/m" if self.ACTUATED_KIND == "P" else "rad/rad"
@@ -322,6 +389,40 @@ class LegModel(PartModel):
         if self.ACTUATED_KIND == "R":
             return "N·m", "rad", "N·m/rad"
         return "N", "m", "N/m"
+
+
+def _check_centre(
+    name: str, section: SectionModel, shortest: float, longest: float, leg_longest: float
+) -> None:
+    """Refuse a link body's centre of mass farther from its end than the leg's longest
+    length over its stroke; warn of one beyond the link (module doc of
+    :mod:`ppm_stiffness.dynamics.links`) but behind the start of a link that slides
+    through it (a rod's centre inside its guide: ``mass_centre_from = "end"`` and a
+    length that changes)."""
+    centre = section.mass_centre
+    assert centre is not None
+    key = f"{name}.mass_centre"
+    if centre > leg_longest:
+        mm = f"; did you mean {centre / 1000:.6g} (mm)?" if centre > 10 * leg_longest else ""
+        raise ValueError(
+            f"{key} = {centre:g}: the link's centre of mass would lie outside the leg, "
+            f"whose longest length over its stroke is {leg_longest:.4g} m (0 <= "
+            f"mass_centre <= {leg_longest:.4g} m){mm}"
+        )
+    from_end = section.mass_centre_from == "end"
+    sliding = longest > shortest
+    if centre > shortest and not (from_end and sliding):
+        where = "behind its start" if from_end else "past its end"
+        warnings.warn(  # the same text for every value: one warning per optimisation
+            f"{key} beyond {shortest:.4g} m puts the link's centre of mass {where} (the "
+            f"link is {shortest:.4g} m long"
+            + (f" at its shortest, {longest:.4g} m at its longest" if sliding else "")
+            + "); the body is taken to move rigidly with that end's section; a centre "
+            f"measured from the link's {'start' if from_end else 'end'} is "
+            f'mass_centre_from = "{"start" if from_end else "end"}"',
+            ImplausibleDesignWarning,
+            stacklevel=2,
+        )
 
 
 class PlanarLegModel(LegModel):

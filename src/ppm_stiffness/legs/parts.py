@@ -35,7 +35,10 @@ e.g. 2 pi / lead of a ball screw), reflected to the actuated coordinate as
 ``rotor_inertia * gear_ratio^2``. Masses are in kg, inertias in kg·m^2: a mass beyond
 :data:`MAX_MASS` or a radius of gyration ``sqrt(I / m)`` beyond
 :data:`~ppm_stiffness.legs.base.MAX_LENGTH` is refused naming the likely unit mistake
-(g, kg·mm^2).
+(g, kg·mm^2), and so is a nonzero mass below :data:`MIN_MASS`. The leg
+(:class:`~ppm_stiffness.legs.base.LegModel`) checks what needs its lengths: a link's
+density against its section (:func:`check_density`, :data:`MAX_LINK_DENSITY`), its
+centre of mass within the leg, and a rotor's reflection (:data:`MAX_REFLECTED`).
 """
 
 from __future__ import annotations
@@ -115,6 +118,20 @@ MAX_AREA = 1.0
 MAX_SECOND_MOMENT = 0.1
 #: Largest mass of one body of a design [kg] (10 t): above, grams are likely.
 MAX_MASS = 1e4
+#: Smallest mass of a body that has one [kg] (a milligram): below, no part of a machine
+#: (a 0 is a massless part, allowed where a mass may be 0).
+MIN_MASS = 1e-6
+#: Largest density of a solid [kg/m^3]: above any material's (osmium, 22 590 kg/m^3).
+MAX_DENSITY = 25_000.0
+#: Largest mass of a link per volume of its section over its longest length [kg/m^3]:
+#: ten times the densest material's. A link's body may carry a motor, a nut or a
+#: housing on a thin tube (the shipped examples reach 3.3e4 kg/m^3), but a mass typed
+#: in grams is 1000 times a material's density (7.85e6 for steel).
+MAX_LINK_DENSITY = 10 * MAX_DENSITY
+#: Largest mass (linear actuator) [kg] or inertia (rotary) [kg·m^2] a rotor may reflect
+#: onto its actuated coordinate (``rotor_inertia * gear_ratio^2``): the heaviest body
+#: of a design (:data:`MAX_MASS`), at 1 m for a rotary one.
+MAX_REFLECTED = MAX_MASS
 #: Largest radius of gyration ``sqrt(I / m)`` of a body [m]: the largest length of a
 #: design (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, repeated here to avoid an import
 #: cycle). Above, an inertia in kg·mm^2 is likely.
@@ -125,13 +142,46 @@ MAX_ROTOR_INERTIA = 1.0
 
 
 def check_mass(key: str, value: float) -> float:
-    """Refuse a mass beyond :data:`MAX_MASS`, naming the likely unit mistake (g)."""
+    """Refuse a mass beyond :data:`MAX_MASS`, naming the likely unit mistake (g), or a
+    nonzero one below :data:`MIN_MASS` (naming t where that is plausible)."""
     if value > MAX_MASS:
         raise ValueError(
             f"{key} = {value:g}: masses in design files are in kg (<= {MAX_MASS:g} kg); "
             f"did you mean {value * 1e-3:.6g} (g)?"
         )
+    if 0 < value < MIN_MASS:
+        tonnes = value * 1e3
+        hint = f"; did you mean {tonnes:.6g} (t)?" if tonnes >= MIN_MASS else ""
+        raise ValueError(
+            f"{key} = {value:g}: implausible mass, below {MIN_MASS:g} kg (a milligram; "
+            f"no part of a machine is lighter; 0 is a massless part){hint}"
+        )
     return value
+
+
+def check_density(key: str, mass: float, volume: float, body: str, limit: float, why: str) -> None:
+    """Refuse a body whose density ``mass / volume`` exceeds ``limit`` [kg/m^3] as a mass
+    in grams (the platform's solid and each link's body share this check).
+
+    Parameters
+    ----------
+    key : str
+        The mass's key, which starts the message.
+    mass : float [kg]
+    volume : float [m^3]
+        The body's volume (or the one its density is measured against).
+    body : str
+        What the volume is, for the message (``"a cylinder of 0.002 m^3"``).
+    limit : float [kg/m^3]
+    why : str
+        What the limit is (``"denser than any material"``).
+    """
+    density = mass / volume
+    if density > limit:
+        raise ValueError(
+            f"{key} = {mass:g}: implausible density: {body} would be {density:.3g} kg/m^3, "
+            f"above {limit:g} ({why}); masses are in kg: did you mean {mass * 1e-3:.6g} (g)?"
+        )
 
 
 def check_gyration(key: str, inertia: float, mass: float) -> None:

@@ -40,6 +40,8 @@ class StrutLeg(Protocol):
     @property
     def cylinder_length(self) -> float: ...
     @property
+    def stroke(self) -> tuple[float, float]: ...
+    @property
     def cylinder(self) -> SectionModel: ...
     @property
     def rod(self) -> SectionModel: ...
@@ -65,6 +67,14 @@ def check_stroke(stroke: tuple[float, float], cylinder_length: float) -> None:
             "stroke: the shortest leg must exceed cylinder_length (the rod needs a "
             "positive free length)"
         )
+
+
+def strut_link_lengths(leg: StrutLeg) -> dict[str, tuple[float, float]]:
+    """The shortest and longest length [m] of the cylinder (fixed) and of the rod (its
+    free length ``l - cylinder_length``) over the stroke."""
+    c = leg.cylinder_length
+    stroke = leg.stroke
+    return {"cylinder": (c, c), "rod": (stroke[0] - c, stroke[1] - c)}
 
 
 def strut_pose(
@@ -120,4 +130,4 @@ def strut_elements(leg: StrutLeg, leg_pose: LegPose) -> Sequence[Element]:
     ]
 
 
-__all__ = ["StrutLeg", "check_stroke", "strut_elements", "strut_pose"]
+__all__ = ["StrutLeg", "check_stroke", "strut_elements", "strut_link_lengths", "strut_pose"]

@@ -109,6 +109,20 @@ class PPRLeg(PlanarLegModel):
             (float(self.stroke[0]), float(self.stroke[1])),
         )
 
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The carriage link's fixed length |C - B|; the rod's free length over its
+        range."""
+        u, w = self.directions()
+        arm = float(
+            np.linalg.norm(
+                self.guide_offset_u * u + (self.guide_offset_w - self.bearing_offset) * w
+            )
+        )
+        return {
+            "proximal": (arm, arm),
+            "distal": (self.rod_length_range[0], self.rod_length_range[1]),
+        }
+
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke, "rod": self.rod_length_range}
 

@@ -95,6 +95,10 @@ class PRRLeg(PlanarLegModel):
             (float(self.stroke[0]), float(self.stroke[1])),
         )
 
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The link's fixed length."""
+        return {"distal": (self.link_length, self.link_length)}
+
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke}
 

@@ -116,6 +116,10 @@ class PRSLeg(LegModel):
     def attachment(self) -> FloatArray:
         return np.array(self.platform_point, dtype=float)
 
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The link's fixed length."""
+        return {"link": (self.link_length, self.link_length)}
+
     def limits(self) -> dict[str, tuple[float, float]]:
         out = {"rho": (float(self.stroke[0]), float(self.stroke[1]))}
         limit = angle_limit(self.platform_joint)

@@ -81,6 +81,11 @@ class RPRLeg(PlanarLegModel):
             )
         return self
 
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The housing's fixed length; the rod's free length over the stroke."""
+        h = self.housing_length
+        return {"proximal": (h, h), "distal": (self.stroke[0] - h, self.stroke[1] - h)}
+
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"rho": self.stroke}
 

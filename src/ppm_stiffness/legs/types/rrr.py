@@ -99,6 +99,11 @@ class RRRLeg(PlanarLegModel):
             (float(self.stroke[0]), float(self.stroke[1])),
         )
 
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The two links' fixed lengths."""
+        l1, l2 = self.proximal_length, self.distal_length
+        return {"proximal": (l1, l1), "distal": (l2, l2)}
+
     def limits(self) -> dict[str, tuple[float, float]]:
         return {"theta": self.stroke}
 

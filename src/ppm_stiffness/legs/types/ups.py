@@ -53,7 +53,12 @@ from ppm_stiffness.legs.parts import (
     joint_springs,
 )
 from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, universal_axes
-from ppm_stiffness.legs.types._strut import check_stroke, strut_elements, strut_pose
+from ppm_stiffness.legs.types._strut import (
+    check_stroke,
+    strut_elements,
+    strut_link_lengths,
+    strut_pose,
+)
 
 Vector3 = tuple[Finite, Finite, Finite]
 
@@ -102,6 +107,10 @@ class UPSLeg(LegModel):
 
     def attachment(self) -> FloatArray:
         return np.array(self.platform_point, dtype=float)
+
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        """The cylinder's fixed length; the rod's free length over the stroke."""
+        return strut_link_lengths(self)
 
     def limits(self) -> dict[str, tuple[float, float]]:
         out = {"length": (float(self.stroke[0]), float(self.stroke[1]))}
