@@ -29,7 +29,7 @@ from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.validation import design_issues, validate_design
 from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
-from ppm_stiffness.legs.parts import Finite, PartModel, StrictNumber
+from ppm_stiffness.legs.parts import ACTUATOR_STIFFNESSES, Finite, PartModel, StrictNumber
 from ppm_stiffness.legs.registry import leg_types
 
 #: The schema version this module reads and writes.
@@ -426,8 +426,11 @@ class Design(PartModel):
         return validate_design(Design, self._replaced(values), source="parameters")
 
     def _replaced(self, values: dict[str, float]) -> dict[str, Any]:
-        """This design as a dict with the named (or globbed) parameters replaced."""
+        """This design as a dict with the named (or globbed) parameters replaced, and
+        each actuator's two stiffnesses kept one under a linear law
+        (:func:`_tie_linear_actuators`)."""
         data = self.model_dump(by_alias=True)
+        stiffnesses: dict[int, dict[str, float]] = {}
         for pattern, value in values.items():
             for name in self.expand(pattern):
                 parts = _split(name)
@@ -435,7 +438,30 @@ class Design(PartModel):
                 for part in parts[:-1]:
                     target = target[part]
                 target[parts[-1]] = float(value)
+                if _actuator_stiffness(parts):
+                    stiffnesses.setdefault(parts[1], {})[parts[-1]] = float(value)
+        _tie_linear_actuators(data, stiffnesses)
         return data
+
+    def addressed(self, pattern: str) -> list[str]:
+        """The parameters that setting ``pattern`` (a name or glob) changes: its matches
+        (:meth:`expand`) and, for an actuator under a linear law (q = 1), its other
+        stiffness (``locked_stiffness`` and ``k_a`` are one there). What commands
+        compare to refuse two options that set one parameter.
+
+        Raises
+        ------
+        DesignError
+            If nothing matches.
+        """
+        out: list[str] = []
+        for name in self.expand(pattern):
+            parts = _split(name)
+            out.append(name)
+            if _actuator_stiffness(parts) and self.legs[parts[1]].actuator.q == 1:
+                other = next(k for k in ACTUATOR_STIFFNESSES if k != parts[-1])
+                out.append(f"{name.rsplit('.', 1)[0]}.{other}")
+        return list(dict.fromkeys(out))
 
     def check_value(self, name: str, value: float) -> None:
         """Refuse a value that parameter ``name`` (or glob) cannot take.
@@ -522,6 +548,37 @@ def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
     return names
 
 
+def tied_note(name: str) -> str:
+    """A message's note for parameter ``name`` when it is an actuator stiffness, which
+    :meth:`Design.addressed` ties to its twin under a linear law; "" otherwise."""
+    if name.rsplit(".", 1)[-1] in ACTUATOR_STIFFNESSES:
+        return " (with q = 1 an actuator's locked_stiffness and k_a are one stiffness)"
+    return ""
+
+
+def _actuator_stiffness(parts: list[Any]) -> bool:
+    """True for the split name (:func:`_split`) of a leg's actuator stiffness."""
+    return (
+        len(parts) == 4
+        and parts[0] == "legs"
+        and parts[2] == "actuator"
+        and parts[3] in ACTUATOR_STIFFNESSES
+    )
+
+
+def _tie_linear_actuators(data: dict[str, Any], given: dict[int, dict[str, float]]) -> None:
+    """Where one of a leg's actuator stiffnesses was set (``given``: leg index ->
+    {key: value}) and its law is linear after the change (q = 1), set the other to the
+    same value: they are one stiffness (:class:`~ppm_stiffness.legs.parts.ActuatorModel`).
+    Both set to different values are left for the validation to refuse."""
+    for leg, values in given.items():
+        actuator = data["legs"][leg]["actuator"]
+        if actuator["q"] == 1 and len(values) == 1:
+            (value,) = values.values()
+            for key in ACTUATOR_STIFFNESSES:
+                actuator[key] = value
+
+
 def _split(name: str) -> list[Any]:
     parts: list[Any] = []
     for part in name.split("."):
@@ -560,6 +617,7 @@ __all__ = [
     "RequiredRegionModel",
     "WorkspaceModel",
     "leg_label",
+    "tied_note",
 ]
 
 

@@ -73,6 +73,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import tied_note
 from ppm_stiffness.statics.measurements import (
     COMPONENT_COLUMNS,
     Measurements,
@@ -402,10 +403,11 @@ def _free_parameters(design: Design, free: Sequence[str]) -> tuple[list[str], Fl
         raise InputDataError("no free parameter given")
     seen: dict[str, str] = {}
     for name in names:
-        for match in design.expand(name):  # DesignError for an unknown name
+        for match in design.addressed(name):  # DesignError for an unknown name
             if match in seen:
                 raise InputDataError(
                     f"free parameters {seen[match]!r} and {name!r} both address {match!r}"
+                    + tied_note(match)
                 )
             seen[match] = name
     return names, np.array([design.parameter(n) for n in names])
