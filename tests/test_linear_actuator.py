@@ -112,6 +112,15 @@ def test_the_law_made_linear_in_the_same_call_ties_them() -> None:
     assert all(leg.actuator.locked_stiffness == 2e4 for leg in design.legs)
 
 
+def test_a_law_made_linear_takes_k_a() -> None:
+    """q set to 1 alone (deflect --q 1): eq. (20) with q = 1 is G = k_a delta, so the
+    locked value follows k_a (before: 1.1108e5 N/m unloaded, 44.75 N/m under load)."""
+    design = load_design(PAPER)
+    linear = design.with_parameters({"actuator.q": 1.0})
+    assert all(leg.actuator.locked_stiffness == leg.actuator.k_a == 44.75 for leg in linear.legs)
+    design.check_value("actuator.q", 1.0)  # what deflect --q 1 checks first: accepted
+
+
 def test_both_set_differently_are_refused() -> None:
     with pytest.raises(DesignError, match="differ, but with q = 1"):
         load_design(RPS).with_parameters(

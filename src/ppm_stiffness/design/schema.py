@@ -438,7 +438,7 @@ class Design(PartModel):
                 for part in parts[:-1]:
                     target = target[part]
                 target[parts[-1]] = float(value)
-                if _actuator_stiffness(parts):
+                if _actuator_key(parts, (*ACTUATOR_STIFFNESSES, "q")):
                     stiffnesses.setdefault(parts[1], {})[parts[-1]] = float(value)
         _tie_linear_actuators(data, stiffnesses)
         return data
@@ -458,7 +458,10 @@ class Design(PartModel):
         for name in self.expand(pattern):
             parts = _split(name)
             out.append(name)
-            if _actuator_stiffness(parts) and self.legs[parts[1]].actuator.q == 1:
+            linear = _actuator_key(parts, ACTUATOR_STIFFNESSES) and (
+                self.legs[parts[1]].actuator.q == 1
+            )
+            if linear:
                 other = next(k for k in ACTUATOR_STIFFNESSES if k != parts[-1])
                 out.append(f"{name.rsplit('.', 1)[0]}.{other}")
         return list(dict.fromkeys(out))
@@ -556,27 +559,28 @@ def tied_note(name: str) -> str:
     return ""
 
 
-def _actuator_stiffness(parts: list[Any]) -> bool:
-    """True for the split name (:func:`_split`) of a leg's actuator stiffness."""
-    return (
-        len(parts) == 4
-        and parts[0] == "legs"
-        and parts[2] == "actuator"
-        and parts[3] in ACTUATOR_STIFFNESSES
-    )
+def _actuator_key(parts: list[Any], keys: tuple[str, ...]) -> bool:
+    """True for the split name (:func:`_split`) of one of ``keys`` of a leg's actuator."""
+    return len(parts) == 4 and parts[0] == "legs" and parts[2] == "actuator" and parts[3] in keys
 
 
 def _tie_linear_actuators(data: dict[str, Any], given: dict[int, dict[str, float]]) -> None:
-    """Where one of a leg's actuator stiffnesses was set (``given``: leg index ->
-    {key: value}) and its law is linear after the change (q = 1), set the other to the
-    same value: they are one stiffness (:class:`~ppm_stiffness.legs.parts.ActuatorModel`).
-    Both set to different values are left for the validation to refuse."""
+    """Keep a linear law's two stiffnesses one (:class:`~ppm_stiffness.legs.parts.
+    ActuatorModel`) where this change set some of a leg's ``q``, ``locked_stiffness``,
+    ``k_a`` (``given``: leg index -> {key: value}) and its law is linear after it
+    (q = 1): one stiffness set sets the other; a law made linear with neither set
+    takes ``k_a`` (eq. 20 with q = 1: ``G = k_a delta`` at every load). Both set to
+    different values are left for the validation to refuse."""
     for leg, values in given.items():
         actuator = data["legs"][leg]["actuator"]
-        if actuator["q"] == 1 and len(values) == 1:
-            (value,) = values.values()
-            for key in ACTUATOR_STIFFNESSES:
-                actuator[key] = value
+        if actuator["q"] != 1:
+            continue
+        named = [values[k] for k in ACTUATOR_STIFFNESSES if k in values]
+        if len(named) == 2:
+            continue
+        value = named[0] if named else actuator["k_a"]
+        for key in ACTUATOR_STIFFNESSES:
+            actuator[key] = value
 
 
 def _split(name: str) -> list[Any]:
