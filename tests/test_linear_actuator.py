@@ -44,7 +44,20 @@ def _edited(tmp_path: Path, source: Path, old: str, new: str) -> Path:
 # ------------------------------------------------------------------ the design file
 def test_a_disagreement_is_refused_naming_both(tmp_path: Path) -> None:
     path = _edited(tmp_path, RPS, "k_a = 60000000.0", "k_a = 50000000.0")
-    with pytest.raises(DesignError, match=r"locked_stiffness = 6e\+07 and k_a = 5e\+07 differ"):
+    with pytest.raises(
+        DesignError,
+        match=r"key 'parts.actuator.k_a': k_a = 5e\+07 and locked_stiffness = 6e\+07 differ",
+    ):
+        load_design(path)
+
+
+def test_a_leg_that_overrides_one_is_named(tmp_path: Path) -> None:
+    """[parts.actuator] gives both, leg 1 overrides k_a alone: the error names leg 1."""
+    text = RPS.read_text(encoding="utf-8")
+    end = text.index("\n\n", text.index("[[legs]]"))
+    path = tmp_path / "override.toml"
+    path.write_text(text[:end] + "\nactuator.k_a = 30000000.0" + text[end:], encoding="utf-8")
+    with pytest.raises(DesignError, match=r"key 'leg1.actuator.k_a': k_a = 3e\+07 and locked_"):
         load_design(path)
 
 

@@ -302,7 +302,7 @@ class ActuatorModel(PartModel):
             return {**data, "k_a": locked}
         if _is_number(locked) and _is_number(k_a) and locked != k_a:
             raise ValueError(
-                f"locked_stiffness = {locked:g} and k_a = {k_a:g} differ, but with q = 1 "
+                f"k_a = {k_a:g} and locked_stiffness = {locked:g} differ, but with q = 1 "
                 "(a linear actuator) they are one stiffness, used locked and under load: "
                 "give one of them, or both equal"
             )
