@@ -246,3 +246,20 @@ def test_uncertainty_is_described_by_the_schemas(capsys: pytest.CaptureFixture[s
 def test_every_schema_has_a_case() -> None:
     covered = {name for name, _ in CASES} | {"validate", "optimize"}
     assert {p.name.removesuffix(".schema.json") for p in SCHEMAS.glob("*.schema.json")} == covered
+
+
+def test_identify_schema_ties_a_bound_to_a_null_sigma(capsys: pytest.CaptureFixture[str]) -> None:
+    """An estimate at a bound has no valid standard error (issue 27, item 4): the schema
+    refuses a number there, and a null one where the estimate is not at a bound."""
+    argv = next(a for name, a in CASES if name == "identify")
+    document = _document(capsys, argv)
+    spec = json.loads((SCHEMAS / "identify.schema.json").read_text(encoding="utf-8"))
+    validator = jsonschema.Draft202012Validator(spec)
+    parameter = document["parameters"][0]  # type: ignore[index]
+    assert parameter["at_bound"] is None and document["warnings"] == []
+    parameter["at_bound"] = "lower"
+    assert not validator.is_valid(document)
+    parameter["standard_error"] = None
+    assert validator.is_valid(document)
+    parameter["at_bound"] = None
+    assert not validator.is_valid(document)

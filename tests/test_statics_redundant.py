@@ -90,7 +90,8 @@ def test_three_leg_forces_are_determinate(design) -> None:  # type: ignore[no-un
 def test_integration_follows_a_force_back_below_its_threshold() -> None:
     """Regression (review): an actuator whose force rises through its threshold and
     falls back below it must return to its locked branch. Legs 1, 2, 4 on the paper's
-    law with a tiny locked range; leg 3 linear (k_a 5000 N/m) with a 0.3 N threshold:
+    law with a tiny locked range; leg 3 nearly linear (q = 0.999, k_a 5000 N/m^q) with a
+    0.3 N threshold:
     along this load its force peaks at 0.33 N and ends at 0.076 N. Before the fix the
     integration kept leg 3 powered (phi_z 0.8 % off the equilibrium)."""
     from ppm_stiffness.legs.parts import ActuatorModel
@@ -98,8 +99,12 @@ def test_integration_follows_a_force_back_below_its_threshold() -> None:
     paper = ActuatorModel(
         locked_stiffness=111080.0, k_a=44.75, q=0.225, threshold_displacement=1e-9
     )
+    # nearly linear: q = 1 would make locked_stiffness and k_a one stiffness
     linear = ActuatorModel(
-        locked_stiffness=111080.0, k_a=5000.0, q=1.0, threshold_displacement=0.3 / 5000.0
+        locked_stiffness=111080.0,
+        k_a=5000.0,
+        q=0.999,
+        threshold_displacement=(0.3 / 5000.0) ** (1 / 0.999),
     )
     legs = [leg.model_copy(update={"actuator": paper}) for leg in DESIGN.legs]
     legs[2] = legs[2].model_copy(update={"actuator": linear})

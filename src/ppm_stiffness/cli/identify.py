@@ -90,6 +90,11 @@ def parse_sigmas(items: list[str]) -> dict[int, float]:
     return out
 
 
+def _number(value: float) -> float | None:
+    """A float for JSON, None where it is not valid (NaN: a parameter at a bound)."""
+    return None if math.isnan(value) else float(value)
+
+
 def _payload(result: Any, out: str | None) -> dict[str, Any]:
     from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 
@@ -102,7 +107,8 @@ def _payload(result: Any, out: str | None) -> dict[str, Any]:
                 "catalogue": c,
                 "start": s,
                 "estimate": v,
-                "standard_error": e,
+                "standard_error": _number(e),
+                "at_bound": result.at_bound.get(n),
             }
             for n, u, c, s, v, e in zip(
                 result.names,
@@ -114,7 +120,8 @@ def _payload(result: Any, out: str | None) -> dict[str, Any]:
                 strict=True,
             )
         ],
-        "correlation": result.correlation,
+        "warnings": result.bound_messages(),
+        "correlation": [[_number(v) for v in row] for row in result.correlation],
         "residual_rms": {
             name: (None if math.isnan(v) else float(v))
             for name, v in zip(TWIST_COMPONENTS, result.residual_rms, strict=True)
@@ -168,8 +175,15 @@ def _print(result: Any, out: str | None) -> None:
         strict=True,
     ):
         rel = 100 * e / abs(v) if v != 0 else math.inf
-        t.add_row(escape(n), eng(cat), eng(v), eng(rel, 3), u)
+        sigma = (
+            f"[yellow]at {result.at_bound[n]} bound[/yellow]"
+            if n in result.at_bound
+            else eng(rel, 3)
+        )
+        t.add_row(escape(n), eng(cat), eng(v), sigma, u)
     c.print(t)
+    for message in result.bound_messages():
+        c.print(f"[yellow]warning:[/yellow] {escape(message)}")
     rms = Table(title="residual RMS, predicted - measured", title_justify="left", box=box.SIMPLE)
     for name, unit in zip(TWIST_COMPONENTS, TWIST_UNITS, strict=True):
         rms.add_column(f"{name} \\[{'deg' if unit == 'rad' else 'mm'}]", justify="right")
@@ -190,13 +204,15 @@ def _print(result: Any, out: str | None) -> None:
         for k in range(len(result.names)):
             corr.add_column(f"p{k + 1}", justify="right")
         for k, row in enumerate(result.correlation):
-            corr.add_row(f"p{k + 1}", *(f"{v:+.2f}" for v in row))
+            corr.add_row(f"p{k + 1}", *("-" if math.isnan(v) else f"{v:+.2f}" for v in row))
         if len(result.names) <= 8:
             c.print(corr)
     weakest = result.combinations[-1]
+    bound = [n for n, w in weakest.weights.items() if abs(w) > 0.1 and n in result.at_bound]
+    sigma = "not valid: " + ", ".join(bound) + " at a bound" if bound else ""
     c.print(
         f"weakest combination: {escape(weakest.describe())} (relative 1σ "
-        f"{weakest.relative_sigma:.3g})"
+        f"{sigma or f'{weakest.relative_sigma:.3g}'})"
     )
     if result.fixed:
         c.print(f"[yellow]fixed at catalogue values:[/yellow] {escape(', '.join(result.fixed))}")

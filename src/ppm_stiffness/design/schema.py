@@ -29,7 +29,7 @@ from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.validation import design_issues, validate_design
 from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
-from ppm_stiffness.legs.parts import Finite, PartModel, StrictNumber
+from ppm_stiffness.legs.parts import ACTUATOR_STIFFNESSES, Finite, PartModel, StrictNumber
 from ppm_stiffness.legs.registry import leg_types
 
 #: The schema version this module reads and writes.
@@ -441,8 +441,11 @@ class Design(PartModel):
         return validate_design(Design, self._replaced(values), source="parameters")
 
     def _replaced(self, values: dict[str, float]) -> dict[str, Any]:
-        """This design as a dict with the named (or globbed) parameters replaced."""
+        """This design as a dict with the named (or globbed) parameters replaced, and
+        each actuator's two stiffnesses kept one under a linear law
+        (:func:`_tie_linear_actuators`)."""
         data = self.model_dump(by_alias=True)
+        stiffnesses: dict[int, dict[str, float]] = {}
         for pattern, value in values.items():
             for name in self.expand(pattern):
                 parts = _split(name)
@@ -450,7 +453,33 @@ class Design(PartModel):
                 for part in parts[:-1]:
                     target = target[part]
                 target[parts[-1]] = float(value)
+                if _actuator_key(parts, (*ACTUATOR_STIFFNESSES, "q")):
+                    stiffnesses.setdefault(parts[1], {})[parts[-1]] = float(value)
+        _tie_linear_actuators(data, stiffnesses)
         return data
+
+    def addressed(self, pattern: str) -> list[str]:
+        """The parameters that setting ``pattern`` (a name or glob) changes: its matches
+        (:meth:`expand`) and, for an actuator under a linear law (q = 1), its other
+        stiffness (``locked_stiffness`` and ``k_a`` are one there). What commands
+        compare to refuse two options that set one parameter.
+
+        Raises
+        ------
+        DesignError
+            If nothing matches.
+        """
+        out: list[str] = []
+        for name in self.expand(pattern):
+            parts = _split(name)
+            out.append(name)
+            linear = _actuator_key(parts, ACTUATOR_STIFFNESSES) and (
+                self.legs[parts[1]].actuator.q == 1
+            )
+            if linear:
+                other = next(k for k in ACTUATOR_STIFFNESSES if k != parts[-1])
+                out.append(f"{name.rsplit('.', 1)[0]}.{other}")
+        return list(dict.fromkeys(out))
 
     def check_value(self, name: str, value: float) -> None:
         """Refuse a value that parameter ``name`` (or glob) cannot take.
@@ -537,6 +566,38 @@ def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
     return names
 
 
+def tied_note(name: str) -> str:
+    """A message's note for parameter ``name`` when it is an actuator stiffness, which
+    :meth:`Design.addressed` ties to its twin under a linear law; "" otherwise."""
+    if name.rsplit(".", 1)[-1] in ACTUATOR_STIFFNESSES:
+        return " (with q = 1 an actuator's locked_stiffness and k_a are one stiffness)"
+    return ""
+
+
+def _actuator_key(parts: list[Any], keys: tuple[str, ...]) -> bool:
+    """True for the split name (:func:`_split`) of one of ``keys`` of a leg's actuator."""
+    return len(parts) == 4 and parts[0] == "legs" and parts[2] == "actuator" and parts[3] in keys
+
+
+def _tie_linear_actuators(data: dict[str, Any], given: dict[int, dict[str, float]]) -> None:
+    """Keep a linear law's two stiffnesses one (:class:`~ppm_stiffness.legs.parts.
+    ActuatorModel`) where this change set some of a leg's ``q``, ``locked_stiffness``,
+    ``k_a`` (``given``: leg index -> {key: value}) and its law is linear after it
+    (q = 1): one stiffness set sets the other; a law made linear with neither set
+    takes ``k_a`` (eq. 20 with q = 1: ``G = k_a delta`` at every load). Both set to
+    different values are left for the validation to refuse."""
+    for leg, values in given.items():
+        actuator = data["legs"][leg]["actuator"]
+        if actuator["q"] != 1:
+            continue
+        named = [values[k] for k in ACTUATOR_STIFFNESSES if k in values]
+        if len(named) == 2:
+            continue
+        value = named[0] if named else actuator["k_a"]
+        for key in ACTUATOR_STIFFNESSES:
+            actuator[key] = value
+
+
 def _split(name: str) -> list[Any]:
     parts: list[Any] = []
     for part in name.split("."):
@@ -575,6 +636,7 @@ __all__ = [
     "RequiredRegionModel",
     "WorkspaceModel",
     "leg_label",
+    "tied_note",
 ]
 
 

@@ -26,6 +26,7 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import tied_note
 from ppm_stiffness.model import check_nonsingular, stiffness_at_pose
 
 #: A singular value below this fraction of the largest marks a flat direction.
@@ -127,6 +128,20 @@ def evaluations_per_start(n_free: int) -> int:
     return 200 * n_free * (n_free + 1)
 
 
+def _check_distinct(design: Design, names: list[str]) -> None:
+    """Refuse two free parameters that set one (a linear actuator's ``locked_stiffness``
+    and ``k_a``, :meth:`~ppm_stiffness.design.schema.Design.addressed`)."""
+    seen: dict[str, str] = {}
+    for name in names:
+        for match in design.addressed(name):
+            if match in seen:
+                raise InputDataError(
+                    f"free parameters {seen[match]!r} and {name!r} both set {match!r}"
+                    + tied_note(match)
+                )
+            seen[match] = name
+
+
 def calibrate(
     design: Design,
     target: ArrayLike,
@@ -183,6 +198,7 @@ def calibrate(
         raise InputDataError("no free parameters given")
     if len(set(names)) != len(names):
         raise InputDataError("free parameters repeat a name")
+    _check_distinct(design, names)
     x0 = np.array([design.parameter(n) for n in names])
     bnds = dict(bounds or {})
     unknown = set(bnds) - set(names)

@@ -45,7 +45,13 @@ Uncertainty. With ``J`` the Jacobian of the weighted residuals in the relative
 parameters at the solution (rows divided by sigma, columns relative), the covariance
 of theta is ``(J^T J)^-1`` (the sigmas are taken as the true noise: no rescaling by
 the residual; the weighted RMS says whether they were right), standard errors
-``s_j sqrt(cov_jj)`` and the correlation matrix follow.
+``s_j sqrt(cov_jj)`` and the correlation matrix follow. An estimate at a bound of the
+search (within :data:`BOUND_PROXIMITY`, 1 %, of ``RELATIVE_BOUNDS`` times its
+catalogue value) is not a fitted value: the data pull it beyond the range (a measured
+rotation of 90 deg put a 3-RPS actuator's k_a at exactly 1e-3 of its catalogue value
+with a "standard error" of 0.0013 %). It is flagged (:class:`BoundWarning`,
+``IdentificationResult.at_bound``), its standard error and correlations are NaN, and
+the others' covariance is that of the remaining parameters, it held at the bound.
 
 Identifiability. The singular values ``s_k`` of the scaled Jacobian measure how well
 each combination ``v_k`` (right singular vector) of relative parameters is determined:
@@ -73,6 +79,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import tied_note
 from ppm_stiffness.statics.measurements import (
     COMPONENT_COLUMNS,
     Measurements,
@@ -98,6 +105,9 @@ FIT_STEP = 1e-7
 LINEARITY_TOLERANCE = 1e-10
 #: Bounds of a positive parameter relative to its catalogue value during the fit.
 RELATIVE_BOUNDS = (1e-3, 1e3)
+#: An estimate within this relative distance of a bound is at the bound: the data pull it
+#: beyond the search range, it is not a fitted value and has no standard error.
+BOUND_PROXIMITY = 1e-2
 
 
 def _stiffness_like(unit: str) -> bool:
@@ -109,6 +119,12 @@ def _stiffness_like(unit: str) -> bool:
 class IdentifiabilityWarning(UserWarning):
     """Parameters were fixed at their catalogue values because the data cannot
     determine them (``fix_unidentifiable=True``)."""
+
+
+class BoundWarning(UserWarning):
+    """An estimate ended at (within :data:`BOUND_PROXIMITY` of) a bound of the search
+    (:data:`RELATIVE_BOUNDS` times its catalogue value): the measurements pull it
+    beyond, so it is the bound, not a fit, and its standard error is not given."""
 
 
 @dataclass(frozen=True)
@@ -376,6 +392,10 @@ class IdentificationResult:
         Predicted twists at the estimates.
     nfev : int
         Model evaluations of the nonlinear fit (without its Jacobians).
+    at_bound : dict name -> {"lower", "upper"}
+        Parameters whose estimate is at a bound of the search (:class:`BoundWarning`):
+        their standard error and correlations are NaN (not valid), the others'
+        are computed with them held at the bound.
     """
 
     design: Design
@@ -394,6 +414,56 @@ class IdentificationResult:
     n_values: int = 0
     predicted: FloatArray = field(default_factory=lambda: np.zeros((0, 6)))
     nfev: int = 0
+    at_bound: dict[str, str] = field(default_factory=dict)
+
+    def bound_messages(self) -> list[str]:
+        """One sentence per parameter at a bound: what happened and why its standard
+        error is not given."""
+        return [bound_message(n, side) for n, side in self.at_bound.items()]
+
+
+def bound_message(name: str, side: str) -> str:
+    """Why parameter ``name``'s estimate at the ``side`` bound is not a fitted value."""
+    lo, hi = RELATIVE_BOUNDS
+    factor = f"{lo:g}" if side == "lower" else f"{hi:g}"
+    return (
+        f"{name} is at the {side} bound of the search ({factor} x its catalogue value): "
+        "the measurements pull it beyond the range the fit allows (a wrong measurement "
+        "or unit, or a model that does not fit the data), so the estimate is the bound, "
+        "not a fitted value, and it has no valid standard error"
+    )
+
+
+def _at_bound(
+    names: Sequence[str], theta: FloatArray, lower: FloatArray, upper: FloatArray
+) -> dict[str, str]:
+    """The parameters whose relative value ``theta`` is within :data:`BOUND_PROXIMITY`
+    of its bound (name -> ``"lower"`` or ``"upper"``)."""
+    out = {}
+    for name, t, lo, hi in zip(names, theta, lower, upper, strict=True):
+        if np.isfinite(lo) and t <= lo * (1 + BOUND_PROXIMITY):
+            out[name] = "lower"
+        elif np.isfinite(hi) and t >= hi / (1 + BOUND_PROXIMITY):
+            out[name] = "upper"
+    return out
+
+
+def _covariance(jac: FloatArray, free: np.ndarray) -> tuple[FloatArray, FloatArray]:
+    """Standard errors (n,) and correlation (n, n) of the relative parameters from the
+    scaled Jacobian (m, n), the parameters where ``free`` is False held fixed (NaN)."""
+    n = jac.shape[1]
+    se, corr = np.full(n, np.nan), np.full((n, n), np.nan)
+    idx = np.flatnonzero(free)
+    if idx.size == 0:
+        return se, corr
+    _, s, vt = np.linalg.svd(jac[:, idx], full_matrices=False)
+    with np.errstate(divide="ignore"):
+        inv_s2 = np.where(s > 0, 1.0 / s**2, np.inf)
+    cov = (vt.T * inv_s2) @ vt
+    se[idx] = np.sqrt(np.abs(np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr[np.ix_(idx, idx)] = cov / np.outer(se[idx], se[idx])
+    return se, corr
 
 
 def _free_parameters(design: Design, free: Sequence[str]) -> tuple[list[str], FloatArray]:
@@ -402,10 +472,11 @@ def _free_parameters(design: Design, free: Sequence[str]) -> tuple[list[str], Fl
         raise InputDataError("no free parameter given")
     seen: dict[str, str] = {}
     for name in names:
-        for match in design.expand(name):  # DesignError for an unknown name
+        for match in design.addressed(name):  # DesignError for an unknown name
             if match in seen:
                 raise InputDataError(
                     f"free parameters {seen[match]!r} and {name!r} both address {match!r}"
+                    + tied_note(match)
                 )
             seen[match] = name
     return names, np.array([design.parameter(n) for n in names])
@@ -631,13 +702,10 @@ def identify(
             IdentifiabilityWarning,
             stacklevel=2,
         )
-    _, s, vt = np.linalg.svd(jac_final, full_matrices=False)
-    with np.errstate(divide="ignore"):
-        inv_s2 = np.where(s > 0, 1.0 / s**2, np.inf)
-    cov = (vt.T * inv_s2) @ vt
-    se_theta = np.sqrt(np.abs(np.diag(cov)))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov / np.outer(se_theta, se_theta)
+    at_bound = _at_bound(names, theta, lower, upper)
+    for name, side in at_bound.items():
+        warnings.warn(bound_message(name, side), BoundWarning, stacklevel=2)
+    se_theta, corr = _covariance(jac_final, np.array([n not in at_bound for n in names]))
     predicted = problem.predict(values)
     err = np.where(rows.measured, predicted - rows.twists, np.nan)
     with warnings.catch_warnings():
@@ -661,18 +729,23 @@ def identify(
         n_values=rows.n_values,
         predicted=predicted,
         nfev=nfev,
+        at_bound=at_bound,
     )
 
 
 __all__ = [
+    "BOUND_PROXIMITY",
     "MAX_RELATIVE_SIGMA",
+    "RELATIVE_BOUNDS",
     "RANK_RATIO",
     "TWIST_COMPONENTS",
+    "BoundWarning",
     "Combination",
     "IdentifiabilityWarning",
     "IdentificationResult",
     "MeasurementRows",
     "combinations",
+    "bound_message",
     "identify",
     "measurement_rows",
     "predict_twists",

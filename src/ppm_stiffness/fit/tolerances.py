@@ -43,6 +43,7 @@ import numpy as np
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import tied_note
 
 #: Keys of one tolerance entry.
 ENTRY_KEYS = ("pm", "sigma", "tied")
@@ -200,10 +201,10 @@ def tolerance_variables(design: Design, entries: list[ToleranceEntry]) -> list[T
     out: list[ToleranceVariable] = []
     for e in entries:
         names = design.expand(e.name)
-        for n in names:
+        for n in design.addressed(e.name):  # an actuator's two stiffnesses under q = 1
             if n in owner:
                 raise InputDataError(
-                    f"tolerance file: {owner[n]!r} and {e.name!r} both address {n!r}"
+                    f"tolerance file: {owner[n]!r} and {e.name!r} both address {n!r}" + tied_note(n)
                 )
             owner[n] = e.name
         nominal = np.array([design.parameter(n) for n in names])

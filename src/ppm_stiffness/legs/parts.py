@@ -307,14 +307,27 @@ class SectionModel(PartModel):
         )
 
 
+#: The two stiffnesses of an actuator law: one parameter under a linear law (q = 1).
+ACTUATOR_STIFFNESSES = ("locked_stiffness", "k_a")
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 class ActuatorModel(PartModel):
     """Actuator law (eq. 20-21): ``G = k_a * delta**q``.
 
-    The stiffness is ``locked_stiffness`` below ``threshold_displacement`` and the
-    tangent ``q k_a delta**(q-1)`` above it. ``q = 1`` is a linear spring of stiffness
-    ``k_a``; a huge threshold makes the actuator constant. Units follow the actuated
-    joint: N, m and N/m for a linear actuator (prismatic joint); N·m, rad and
-    N·m/rad for a rotary one (revolute joint).
+    For ``q < 1`` the stiffness is ``locked_stiffness`` while the displacement is at
+    most ``threshold_displacement`` (the force at most ``k_a delta_th^q``: the unloaded
+    K, small loads) and the tangent ``q k_a delta**(q-1)`` above it; a huge threshold
+    makes the actuator constant. ``q = 1`` is a linear spring: its tangent is ``k_a``
+    at every load, so ``locked_stiffness`` and ``k_a`` are one stiffness. A file may
+    give either (the other follows) or both equal; two different values are refused,
+    and setting either by name (:meth:`~ppm_stiffness.design.schema.Design.
+    with_parameters`) sets both. Units follow the actuated joint: N, m and N/m for a
+    linear actuator (prismatic joint); N·m, rad and N·m/rad for a rotary one
+    (revolute joint).
     """
 
     locked_stiffness: Positive
@@ -324,6 +337,26 @@ class ActuatorModel(PartModel):
     carriage_mass: NonNegative | None = None
     rotor_inertia: NonNegative | None = None
     gear_ratio: Positive | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _one_linear_stiffness(cls, data: Any) -> Any:
+        """Under a linear law (q = 1) ``locked_stiffness`` and ``k_a`` are one stiffness:
+        either given alone gives both; two different values are refused."""
+        if not isinstance(data, dict) or not _is_number(q := data.get("q")) or q != 1:
+            return data
+        locked, k_a = (data.get(k) for k in ACTUATOR_STIFFNESSES)
+        if locked is None and _is_number(k_a):
+            return {**data, "locked_stiffness": k_a}
+        if k_a is None and _is_number(locked):
+            return {**data, "k_a": locked}
+        if _is_number(locked) and _is_number(k_a) and locked != k_a:
+            raise ValueError(
+                f"k_a = {k_a:g} and locked_stiffness = {locked:g} differ, but with q = 1 "
+                "(a linear actuator) they are one stiffness, used locked and under load: "
+                "give one of them, or both equal"
+            )
+        return data
 
     @field_validator("carriage_mass")
     @classmethod

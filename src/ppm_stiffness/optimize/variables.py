@@ -26,6 +26,7 @@ import numpy as np
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
+from ppm_stiffness.design.schema import tied_note
 
 #: Most values along one variable of a grid sweep.
 MAX_VALUES = 10_000
@@ -193,7 +194,7 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
         unit = "m"
     else:
         try:
-            matches = tuple(design.expand(name))
+            matches = tuple(design.addressed(name))  # with a linear actuator's twin
         except DesignError as exc:
             raise DesignError(
                 f"--vary: {exc}; this design's are {parameter_families(design)}"
@@ -227,7 +228,7 @@ def check_distinct(variables: Sequence[Variable]) -> None:
         for m in v.matches:
             if m in seen:
                 raise InputDataError(
-                    f"--vary {v.name} and --vary {seen[m]} both set parameter {m!r}"
+                    f"--vary {v.name} and --vary {seen[m]} both set parameter {m!r}" + tied_note(m)
                 )
             seen[m] = v.name
     if not variables:
