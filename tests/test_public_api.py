@@ -139,14 +139,19 @@ def test_modal_to_dict_is_the_cli_json(
 def test_mapping_access_warns_and_gives_the_old_values() -> None:
     result = pps.analyze(pps.default_design())
     old = result.to_dict()
-    with pytest.warns(DeprecationWarning, match=r"result\['principal'\] \(mapping access on "):
+    with pytest.warns(
+        DeprecationWarning, match=r"result\['principal'\] \(mapping access on "
+    ) as record:
         assert result["principal"] == old["principal"]
+    assert record[0].filename == __file__  # points at the caller's line
     with pytest.warns(DeprecationWarning, match="use its attributes, or .to_dict"):
         assert ("twist" in result) is False
     with pytest.warns(DeprecationWarning, match=r"result.get\('first_frequency'\)"):
         assert result.get("first_frequency") == old["first_frequency"]
     with pytest.warns(DeprecationWarning, match="removed in 0.4"):
         assert list(result.keys()) == list(old)
+    with pytest.warns(DeprecationWarning, match="iterating over result"):
+        assert list(result) == list(old)
     modal = pps.modal_analysis(pps.default_design())
     with pytest.warns(DeprecationWarning, match=r"mapping access on ModalAnalysis"):
         assert modal["frequencies"] == modal.frequencies.tolist()
@@ -158,8 +163,9 @@ def test_old_names_warn_and_still_work() -> None:
         DeprecationWarning,
         match=r"ppm_stiffness.equilibrium is deprecated "
         r"since 0.3: use ppm_stiffness.loaded_state",
-    ):
+    ) as record:
         old = pps.equilibrium(design, PAPER_WRENCH, pps.home_pose(design))
+    assert record[0].filename == __file__
     assert np.array_equal(old.twist, pps.loaded_state(design, PAPER_WRENCH).twist)
     with pytest.warns(DeprecationWarning, match="use ppm_stiffness.moving_loaded_state"):
         from ppm_stiffness import moving_equilibrium  # noqa: PLC0415

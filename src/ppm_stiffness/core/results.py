@@ -4,15 +4,15 @@ mapping access of the dicts they replace, deprecated.
 :func:`ppm_stiffness.analyze` and :func:`ppm_stiffness.modal_analysis` returned dicts
 until 0.2; they return dataclasses since 0.3, whose ``to_dict()`` is the dict of
 before, key for key (the ``--json`` document of ``analyze``/``modes`` is built from it).
-``result["key"]``, ``"key" in result``, ``result.get``, ``keys``, ``items`` and
-``values`` still work, on that dict, with a :class:`DeprecationWarning`, until 0.4
-(``docs/compatibility.md``).
+``result["key"]``, ``"key" in result``, iterating over the keys, ``result.get``,
+``keys``, ``items`` and ``values`` still work, on that dict, with a
+:class:`DeprecationWarning`, until 0.4 (``docs/compatibility.md``).
 """
 
 from __future__ import annotations
 
 import warnings
-from collections.abc import ItemsView, KeysView, ValuesView
+from collections.abc import ItemsView, Iterator, KeysView, ValuesView
 from typing import Any
 
 #: The release that removes the deprecated names and mapping access of 0.2.
@@ -41,6 +41,9 @@ class DeprecatedMapping:
 
     def __contains__(self, key: object) -> bool:
         return key in self._warn_mapping(f"{key!r} in result")
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._warn_mapping("iterating over result"))
 
     def get(self, key: str, default: Any = None) -> Any:
         """``to_dict().get(key, default)`` (deprecated)."""

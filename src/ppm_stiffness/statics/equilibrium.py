@@ -312,7 +312,7 @@ class EquilibriumBatch:
         return np.asarray((self.refusal == 0) | (self.refusal > Refusal.NO_EQUILIBRIUM))
 
     def state(self, i: int) -> LoadedState:
-        """Pose ``i`` as an :class:`Equilibrium`."""
+        """Pose ``i`` as a :class:`LoadedState`."""
         return LoadedState(
             pose=self.poses[i],
             wrench=self.wrench,
