@@ -221,3 +221,16 @@ def test_api_page_uses_no_deprecated_name(monkeypatch: pytest.MonkeyPatch) -> No
         warnings.filterwarnings("error", message=".*deprecated since 0.3")
         for block in blocks:
             exec(compile(block, "docs", "exec"), {})
+
+
+def test_batched_stiffness_matrix_is_nan_at_a_singular_pose() -> None:
+    """At (0, 0, -60.05 deg) the 3-RPR's leg lines nearly meet at P (test_singularity):
+    the single-pose K raises, the batched one is NaN there and K elsewhere."""
+    design = pps.load_design(ROOT / "examples" / "3rpr.toml")
+    poses = np.array([[0.0, 0.0, np.radians(-60.05)], [0.0, 0.0, 0.0]])
+    with pytest.raises(pps.SingularConfigurationError, match="transmission index"):
+        pps.stiffness_at_pose(design, poses[0])
+    k = pps.stiffness_matrix(design, poses)
+    assert np.all(np.isnan(k[0]))
+    single = pps.stiffness_at_pose(design, poses[1])
+    assert np.max(np.abs(k[1] - single)) <= 3e-13 * np.max(np.abs(single))
