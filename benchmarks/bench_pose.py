@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
         f"numpy {np.__version__}, python {sys.version.split()[0]}; load average "
         + " ".join(f"{x:.2f}" for x in os.getloadavg())
     )
-    pose_us = median_us(lambda: pps.analyze(design, pose), args.repeats)
+    pose_us = median_us(lambda: pps.analyze(design, pose).to_dict(), args.repeats)
     k = pps.stiffness_at_pose(design, pose)
     k_us = median_us(lambda: pps.stiffness_at_pose(design, pose), args.repeats)
     screws_us = median_us(lambda: pps.eigenscrews(k), args.repeats)
@@ -75,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
     tool = np.asarray(design.tool_point, dtype=float)
     k_act = actuator_stiffness_vector(design, None)
     k_tool = stiffness_at_tool_point(k, full, tool)
-    matrix_us = median_us(lambda: analyze_matrix(k_tool), args.repeats)
+    matrix_us = median_us(lambda: analyze_matrix(k_tool).to_dict(), args.repeats)
     modes_us = median_us(lambda: first_mode(design, full, k_tool, k_act, tool), args.repeats)
     print(
         f"analyze (K, eigenscrews, both decouplings, principal compliances, first mode): "

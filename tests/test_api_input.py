@@ -110,7 +110,7 @@ BAD_WRENCHES = {
 def test_equilibrium_refuses_a_bad_wrench(case: str) -> None:
     wrench, message = BAD_WRENCHES[case]
     with pytest.raises(InputDataError, match=message):
-        pps.equilibrium(DESIGN, wrench, POSE)
+        pps.loaded_state(DESIGN, wrench, POSE)
     with pytest.raises(InputDataError, match=message):
         validate_wrench(wrench)
 
@@ -124,12 +124,12 @@ def test_equilibrium_refuses_a_bad_wrench(case: str) -> None:
 )
 def test_equilibrium_refuses_a_bad_pose(pose: np.ndarray, message: str) -> None:
     with pytest.raises(InputDataError, match=message):
-        pps.equilibrium(DESIGN, np.zeros(6), pose)
+        pps.loaded_state(DESIGN, np.zeros(6), pose)
 
 
 def test_good_input_still_passes() -> None:
     # the same calls with valid input: the paper's design at its centre
     assert pps.eigenscrews(K).eigenvalues.shape == (6,)
     assert pps.decouple(K).residual_coupling > 1.0  # the paper's coupled design
-    state = pps.equilibrium(DESIGN, np.array([0.0, 0, 0.1, 5, 5, 20]), POSE)
+    state = pps.loaded_state(DESIGN, np.array([0.0, 0, 0.1, 5, 5, 20]), POSE)
     assert np.all(np.isfinite(state.twist))

@@ -292,7 +292,7 @@ def test_tool_point_power_invariance_and_transport(name: str) -> None:
         assert t_t @ k_t @ t_t == pytest.approx(t_p @ k_p @ t_p, rel=1e-10)
     # (m, f) at T, small enough that every actuator stays on its linear (locked) branch
     wrench_t = np.array([0.0, 0.0, 0.01, 1.0, -0.5, 0.5])
-    res = analyze_design(design, pose, wrench_t, tool_point=tool)
+    res = analyze_design(design, pose, wrench_t, tool_point=tool).to_dict()
     np.testing.assert_allclose(res["stiffness_matrix"], k_t, rtol=1e-12, atol=0)
     twist_t = np.linalg.solve(k_t, wrench_t)
     # every actuator stays locked, so the deflection is exactly K_T^-1 w_T (round-off)
@@ -312,7 +312,7 @@ def test_map_at_a_tool_point_equals_the_single_pose_analysis(name: str) -> None:
     smap = stiffness_map(design, phi=phi, grid=6, tool_point=tool)
     iy, ix = np.argwhere(smap.reachable)[len(np.argwhere(smap.reachable)) // 2]
     pose = np.array([smap.x[ix], smap.y[iy], phi])
-    res = analyze_design(design, pose, tool_point=tool)
+    res = analyze_design(design, pose, tool_point=tool).to_dict()
     assert float(smap.k_phi[iy, ix]) == pytest.approx(
         res["principal"]["rotational"]["values"][2], rel=1e-9
     )

@@ -82,7 +82,7 @@ def test_analyze_json_keys_and_values(capsys: pytest.CaptureFixture[str]) -> Non
             np.testing.assert_allclose(
                 k @ directions[j], values[j] * directions[j], atol=1e-9 * np.abs(k).max()
             )
-    ref = analyze_design(default_design(), [0.002, -0.003, np.radians(5)])
+    ref = analyze_design(default_design(), [0.002, -0.003, np.radians(5)]).to_dict()
     np.testing.assert_allclose(data["stiffness_matrix"], ref["stiffness_matrix"], rtol=1e-12)
 
 

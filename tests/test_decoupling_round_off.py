@@ -110,10 +110,10 @@ def test_report_says_n_a() -> None:
     from ppm_stiffness.visuals.report import _decoupling_section
 
     design = design_named("symmetric_3ppr")
-    html = _decoupling_section(analyze_design(design), "unloaded")
+    html = _decoupling_section(analyze_design(design).to_dict(), "unloaded")
     assert html.count("n/a (already decoupled") == 2
     assert "residual_coupling" not in html  # no traced number for it
-    html = _decoupling_section(analyze_design(design_named("paper")), "unloaded")
+    html = _decoupling_section(analyze_design(design_named("paper")).to_dict(), "unloaded")
     assert "already decoupled" not in html and "unloaded/decoupling/residual_coupling" in html
 
 

@@ -73,7 +73,7 @@ def test_first_order_band_of_a_platform_mass_is_the_analytic_scaling() -> None:
     design = _platform_only()
     _, bands = _bands(design, f'["platform.mass"]\npm = "{X:.0%}"\n', "first-order")
     f0 = bands.nominal
-    assert np.allclose(f0, modal_analysis(design)["frequencies"], rtol=1e-14)
+    assert np.allclose(f0, modal_analysis(design).to_dict()["frequencies"], rtol=1e-14)
     assert np.allclose(bands.lower, f0 * (1 - _spread()), rtol=1e-11, atol=0)
     assert np.allclose(bands.upper, f0 * (1 + _spread()), rtol=1e-11, atol=0)
     assert _spread() == pytest.approx(X / np.sqrt(3), rel=1e-6)
@@ -98,7 +98,9 @@ def test_qmc_band_lies_within_the_extreme_designs_by_brute_force() -> None:
     _, bands = _bands(design, f'["platform.mass"]\npm = "{X:.0%}"\n', "qmc")
     m0 = design.parameter("platform.mass")
     heavy, light = (
-        modal_analysis(design.with_parameters({"platform.mass": m0 * (1 + s)}))["frequencies"][0]
+        modal_analysis(design.with_parameters({"platform.mass": m0 * (1 + s)})).to_dict()[
+            "frequencies"
+        ][0]
         for s in (X, -X)
     )
     f0 = bands.nominal[0]

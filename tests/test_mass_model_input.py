@@ -191,7 +191,7 @@ def test_modes_in_cli_units_equal_the_library_in_si(capsys: pytest.CaptureFixtur
     assert main(["modes", "--json", "--x", "2", "--y", "-3", "--phi", "1.5"]) == 0
     at_p = json.loads(capsys.readouterr().out)
     pose = (0.002, -0.003, math.radians(1.5))
-    library = modal_analysis(design, pose)
+    library = modal_analysis(design, pose).to_dict()
     assert at_p["frequencies"] == library["frequencies"]
     argv = ["modes", "--json", "--x", "2", "--y", "-3", "--phi", "1.5", "--tool-point", "10,-5,20"]
     assert main(argv) == 0
@@ -209,8 +209,8 @@ def test_frequencies_survive_the_design_file_round_trip(tmp_path: Path) -> None:
         again = tmp_path / path.name
         again.write_text(dump_design(design), encoding="utf-8")
         assert (
-            modal_analysis(load_design(again))["frequencies"]
-            == (modal_analysis(design)["frequencies"])
+            modal_analysis(load_design(again)).to_dict()["frequencies"]
+            == (modal_analysis(design).to_dict()["frequencies"])
         )
 
 
@@ -262,7 +262,7 @@ def test_the_picture_displaces_the_platform_along_each_mode(name: str) -> None:
     from ppm_stiffness.visuals import modes as pictures
 
     design = load_design(ROOT / "examples" / f"{name}.toml")
-    result = modal_analysis(design)
+    result = modal_analysis(design).to_dict()
     pose = home_pose(design)
     shapes = np.array([m["shape"] for m in result["modes"]])
     fig = pictures.plot_modes(

@@ -82,7 +82,7 @@ def test_planar_moving_map_is_the_single_pose_analysis_and_masks_its_refusals() 
             assert 1.0 <= lam < 1.01  # the path is stable up to the load, not much further
     # one pose through the whole single-pose analysis (analyze --geometry moving)
     j, i = np.argwhere(smap.reachable)[0]
-    doc = analyze_design(design, _task(design, smap, i, j), wrench, geometry="moving")
+    doc = analyze_design(design, _task(design, smap, i, j), wrench, geometry="moving").to_dict()
     rot = doc["principal"]["rotational"]["values"][2]
     assert smap.quantities["k_phi"][j, i] == pytest.approx(rot, rel=RTOL)
     factor = doc["moving_geometry"]["load_margin"]["factor"]

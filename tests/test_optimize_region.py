@@ -30,7 +30,7 @@ def _reference(design: pps.Design, poses: np.ndarray, tool: np.ndarray | None = 
     ks, covered = [], 0
     for pose in poses:
         try:
-            result = pps.analyze(design, pose, tool_point=tool)
+            result = pps.analyze(design, pose, tool_point=tool).to_dict()
         except (pps.UnreachablePoseError, pps.SingularConfigurationError):
             continue
         covered += 1

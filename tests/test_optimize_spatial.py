@@ -102,7 +102,7 @@ def test_spatial_summary_equals_the_single_pose_analysis(name: str) -> None:
     tool = np.asarray(design.tool_point)
     trans, rot = [], []
     for pose in poses:
-        pc = pps.analyze(design, pose, tool_point=tool)["principal_compliance"]
+        pc = pps.analyze(design, pose, tool_point=tool).to_dict()["principal_compliance"]
         trans.append(min(pc["translational"]["values"]))
         rot.append(min(pc["rotational"]["values"]))
     assert summary.covers and not summary.planar
@@ -125,7 +125,7 @@ def test_f1_objective_is_the_minimum_of_the_modes_f1(name: str, loaded: bool) ->
     wrench = WRENCH if loaded else None
     summary = summarize(design, region, wrench)
     poses = region_poses(region).reshape(-1, len(design.task_coordinates))
-    f1 = np.array([modal_analysis(design, p, wrench)["frequencies"][0] for p in poses])
+    f1 = np.array([modal_analysis(design, p, wrench).to_dict()["frequencies"][0] for p in poses])
     value = OBJECTIVES["first-frequency"].value(summary)
     # K, M at P (batched) vs at the tool point (single pose): the congruence leaves the
     # frequencies unchanged up to round-off, measured at most 4.5e-14 relative

@@ -218,7 +218,7 @@ def test_deflection_follows_the_loaded_wrench() -> None:
     design = design_named("3prs")
     pose = _pose("3prs")
     curve = deflection_path(design, DEFAULT_WRENCH, DEFLECTION_SCALES, pose, method="integrate")
-    twist = np.asarray(analyze_design(design, pose, DEFAULT_WRENCH)["twist"])
+    twist = np.asarray(analyze_design(design, pose, DEFAULT_WRENCH).to_dict()["twist"])
     assert DEFLECTION_SCALES[0] == 0.0 and DEFLECTION_SCALES[-1] == 1.0
     np.testing.assert_allclose(curve.twists[-1], twist, rtol=0, atol=1e-6 * np.max(np.abs(twist)))
 

@@ -1,14 +1,17 @@
-"""One analysis of a design at a pose (or of a given matrix), as plain data.
+"""One analysis of a design at a pose (or of a given matrix), typed and as plain data.
 
-:func:`analyze_design` and :func:`analyze_matrix` return the object that
-``ppm-stiffness analyze --json`` prints and that the report embeds, so both always
-carry the same numbers. All values SI (m, rad, N, N·m, N/m, N·m/rad).
+:func:`analyze_design` (public as ``ppm_stiffness.analyze``) returns an
+:class:`Analysis`, :func:`analyze_matrix` a :class:`MatrixAnalysis`; their
+``to_dict()`` is the object that ``ppm-stiffness analyze --json`` prints and that the
+report embeds, so both always carry the same numbers. All values SI (m, rad, N, N·m,
+N/m, N·m/rad).
 """
 
 from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -24,7 +27,8 @@ from ppm_stiffness.core.eigenscrews import ScrewSprings, eigenscrews
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import as_float_array
 from ppm_stiffness.core.pose import POSE_COORDINATES
-from ppm_stiffness.core.principal import principal_compliance
+from ppm_stiffness.core.principal import PrincipalCompliance, principal_compliance
+from ppm_stiffness.core.results import DeprecatedMapping
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.analysis import first_mode
 from ppm_stiffness.model import (
@@ -37,7 +41,8 @@ from ppm_stiffness.model import (
 from ppm_stiffness.statics.loading import loaded_state, validate_wrench
 
 if TYPE_CHECKING:
-    from ppm_stiffness.statics.moving import MovingEquilibrium
+    from ppm_stiffness.statics.margin import LoadMargin
+    from ppm_stiffness.statics.moving import MovingLoadedState
 
 
 def eigenscrews_dict(springs: ScrewSprings) -> list[dict[str, Any]]:
@@ -84,10 +89,11 @@ def principal_dict(dec: Decoupling) -> dict[str, Any]:
     }
 
 
-def principal_compliance_dict(k: ArrayLike) -> dict[str, Any]:
-    """The spatial principal stiffnesses (:mod:`ppm_stiffness.core.principal`) of K, as
-    plain data: ``values[j]`` with its unit direction ``directions[j]``."""
-    pc = principal_compliance(k)
+def principal_compliance_dict(k: ArrayLike | PrincipalCompliance) -> dict[str, Any]:
+    """The spatial principal stiffnesses (:mod:`ppm_stiffness.core.principal`) of K (or
+    already computed), as plain data: ``values[j]`` with its unit direction
+    ``directions[j]``."""
+    pc = k if isinstance(k, PrincipalCompliance) else principal_compliance(k)
     return {
         "rotational": {
             "values": pc.rotational_values.tolist(),
@@ -102,42 +108,203 @@ def principal_compliance_dict(k: ArrayLike) -> dict[str, Any]:
     }
 
 
-def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> dict[str, Any]:
+def pose_dict(pose: FloatArray) -> dict[str, float]:
+    """A full pose (6,) as ``{x, y, z, rx, ry, rz, phi}`` [m, rad] (phi = rz)."""
+    return {
+        **{name: float(v) for name, v in zip(POSE_COORDINATES, pose, strict=True)},
+        "phi": float(pose[5]),
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class MatrixAnalysis(DeprecatedMapping):
+    """Eigenscrews, both decouplings and the spatial principal stiffnesses of one K
+    (:func:`analyze_matrix`; SI).
+
+    Attributes
+    ----------
+    method : {"paper", "least-squares"}
+        The decoupling asked for (shown first by ``analyze``).
+    stiffness_matrix : ndarray (6, 6)
+        The matrix analysed [N·m/rad, N, N/m], order (phi_x, phi_y, phi_z, x, y, z).
+    eigenscrews : ScrewSprings
+        The six screw springs (eq. 5-11); ``eigenscrews.repeated`` the groups that
+        share a repeated eigenvalue.
+    decoupling : Decoupling
+        The paper's eq. (19), whatever ``method``.
+    decoupling_least_squares : Decoupling
+        The shift that minimises the coupling.
+    principal_compliance : PrincipalCompliance
+        Rotational from C_rr, translational from C_tt at the reference point of K.
+    """
+
+    method: Method
+    stiffness_matrix: FloatArray
+    eigenscrews: ScrewSprings
+    decoupling: Decoupling
+    decoupling_least_squares: Decoupling
+    principal_compliance: PrincipalCompliance
+
+    def matrix_dict(self) -> dict[str, Any]:
+        """The keys of :func:`analyze_matrix`'s dict of 0.2 (module doc)."""
+        return {
+            "method": self.method,
+            "stiffness_matrix": self.stiffness_matrix.tolist(),
+            "eigenscrews": eigenscrews_dict(self.eigenscrews),
+            "eigenscrews_repeated": [list(g) for g in self.eigenscrews.repeated],
+            "decoupling": decoupling_dict(self.decoupling),
+            "principal": principal_dict(self.decoupling),
+            "decoupling_least_squares": decoupling_dict(self.decoupling_least_squares),
+            "principal_least_squares": principal_dict(self.decoupling_least_squares),
+            "principal_compliance": principal_compliance_dict(self.principal_compliance),
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (lists, floats, strings): the dict ``analyze_matrix`` returned in
+        0.2 and that ``analyze --matrix --json`` prints."""
+        return self.matrix_dict()
+
+
+def analyze_matrix(stiffness: ArrayLike, method: Method = "paper") -> MatrixAnalysis:
     """Eigenscrews and both decouplings of a matrix.
 
-    The keys keep their meaning whatever ``method``: ``decoupling``/``principal`` are
-    the paper's eq. (19), ``decoupling_least_squares``/``principal_least_squares`` the
-    shift that minimises the coupling; ``method`` records which one was asked for (and
-    is shown first); ``principal_compliance`` the spatial definitions
-    (:mod:`ppm_stiffness.core.principal`: rotational from C_rr, translational from C_tt
-    at the reference point of K, worst directions). ``eigenscrews_repeated`` lists the
-    groups of springs (0-based indices into ``eigenscrews``) that share a repeated
-    eigenvalue: inside a group the springs are one valid choice among many
-    (:mod:`ppm_stiffness.core.eigenscrews`).
+    The fields keep their meaning whatever ``method``: ``decoupling`` (and the dict's
+    ``principal``) is the paper's eq. (19), ``decoupling_least_squares`` (and
+    ``principal_least_squares``) the shift that minimises the coupling; ``method``
+    records which one was asked for (and is shown first); ``principal_compliance`` the
+    spatial definitions (:mod:`ppm_stiffness.core.principal`: rotational from C_rr,
+    translational from C_tt at the reference point of K, worst directions). The dict's
+    ``eigenscrews_repeated`` lists the groups of springs (0-based indices into
+    ``eigenscrews``) that share a repeated eigenvalue: inside a group the springs are
+    one valid choice among many (:mod:`ppm_stiffness.core.eigenscrews`).
+
+    Parameters
+    ----------
+    stiffness : array_like (6, 6)
+        Symmetric positive definite [N·m/rad, N, N/m].
+    method : {"paper", "least-squares"}
+
+    Returns
+    -------
+    MatrixAnalysis
+
+    Raises
+    ------
+    InputDataError
+        An unknown method, or a matrix that is not 6x6, finite, symmetric and positive
+        definite.
     """
     if method not in ("paper", "least-squares"):
         raise InputDataError(f"unknown decoupling method {method!r}")
     k = as_float_array(stiffness, "stiffness matrix")
     springs = eigenscrews(k)  # checks k (InputDataError)
-    dec = decouple(k, "paper")
-    best = decouple(k, "least-squares")
-    return {
-        "method": method,
-        "stiffness_matrix": k.tolist(),
-        "eigenscrews": eigenscrews_dict(springs),
-        "eigenscrews_repeated": [list(g) for g in springs.repeated],
-        "decoupling": decoupling_dict(dec),
-        "principal": principal_dict(dec),
-        "decoupling_least_squares": decoupling_dict(best),
-        "principal_least_squares": principal_dict(best),
-        "principal_compliance": principal_compliance_dict(k),
-    }
+    return MatrixAnalysis(
+        method=method,
+        stiffness_matrix=k,
+        eigenscrews=springs,
+        decoupling=decouple(k, "paper"),
+        decoupling_least_squares=decouple(k, "least-squares"),
+        principal_compliance=principal_compliance(k),
+    )
 
 
 #: The statics models of a loaded analysis: the paper's (geometry at the unloaded pose)
 #: and the equilibrium with the geometry moving under the load
 #: (:mod:`ppm_stiffness.statics.moving`).
 GEOMETRIES = ("frozen", "moving")
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis(MatrixAnalysis):
+    """One analysis of a design at a pose (:func:`analyze_design`, public as
+    ``ppm_stiffness.analyze``; SI, axes of F_b).
+
+    The fields of :class:`MatrixAnalysis` are those of K at the tool point (under a
+    wrench: the loaded tangent K; with ``geometry="moving"``: the symmetric part of
+    K_F at the displaced tool point), and:
+
+    Attributes
+    ----------
+    pose : ndarray (6,)
+        The full pose (x, y, z [m], rx, ry, rz [rad]) of P in F_b.
+    task_coordinates : tuple of str
+        The design's task coordinates.
+    architecture : str
+    tool_point : ndarray (3,)
+        [m, platform frame]; (0, 0, 0) is P.
+    actuator_units : list of tuple of str
+        (force, displacement, stiffness) units per leg.
+    actuator_stiffness : ndarray (n_legs,)
+        [N/m or N·m/rad]: locked, or the tangent ones under the wrench.
+    geometry : {"frozen", "moving"} or None
+        The statics model under a wrench; None unloaded.
+    wrench : ndarray (6,) or None
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at the tool point, axes of F_b.
+    actuator_forces, actuator_displacements, actuator_secant_stiffness : ndarray or None
+        (n_legs,) under the wrench [N, m, N/m; N·m, rad, N·m/rad for a rotary
+        actuator]; the displacements are delta(G), the integral of 1/K_act.
+    twist : ndarray (6,) or None
+        The deflection of the tool point [rad, m] under the wrench.
+    moving : MovingLoadedState or None
+        The equilibrium with moving geometry (``geometry="moving"``).
+    load_margin : LoadMargin or None
+        Its load margin (``geometry="moving"``).
+    first_frequency : float or None
+        [Hz] with a mass model (not with ``geometry="moving"``).
+    first_mode_direction : str or None
+        The first mode's dominant direction, with ``first_frequency``.
+    """
+
+    pose: FloatArray
+    task_coordinates: tuple[str, ...]
+    architecture: str
+    tool_point: FloatArray
+    actuator_units: list[tuple[str, str, str]]
+    actuator_stiffness: FloatArray
+    geometry: str | None = None
+    wrench: FloatArray | None = None
+    actuator_forces: FloatArray | None = None
+    actuator_displacements: FloatArray | None = None
+    actuator_secant_stiffness: FloatArray | None = None
+    twist: FloatArray | None = None
+    moving: MovingLoadedState | None = None
+    load_margin: LoadMargin | None = None
+    first_frequency: float | None = None
+    first_mode_direction: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (lists, floats, strings): the dict ``analyze`` returned in 0.2,
+        key for key and in its order, that ``analyze --json`` prints (after its
+        envelope, :func:`json_document`)."""
+        out: dict[str, Any] = {
+            "pose": pose_dict(self.pose),
+            "task_coordinates": list(self.task_coordinates),
+            "architecture": self.architecture,
+            "tool_point": self.tool_point.tolist(),
+            "actuator_units": [list(u) for u in self.actuator_units],
+        }
+        if self.geometry is not None:
+            out["geometry"] = self.geometry
+            for name in (
+                "wrench",
+                "actuator_forces",
+                "actuator_displacements",
+                "actuator_secant_stiffness",
+                "twist",
+            ):
+                out[name] = np.asarray(getattr(self, name)).tolist()
+        out["actuator_stiffness"] = self.actuator_stiffness.tolist()
+        out.update(self.matrix_dict())
+        if self.moving is not None and self.load_margin is not None:
+            out["moving_geometry"] = moving_geometry_dict(self.moving, self.load_margin)
+        if self.first_frequency is not None:
+            out["first_frequency"] = self.first_frequency
+            out["first_mode_direction"] = self.first_mode_direction
+        return out
+
+    def to_json(self) -> str:
+        """The text ``ppm-stiffness analyze --json`` prints for this analysis."""
+        return json_document("analyze", self.to_dict(), ANALYSIS_UNITS)
 
 
 def analyze_design(
@@ -147,41 +314,46 @@ def analyze_design(
     method: Method = "paper",
     tool_point: ArrayLike | None = None,
     geometry: str = "frozen",
-) -> dict[str, Any]:
+) -> Analysis:
     """Full analysis at a pose, unloaded or under ``wrench``, at the tool point.
 
     Parameters
     ----------
     design : Design
-    pose : array_like (3,), optional
-        (x [m], y [m], phi [rad]) of P in F_b; the workspace centre if None.
+    pose : array_like (n_task,) or (6,), optional
+        The design's task coordinates (``design.task_coordinates``: (x [m], y [m],
+        phi [rad]) for a planar design) or a full pose (x, y, z [m], rx, ry, rz [rad])
+        of P in F_b (:mod:`ppm_stiffness.poses`); the home pose if None.
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] applied at the tool point, axes of F_b.
     method : {"paper", "least-squares"}
-        The decoupling reported under ``decoupling``/``principal``.
+        The decoupling shown first (``method``); both are computed.
     tool_point : array_like (3,), optional
         In the platform frame [m]; ``design.tool_point`` if None ((0, 0, 0) is P).
     geometry : {"frozen", "moving"}
         Under a wrench: the paper's model (the geometry of the unloaded pose), or the
         equilibrium with moving geometry (:mod:`ppm_stiffness.statics.moving`), whose
         loaded tangent K_F (at the displaced tool point) is then analysed (its
-        symmetric part) and described under ``moving_geometry`` (see
-        :func:`moving_geometry_dict`).
+        symmetric part) and kept in ``moving`` with its ``load_margin``.
 
     Returns
     -------
-    dict
-        ``pose`` {x, y, phi}, ``architecture``, ``tool_point`` [m, F_p],
-        ``actuator_units`` [force, displacement, stiffness] per leg,
-        ``actuator_stiffness`` [n], ``stiffness_matrix`` (at the tool point, axes of
-        F_b), ``eigenscrews``, ``decoupling``, ``principal`` (+ ``*_least_squares``);
-        with a wrench also ``wrench``, ``actuator_forces``,
-        ``actuator_displacements`` (delta(G), the integral of 1/K_act),
-        ``actuator_secant_stiffness`` and ``twist`` (deflection of the tool point);
-        ``geometry`` with a wrench, and ``moving_geometry`` with ``geometry="moving"``;
-        with a mass model (``design.platform``) also ``first_frequency`` [Hz] and
-        ``first_mode_direction`` (:mod:`ppm_stiffness.dynamics`; under a wrench, of
-        the loaded tangent K).
+    Analysis
+        Typed fields (:class:`Analysis`); ``to_dict()`` gives the dict of 0.2 and of
+        ``analyze --json``: ``pose`` {x, y, z, rx, ry, rz, phi}, ``task_coordinates``,
+        ``architecture``, ``tool_point``, ``actuator_units``, ``actuator_stiffness``,
+        ``stiffness_matrix`` (at the tool point, axes of F_b), ``eigenscrews``,
+        ``decoupling``, ``principal`` (+ ``*_least_squares``),
+        ``principal_compliance``; with a wrench also ``geometry``, ``wrench``,
+        ``actuator_forces``, ``actuator_displacements``, ``actuator_secant_stiffness``
+        and ``twist``, and ``moving_geometry`` with ``geometry="moving"`` (see
+        :func:`moving_geometry_dict`); with a mass model (``design.platform``) also
+        ``first_frequency`` [Hz] and ``first_mode_direction``
+        (:mod:`ppm_stiffness.dynamics`; under a wrench, of the loaded tangent K).
+
+    Raises
+    ------
+    InputDataError, UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
     if geometry not in GEOMETRIES:
         raise InputDataError(f"geometry must be one of {', '.join(GEOMETRIES)}, got {geometry!r}")
@@ -192,37 +364,48 @@ def analyze_design(
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
     offset = tool_offset(p, tool)  # tool point - P, axes of F_b
-    out: dict[str, Any] = {
-        "pose": {
-            **{name: float(v) for name, v in zip(POSE_COORDINATES, p, strict=True)},
-            "phi": float(p[5]),
-        },
-        "task_coordinates": list(design.task_coordinates),
+    head: dict[str, Any] = {
+        "pose": p,
+        "task_coordinates": tuple(design.task_coordinates),
         "architecture": design.architecture,
-        "tool_point": tool.tolist(),
-        "actuator_units": [list(leg.actuator_units()) for leg in design.legs],
+        "tool_point": tool,
+        "actuator_units": [tuple(leg.actuator_units()) for leg in design.legs],
     }
     if wrench is None:
         k_act = actuator_stiffness_vector(design, None)
         k = stiffness_at_pose(design, p, k_act)
+        loaded: dict[str, Any] = {}
     elif geometry == "moving":
-        return _analyze_moving(design, p, validate_wrench(wrench), method, tool, out)
+        return _analyze_moving(design, p, validate_wrench(wrench), method, tool, head)
     else:
         w_tool = validate_wrench(wrench)
         w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # moved from T to P
         state = loaded_state(design, w_p, p)
         k_act, k = state.actuator_stiffness, state.stiffness_matrix
-        out["geometry"] = "frozen"
-        out["wrench"] = w_tool.tolist()
-        out["actuator_forces"] = state.actuator_forces.tolist()
-        out["actuator_displacements"] = state.actuator_displacements.tolist()
-        out["actuator_secant_stiffness"] = state.secant_stiffness.tolist()
-        out["twist"] = (twist_b_from_twist_a(np.eye(3), -offset) @ state.twist).tolist()
-    out["actuator_stiffness"] = np.asarray(k_act).tolist()
+        loaded = {
+            "geometry": "frozen",
+            "wrench": w_tool,
+            "actuator_forces": state.actuator_forces,
+            "actuator_displacements": state.actuator_displacements,
+            "actuator_secant_stiffness": state.secant_stiffness,
+            "twist": twist_b_from_twist_a(np.eye(3), -offset) @ state.twist,
+        }
     k_tool = stiffness_at_tool_point(k, p, tool)
-    out.update(analyze_matrix(k_tool, method))
-    out.update(first_mode(design, p, k_tool, k_act, tool))
-    return out
+    matrix = analyze_matrix(k_tool, method)
+    mode = first_mode(design, p, k_tool, k_act, tool)
+    return Analysis(
+        **_matrix_fields(matrix),
+        **head,
+        actuator_stiffness=np.asarray(k_act, dtype=float),
+        **loaded,
+        first_frequency=mode.get("first_frequency"),
+        first_mode_direction=mode.get("first_mode_direction"),
+    )
+
+
+def _matrix_fields(matrix: MatrixAnalysis) -> dict[str, Any]:
+    """The fields of a :class:`MatrixAnalysis`, for an :class:`Analysis`."""
+    return {f.name: getattr(matrix, f.name) for f in fields(MatrixAnalysis)}
 
 
 def _analyze_moving(
@@ -231,13 +414,14 @@ def _analyze_moving(
     wrench: FloatArray,
     method: Method,
     tool: FloatArray,
-    out: dict[str, Any],
-) -> dict[str, Any]:
+    head: dict[str, Any],
+) -> Analysis:
     """:func:`analyze_design` with ``geometry="moving"``: the tables of the symmetric
-    part of K_F, and ``moving_geometry``."""
-    from ppm_stiffness.statics.moving import moving_equilibrium
+    part of K_F, the state and its load margin."""
+    from ppm_stiffness.statics.margin import load_margin
+    from ppm_stiffness.statics.moving import moving_loaded_state
 
-    state = moving_equilibrium(design, wrench, pose, tool)
+    state = moving_loaded_state(design, wrench, pose, tool)
     k_f = state.stiffness_matrix
     with np.errstate(divide="ignore", invalid="ignore"):
         secant = np.where(
@@ -246,29 +430,31 @@ def _analyze_moving(
             / np.where(state.actuator_displacements != 0, state.actuator_displacements, 1.0),
             [leg.actuator.locked_stiffness for leg in design.legs],
         )
-    out["geometry"] = "moving"
-    out["wrench"] = wrench.tolist()
-    out["actuator_forces"] = state.actuator_forces.tolist()
-    out["actuator_displacements"] = state.actuator_displacements.tolist()
-    out["actuator_secant_stiffness"] = secant.tolist()
-    out["twist"] = state.twist.tolist()
-    out["actuator_stiffness"] = state.actuator_stiffness.tolist()
-    out.update(analyze_matrix(0.5 * (k_f + k_f.T), method))
-    out["moving_geometry"] = moving_geometry_dict(design, state)
-    return out
+    return Analysis(
+        **_matrix_fields(analyze_matrix(0.5 * (k_f + k_f.T), method)),
+        **head,
+        actuator_stiffness=state.actuator_stiffness,
+        geometry="moving",
+        wrench=wrench,
+        actuator_forces=state.actuator_forces,
+        actuator_displacements=state.actuator_displacements,
+        actuator_secant_stiffness=secant,
+        twist=state.twist,
+        moving=state,
+        load_margin=load_margin(design, state.wrench, state.pose, state.tool_point),
+    )
 
 
-def moving_geometry_dict(design: Design, state: MovingEquilibrium) -> dict[str, Any]:
+def moving_geometry_dict(state: MovingLoadedState, margin: LoadMargin) -> dict[str, Any]:
     """What ``analyze --geometry moving`` adds, as plain data (SI): the displaced pose,
     K_F in full (at the displaced tool point, axes of F_b), the frozen model's K at the
     tool point, their difference, the geometric term, the relative sizes of both
     (length-balanced Frobenius norms), K_F's antisymmetric part and the load margin
-    (:mod:`ppm_stiffness.statics.margin`)."""
-    from ppm_stiffness.statics.margin import MAX_FACTOR, MarginKind, load_margin
+    (:mod:`ppm_stiffness.statics.margin`) ``margin`` of this state."""
+    from ppm_stiffness.statics.margin import MAX_FACTOR, MarginKind
     from ppm_stiffness.statics.moving import relative_difference, relative_size
 
     k_f, k0 = state.stiffness_matrix, state.frozen_stiffness
-    margin = load_margin(design, state.wrench, state.pose, state.tool_point)
     kinds = {
         MarginKind.NONE: "none",
         MarginKind.BIFURCATION: "bifurcation",
@@ -276,10 +462,7 @@ def moving_geometry_dict(design: Design, state: MovingEquilibrium) -> dict[str, 
         MarginKind.STROKE: "stroke",
     }
     return {
-        "displaced_pose": {
-            **{n: float(v) for n, v in zip(POSE_COORDINATES, state.displaced_pose, strict=True)},
-            "phi": float(state.displaced_pose[5]),
-        },
+        "displaced_pose": pose_dict(state.displaced_pose),
         "reference_point": "the displaced tool point (P when no tool point is set)",
         "stiffness_matrix": k_f.tolist(),
         "frozen_stiffness_matrix": k0.tolist(),
@@ -303,7 +486,10 @@ def moving_geometry_dict(design: Design, state: MovingEquilibrium) -> dict[str, 
 
 
 def to_jsonable(obj: Any) -> Any:
-    """Numpy arrays and scalars to lists and floats, refusing NaN."""
+    """Numpy arrays and scalars to lists and floats, refusing NaN (a typed result, by
+    its ``to_dict()``)."""
+    if isinstance(obj, DeprecatedMapping):
+        return to_jsonable(obj.to_dict())
     if isinstance(obj, dict):
         return {k: to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

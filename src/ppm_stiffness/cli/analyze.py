@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         )
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
-        result.update(analyze_matrix(k, args.method))
+        result.update(analyze_matrix(k, args.method).to_dict())
         title = f"matrix {args.matrix}"
     else:
         design = load_design_arg(args)
@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry)
+        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry).to_dict()
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name

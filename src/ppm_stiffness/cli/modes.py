@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     variables = read_tolerance_args(args, design)
     from ppm_stiffness.dynamics.analysis import MODES_UNITS, modal_analysis
 
-    result = modal_analysis(design, pose, wrench, tool)
+    result = modal_analysis(design, pose, wrench, tool).to_dict()
     if variables is not None:
         result["uncertainty"] = modes_uncertainty(args, design, variables, pose, tool, wrench)
     if out is not None:

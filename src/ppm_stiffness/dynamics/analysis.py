@@ -1,5 +1,6 @@
-"""One modal analysis of a design at a pose, as plain data (``ppm-stiffness modes
---json``), and the first natural frequency that ``analyze`` adds.
+"""One modal analysis of a design at a pose, typed (:class:`ModalAnalysis`) and as
+plain data (its ``to_dict()``: ``ppm-stiffness modes --json``), and the first natural
+frequency that ``analyze`` adds.
 
 K is the locked actuators' stiffness, or the loaded tangent one under a wrench
 (:func:`ppm_stiffness.statics.loading.loaded_state`); M is built with the same
@@ -10,6 +11,7 @@ on it, the mode shapes are the tool point's twists. SI: Hz, kg, kg·m^2, rad, m.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -18,6 +20,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.pose import POSE_COORDINATES
+from ppm_stiffness.core.results import DeprecatedMapping
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, moving_mass, require_mass_model
 from ppm_stiffness.dynamics.modes import Modes, mode_shapes
@@ -65,18 +68,90 @@ def modes_dict(modes: Modes) -> dict[str, Any]:
 
 def _state(
     design: Design, p: FloatArray, wrench: ArrayLike | None, offset: FloatArray
-) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+) -> tuple[FloatArray, FloatArray, FloatArray | None]:
     """K at P and the actuator stiffnesses, locked or loaded (the wrench acts at the
-    tool point, ``offset`` from P), and the keys the loaded state adds."""
+    tool point, ``offset`` from P), and the wrench at the tool point (None locked)."""
     if wrench is None:
         k_act = actuator_stiffness_vector(design, None)
-        return stiffness_at_pose(design, p, k_act), k_act, {}
+        return stiffness_at_pose(design, p, k_act), k_act, None
     from ppm_stiffness.statics.loading import loaded_state, validate_wrench
 
     w_tool = validate_wrench(wrench)
     w_p = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool
     state = loaded_state(design, w_p, p)
-    return state.stiffness_matrix, state.actuator_stiffness, {"wrench": w_tool.tolist()}
+    return state.stiffness_matrix, state.actuator_stiffness, w_tool
+
+
+@dataclass(frozen=True, eq=False)
+class ModalAnalysis(DeprecatedMapping):
+    """One modal analysis at a pose (:func:`modal_analysis`; SI, axes of F_b, at the
+    tool point).
+
+    Attributes
+    ----------
+    pose : ndarray (6,)
+        The full pose (x, y, z [m], rx, ry, rz [rad]) of P in F_b.
+    task_coordinates : tuple of str
+    architecture : str
+    tool_point : ndarray (3,)
+        [m, platform frame].
+    state : {"locked", "loaded"}
+    actuator_stiffness : ndarray (n_legs,)
+        [N/m or N·m/rad]: locked, or the tangent ones under the wrench.
+    wrench : ndarray (6,) or None
+        [N·m, N] at the tool point, axes of F_b (loaded).
+    stiffness_matrix, mass_matrix : ndarray (6, 6)
+        K [N·m/rad, N, N/m] and M [kg·m^2, kg·m, kg] at the tool point.
+    masses : dict of str to float
+        ``platform``, ``links``, ``carriages`` and ``total`` [kg].
+    modes : Modes
+        Frequencies [Hz, ascending], shapes, directions and shares.
+    """
+
+    pose: FloatArray
+    task_coordinates: tuple[str, ...]
+    architecture: str
+    tool_point: FloatArray
+    state: str
+    actuator_stiffness: FloatArray
+    wrench: FloatArray | None
+    stiffness_matrix: FloatArray
+    mass_matrix: FloatArray
+    masses: dict[str, float]
+    modes: Modes
+
+    @property
+    def frequencies(self) -> FloatArray:
+        """The natural frequencies (6,) [Hz], ascending."""
+        return self.modes.frequencies
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: the dict ``modal_analysis`` returned in 0.2, key for key and in
+        its order, that ``modes --json`` prints (after its envelope)."""
+        out: dict[str, Any] = {
+            "pose": {
+                **{name: float(v) for name, v in zip(POSE_COORDINATES, self.pose, strict=True)},
+                "phi": float(self.pose[5]),
+            },
+            "task_coordinates": list(self.task_coordinates),
+            "architecture": self.architecture,
+            "tool_point": self.tool_point.tolist(),
+            "state": self.state,
+            "actuator_stiffness": self.actuator_stiffness.tolist(),
+        }
+        if self.wrench is not None:
+            out["wrench"] = self.wrench.tolist()
+        out["stiffness_matrix"] = self.stiffness_matrix.tolist()
+        out["mass_matrix"] = self.mass_matrix.tolist()
+        out["masses"] = dict(self.masses)
+        out.update(modes_dict(self.modes))
+        return out
+
+    def to_json(self) -> str:
+        """The text ``ppm-stiffness modes --json`` prints for this analysis."""
+        from ppm_stiffness.analysis import json_document
+
+        return json_document("modes", self.to_dict(), MODES_UNITS)
 
 
 def modal_analysis(
@@ -84,7 +159,7 @@ def modal_analysis(
     pose: ArrayLike | None = None,
     wrench: ArrayLike | None = None,
     tool_point: ArrayLike | None = None,
-) -> dict[str, Any]:
+) -> ModalAnalysis:
     """Natural frequencies and mode shapes at a pose, locked or under a wrench.
 
     Parameters
@@ -101,7 +176,8 @@ def modal_analysis(
 
     Returns
     -------
-    dict
+    ModalAnalysis
+        Typed fields; ``to_dict()`` gives the dict of 0.2 and of ``modes --json``:
         ``pose``, ``task_coordinates``, ``architecture``, ``tool_point``, ``state``
         ("locked" or "loaded"), ``actuator_stiffness``, (``wrench``),
         ``stiffness_matrix`` and ``mass_matrix`` at the tool point, ``masses``
@@ -120,27 +196,23 @@ def modal_analysis(
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
     offset = tool_offset(p, tool)
-    k_p, k_act, loaded = _state(design, p, wrench, offset)
+    k_p, k_act, w_tool = _state(design, p, wrench, offset)
     m_p = mass_matrix_at_pose(design, p, k_act)
     k_t = stiffness_at_tool_point(k_p, p, tool)
     m_t = stiffness_at_tool_point(m_p, p, tool)  # M transforms as K
-    out: dict[str, Any] = {
-        "pose": {
-            **{name: float(v) for name, v in zip(POSE_COORDINATES, p, strict=True)},
-            "phi": float(p[5]),
-        },
-        "task_coordinates": list(design.task_coordinates),
-        "architecture": design.architecture,
-        "tool_point": tool.tolist(),
-        "state": "loaded" if loaded else "locked",
-        "actuator_stiffness": np.asarray(k_act).tolist(),
-        **loaded,
-        "stiffness_matrix": k_t.tolist(),
-        "mass_matrix": m_t.tolist(),
-        "masses": moving_mass(design),
-    }
-    out.update(modes_dict(mode_shapes(k_t, m_t)))
-    return out
+    return ModalAnalysis(
+        pose=p,
+        task_coordinates=tuple(design.task_coordinates),
+        architecture=design.architecture,
+        tool_point=tool,
+        state="locked" if w_tool is None else "loaded",
+        actuator_stiffness=np.asarray(k_act, dtype=float),
+        wrench=w_tool,
+        stiffness_matrix=k_t,
+        mass_matrix=m_t,
+        masses=moving_mass(design),
+        modes=mode_shapes(k_t, m_t),
+    )
 
 
 def first_mode(

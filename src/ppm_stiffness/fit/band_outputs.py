@@ -231,7 +231,7 @@ def modes_output(
         from ppm_stiffness.dynamics.analysis import modal_analysis
 
         result = modal_analysis(design, _task(design, p), w, tool)
-        return np.asarray(result["frequencies"], dtype=float)
+        return np.asarray(result.frequencies, dtype=float)
 
     return output
 

@@ -114,6 +114,7 @@ __all__ = [
     "reduced_design",
     "reduced_projector",
     "select_path",
+    "stiffness_matrix",
 ]
 
 #: Kept for older imports: ``masked`` of :mod:`ppm_stiffness.maps.chunks`.
@@ -369,3 +370,54 @@ def evaluate_poses(
         translational=None if values is None else masked(values[1], valid).reshape(batch + (3,)),
         tool_point=tool,
     )
+
+
+def stiffness_matrix(
+    design: Design,
+    poses: ArrayLike,
+    actuator_stiffness: ArrayLike | None = None,
+    *,
+    chunk_size: int | None = None,
+) -> FloatArray:
+    """K (..., 6, 6) at P, axes of F_b, at many poses: the batched
+    :func:`ppm_stiffness.model.stiffness_at_pose` (as
+    :func:`ppm_stiffness.dynamics.mass.mass_matrix` is the batched M).
+
+    Parameters
+    ----------
+    design : Design
+        Any architecture, planar or spatial.
+    poses : array_like (..., n_task) or (..., 6)
+        The design's task coordinates (``design.task_coordinates``) or full poses
+        (x, y, z [m], rx, ry, rz [rad]) of P in F_b (:mod:`ppm_stiffness.poses`).
+    actuator_stiffness : array_like (n_legs,) or (..., n_legs), optional
+        [N/m or N·m/rad]; each leg's locked value when None.
+    chunk_size : int, optional
+        Poses evaluated at once (:func:`evaluate_poses`).
+
+    Returns
+    -------
+    ndarray (..., 6, 6)
+        [[K_rr, K_rt], [K_rt^T, K_tt]] in N·m/rad, N, N/m, equal to the single-pose
+        K to round-off; NaN where the single-pose function raises (an unreachable or
+        singular pose: no number is given where there is none, as M is NaN where a
+        leg's passive joints are dependent). :func:`evaluate_poses` tells which
+        (``refusal``).
+
+    Raises
+    ------
+    InputDataError
+        Poses of another width or not finite.
+    DesignError
+        Actuator stiffnesses of the wrong shape, not finite or not positive.
+    """
+    batch = evaluate_poses(
+        design,
+        poses,
+        actuator_stiffness,
+        matrices=True,
+        chunk_size=chunk_size,
+        principal=False,
+    )
+    assert batch.stiffness is not None
+    return np.where(batch.valid[..., None, None], batch.stiffness, np.nan)

@@ -233,14 +233,14 @@ def moving_columns(
 
     The same numbers as ``analyze --wrench ... --geometry moving`` at each pose
     (:func:`ppm_stiffness.statics.moving.moving_states`, of which
-    :func:`~ppm_stiffness.statics.moving.moving_equilibrium` is the batch of one): the
+    :func:`~ppm_stiffness.statics.moving.moving_loaded_state` is the batch of one): the
     quantities are those of the symmetric part of K_F at the displaced tool point.
 
     Returns
     -------
     codes : ndarray of int8 (n,)
         The refusal codes (:class:`~ppm_stiffness.core.refusals.Refusal`), 0 exactly
-        where ``moving_equilibrium`` returns.
+        where ``moving_loaded_state`` returns.
     actuator_stiffness : ndarray (n, n_legs)
         The actuators' tangent stiffness at the moving equilibrium.
     columns : dict of str to ndarray (n,)

@@ -219,14 +219,17 @@ def solve_forces(
 
 
 @dataclass(frozen=True)
-class Equilibrium:
-    """The equilibrium under a wrench (SI; twists and wrenches at P, axes of F_b).
+class LoadedState:
+    """The equilibrium under a wrench, geometry frozen at the unloaded pose (SI; twists
+    and wrenches at P, axes of F_b): what :func:`ppm_stiffness.statics.loading
+    .loaded_state` returns (``Equilibrium`` until 0.2).
 
     Attributes
     ----------
     pose : ndarray (6,)
-        The full pose (x, y, z, rx, ry, rz) [m, rad] of P in F_b.
+        The full pose (x, y, z [m], rx, ry, rz [rad]) of P in F_b.
     wrench : ndarray (6,)
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P, axes of F_b.
     actuator_forces : ndarray (n,) [N or N·m]
         Signed, ``G_i = a_i . w_i``.
     actuator_displacements : ndarray (n,) [m or rad]
@@ -255,6 +258,11 @@ class Equilibrium:
     leg_wrenches: FloatArray
     stiffness_matrix: FloatArray
     iterations: int
+
+
+#: The name of 0.2 (public as ``ppm_stiffness.LoadedState``; ``statics.loading`` names
+#: it so).
+Equilibrium = LoadedState
 
 
 @dataclass(frozen=True)
@@ -306,9 +314,9 @@ class EquilibriumBatch:
         """An equilibrium was found (it may still be outside the model)."""
         return np.asarray((self.refusal == 0) | (self.refusal > Refusal.NO_EQUILIBRIUM))
 
-    def state(self, i: int) -> Equilibrium:
-        """Pose ``i`` as an :class:`Equilibrium`."""
-        return Equilibrium(
+    def state(self, i: int) -> LoadedState:
+        """Pose ``i`` as a :class:`LoadedState`."""
+        return LoadedState(
             pose=self.poses[i],
             wrench=self.wrench,
             actuator_forces=self.forces[i],

@@ -27,7 +27,7 @@ from ppm_stiffness.model import (
 )
 from ppm_stiffness.statics.equilibrium import (
     MAX_ROTATION,
-    Equilibrium,
+    LoadedState,
     check_actuator_travel,
     check_small_rotation,
     equilibrium,
@@ -61,20 +61,37 @@ def actuator_forces(
     return np.einsum("ij,ij->i", shares, screws)
 
 
-#: The loaded state: :class:`~ppm_stiffness.statics.equilibrium.Equilibrium` (forces,
-#: displacements delta(G), tangent and secant actuator stiffness, deflection, leg
-#: wrenches, tangent K).
-LoadedState = Equilibrium
-
-
 def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = None) -> LoadedState:
     """Actuator forces, displacements, stiffnesses and K under ``wrench`` at ``pose``.
 
     The equilibrium of the nonlinear actuator springs is solved exactly
-    (:func:`ppm_stiffness.statics.equilibrium.equilibrium`): for 3-leg planar designs
-    the actuator forces are statically determinate, for redundant ones the secant
-    actuator stiffnesses share the load. Geometry changes under load are neglected
-    (small displacements), as in the paper.
+    (:func:`ppm_stiffness.statics.equilibrium.equilibrium`, any design, planar or
+    spatial): where the actuator forces are statically determinate (``M = 0`` in
+    :mod:`ppm_stiffness.statics.equilibrium`, e.g. a 3-leg planar design) they do not
+    depend on the actuator law; for a redundant design the secant actuator stiffnesses
+    share the load. Geometry changes under load are neglected (small displacements,
+    the geometry of the unloaded pose), as in the paper:
+    :func:`ppm_stiffness.statics.moving.moving_loaded_state` lets the geometry move.
+
+    Parameters
+    ----------
+    design : Design
+    wrench : array_like (6,)
+        (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] applied at P (the platform point, not a
+        tool point), components in the axes of F_b.
+    pose : array_like (n_task,) or (6,), optional
+        The unloaded pose: the design's task coordinates (``design.task_coordinates``;
+        (x [m], y [m], phi [rad]) for a planar design) or a full pose (x, y, z [m], rx,
+        ry, rz [rad]) of P in F_b; the home pose if None.
+
+    Returns
+    -------
+    LoadedState
+        At P, axes of F_b: the full pose (6,), the wrench, the actuator forces G_i
+        [N or N·m], displacements delta(G_i) [m or rad], tangent (eq. 21) and secant
+        actuator stiffnesses, the platform twist (phi_x, phi_y, phi_z, x, y, z) [rad,
+        m], each leg's wrench (n_legs, 6) and the tangent Cartesian stiffness (6, 6)
+        [N·m/rad, N, N/m] of the loaded state.
 
     Raises
     ------

@@ -34,7 +34,7 @@ at the load point is a pure force, and has the antisymmetric part ``-m^/2`` in i
 rotation block under a couple m.
 
 One implementation for one pose and many (:func:`moving_states`, every array with a
-leading pose axis); :func:`moving_equilibrium` is the batch of one that raises.
+leading pose axis); :func:`moving_loaded_state` is the batch of one that raises.
 """
 
 from __future__ import annotations
@@ -82,11 +82,13 @@ from ppm_stiffness.statics.moving_path import (
 __all__ = [
     "MovingBatch",
     "MovingEquilibrium",
+    "MovingLoadedState",
     "PathResult",
     "follow_load",
     "load_point",
     "moving_equilibrium",
     "moving_load_states",
+    "moving_loaded_state",
     "moving_states",
     "platform_chains",
     "raise_moving_refusal",
@@ -111,7 +113,7 @@ class MovingBatch:
         The load point in the platform frame [m] ((0, 0, 0): P).
     refusal : ndarray of int8 (k,)
         :class:`~ppm_stiffness.core.refusals.Refusal` codes (module doc); 0 exactly
-        where :func:`moving_equilibrium` returns.
+        where :func:`moving_loaded_state` returns.
     displaced_poses : ndarray (k, 6)
         The loaded pose of P (the reference pose where refused).
     twist : ndarray (k, 6)
@@ -196,8 +198,8 @@ def moving_load_states(
     tool_point: ArrayLike | None = None,
 ) -> MovingBatch:
     """The equilibrium with moving geometry at one pose under k wrenches (a load path,
-    e.g. ``deflect --geometry moving``), each solved as :func:`moving_equilibrium` solves
-    it: row i of the batch is ``moving_equilibrium(design, wrenches[i], pose, tool_point)``.
+    e.g. ``deflect --geometry moving``), each solved as :func:`moving_loaded_state` solves
+    it: row i of the batch is ``moving_loaded_state(design, wrenches[i], pose, tool_point)``.
 
     Parameters
     ----------
@@ -372,9 +374,11 @@ def _fill(
 
 
 @dataclass(frozen=True)
-class MovingEquilibrium:
+class MovingLoadedState:
     """The equilibrium with moving geometry at one pose (:class:`MovingBatch`'s fields,
-    one pose; SI, axes of F_b; K_F at the displaced load point)."""
+    one pose; SI, axes of F_b; K_F at the displaced load point): what
+    :func:`moving_loaded_state` returns (public as ``ppm_stiffness.MovingLoadedState``;
+    ``MovingEquilibrium`` until 0.2)."""
 
     pose: FloatArray
     displaced_pose: FloatArray
@@ -398,9 +402,9 @@ class MovingEquilibrium:
         return np.asarray(self.stiffness_matrix - self.elastic_stiffness)
 
 
-def state_of(batch: MovingBatch, i: int) -> MovingEquilibrium:
-    """Pose ``i`` of a batch as a :class:`MovingEquilibrium`."""
-    return MovingEquilibrium(
+def state_of(batch: MovingBatch, i: int) -> MovingLoadedState:
+    """Pose ``i`` of a batch as a :class:`MovingLoadedState`."""
+    return MovingLoadedState(
         pose=batch.poses[i],
         displaced_pose=batch.displaced_poses[i],
         wrench=batch.wrench if batch.wrench.ndim == 1 else batch.wrench[i],
@@ -445,13 +449,16 @@ def raise_moving_refusal(design: Design, batch: MovingBatch, i: int) -> None:
     raise code.error(f"{code.reason}{where}")  # pragma: no cover - raised above
 
 
-def moving_equilibrium(
+def moving_loaded_state(
     design: Design,
     wrench: ArrayLike,
     pose: ArrayLike | None = None,
     tool_point: ArrayLike | None = None,
-) -> MovingEquilibrium:
-    """The equilibrium with moving geometry under ``wrench`` at one pose (module doc).
+) -> MovingLoadedState:
+    """The equilibrium with moving geometry under ``wrench`` at one pose (module doc):
+    the loaded state of :func:`ppm_stiffness.statics.loading.loaded_state` without its
+    small-displacement assumption (public as ``ppm_stiffness.moving_loaded_state``;
+    ``moving_equilibrium`` until 0.2).
 
     Parameters
     ----------
@@ -465,7 +472,7 @@ def moving_equilibrium(
 
     Returns
     -------
-    MovingEquilibrium
+    MovingLoadedState
 
     Raises
     ------
@@ -480,3 +487,9 @@ def moving_equilibrium(
     batch = moving_states(design, p.reshape(1, 6), wrench, tool_point)
     raise_moving_refusal(design, batch, 0)
     return state_of(batch, 0)
+
+
+#: The names of 0.2 (inside the package; ``ppm_stiffness.moving_equilibrium`` and
+#: ``ppm_stiffness.MovingEquilibrium`` warn).
+MovingEquilibrium = MovingLoadedState
+moving_equilibrium = moving_loaded_state

@@ -3,7 +3,7 @@
 The frozen curve (:mod:`ppm_stiffness.statics.deflection`) keeps the geometry of the
 unloaded pose. Here every load of the same curve is solved with the equilibrium with
 moving geometry (:func:`ppm_stiffness.statics.moving.moving_load_states`: row i is what
-:func:`~ppm_stiffness.statics.moving.moving_equilibrium` gives under load i), so that
+:func:`~ppm_stiffness.statics.moving.moving_loaded_state` gives under load i), so that
 both curves share their loads, their load direction and their tool point.
 
 The moving curve stops at the first load whose equilibrium is refused: the load path

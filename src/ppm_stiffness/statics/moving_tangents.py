@@ -20,14 +20,14 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.legs.screw_chain import cross
 from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.statics.equilibrium import loaded_states, raise_refusal
-from ppm_stiffness.statics.moving import MovingEquilibrium
+from ppm_stiffness.statics.moving import MovingLoadedState
 from ppm_stiffness.statics.moving_core import ChainState, linearize, newton, zero_state
 from ppm_stiffness.statics.moving_path import load_point, platform_chains
 
 
 def held_wrenches(
     design: Design,
-    state: MovingEquilibrium,
+    state: MovingLoadedState,
     poses: ArrayLike,
 ) -> tuple[FloatArray, FloatArray]:
     """The wrench the legs exert with the platform held at poses (m, 6) near a state's

@@ -49,7 +49,7 @@ from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.statics.equilibrium import equilibrium
-from ppm_stiffness.statics.moving import moving_equilibrium, relative_size
+from ppm_stiffness.statics.moving import moving_loaded_state, relative_size
 from ppm_stiffness.statics.moving_tangents import reference_tangent
 from ppm_stiffness.validation.fe_model import FESettings, build_model
 from ppm_stiffness.validation.frame import DISPLACEMENTS, LOAD_CASES, node_vector, unit_scales
@@ -254,7 +254,7 @@ def compare_second_order(
     p = validate_pose(design, pose)
     frozen = equilibrium(design, w, p)
     k2, k1 = reference_tangent(design, w, p)
-    moving = moving_equilibrium(design, w, p)
+    moving = moving_loaded_state(design, w, p)
     k_act = frozen.actuator_stiffness
     k_axial = k2 + platform_shear_term(design, p, frozen.leg_wrenches)
     return SecondOrderComparison(

@@ -130,8 +130,8 @@ def build_report(
     w = DEFAULT_WRENCH if wrench is None else np.asarray(wrench, dtype=float)
 
     step(0)
-    unloaded = analyze_design(design, p)
-    loaded = analyze_design(design, p, w)
+    unloaded = analyze_design(design, p).to_dict()
+    loaded = analyze_design(design, p, w).to_dict()
     finish(0)
 
     step(1)

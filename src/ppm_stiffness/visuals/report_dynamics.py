@@ -112,7 +112,7 @@ def dynamics_sections(design: Design, pose: ArrayLike, grid: int) -> list[tuple[
     from ppm_stiffness.visuals.modes import plot_modes
 
     p = np.asarray(pose, dtype=float)
-    result = modal_analysis(design, p, tool_point=np.zeros(3))
+    result = modal_analysis(design, p, tool_point=np.zeros(3)).to_dict()
     fig = plot_modes(
         design,
         p,

@@ -59,7 +59,7 @@ def loaded_geometry_section(
 
     p = np.asarray(pose, dtype=float)
     w = np.asarray(wrench, dtype=float)
-    doc = analyze_design(design, p, w, geometry="moving")
+    doc = analyze_design(design, p, w, geometry="moving").to_dict()
     curves = moving_deflection(design, w, SCALES, p, "integrate", "wrench")
     uri = figure_data_uri(plot_deflection_curves([curves.frozen, curves.moving]))
     mg = doc["moving_geometry"]
