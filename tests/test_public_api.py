@@ -193,10 +193,13 @@ def _poses(design: pps.Design) -> np.ndarray:
 def test_batched_stiffness_matrix_is_the_single_pose_one(path: Path | None) -> None:
     """``stiffness_matrix(design, poses)`` equals ``stiffness_at_pose`` pose by pose
     (largest difference 5.7e-14 of the largest length-balanced entry, on the P-P-R
-    designs' reduced path), and is NaN where that raises (a pose 10 m away)."""
+    designs' reduced path); where that raises (a pose 10 m away) the batched call
+    raises the same error, or gives NaN when asked to mask."""
     design = pps.default_design() if path is None else pps.load_design(path)
     poses = _poses(design)
-    k = pps.stiffness_matrix(design, poses)
+    with pytest.raises(pps.UnreachablePoseError, match=r"1 outside the joint limits of 6 poses"):
+        pps.stiffness_matrix(design, poses)
+    k = pps.stiffness_matrix(design, poses, refused="nan")
     assert k.shape == (6, 6, 6)
     for i in range(5):
         single = length_balanced(pps.stiffness_at_pose(design, poses[i]))
@@ -225,12 +228,32 @@ def test_api_page_uses_no_deprecated_name(monkeypatch: pytest.MonkeyPatch) -> No
 
 def test_batched_stiffness_matrix_is_nan_at_a_singular_pose() -> None:
     """At (0, 0, -60.05 deg) the 3-RPR's leg lines nearly meet at P (test_singularity):
-    the single-pose K raises, the batched one is NaN there and K elsewhere."""
+    the single-pose K raises, so does the batched one; masked, it is NaN there and K
+    elsewhere."""
     design = pps.load_design(ROOT / "examples" / "3rpr.toml")
     poses = np.array([[0.0, 0.0, np.radians(-60.05)], [0.0, 0.0, 0.0]])
     with pytest.raises(pps.SingularConfigurationError, match="transmission index"):
         pps.stiffness_at_pose(design, poses[0])
-    k = pps.stiffness_matrix(design, poses)
+    with pytest.raises(pps.SingularConfigurationError, match=r"1 singular of 2 poses"):
+        pps.stiffness_matrix(design, poses)
+    with pytest.raises(pps.InputDataError, match="give 'raise' or 'nan'"):
+        pps.stiffness_matrix(design, poses, refused="mask")
+    k = pps.stiffness_matrix(design, poses, refused="nan")
     assert np.all(np.isnan(k[0]))
     single = pps.stiffness_at_pose(design, poses[1])
     assert np.max(np.abs(k[1] - single)) <= 3e-13 * np.max(np.abs(single))
+
+
+def test_batched_mass_matrix_is_nan_where_a_leg_cannot_reach() -> None:
+    """The hexapod 5 m off home: ``mass_matrix_at_pose`` raises, and the batched M is
+    NaN there (it was a finite M_zz of 3.16 kg), the single-pose M at home (to
+    round-off: measured 0 to 1e-16 relative)."""
+    design = pps.load_design(ROOT / "examples" / "hexapod_6ups.toml")
+    home = pps.home_pose(design)
+    poses = home + np.array([[0.0] * 6, [5.0, 0, 0, 0, 0, 0]])
+    with pytest.raises(pps.UnreachablePoseError, match="reach|outside"):
+        pps.mass_matrix_at_pose(design, poses[1])
+    m = pps.mass_matrix(design, poses)
+    assert np.all(np.isnan(m[1]))
+    single = pps.mass_matrix_at_pose(design, poses[0])
+    assert np.max(np.abs(m[0] - single)) <= 1e-15 * np.max(np.abs(single))

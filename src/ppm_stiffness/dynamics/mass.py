@@ -72,15 +72,17 @@ def mass_matrix(
     design : Design
         With a mass model.
     poses : array_like (..., 6)
-        Full poses [m, rad] (:func:`ppm_stiffness.poses.full_poses`); the legs'
-        inverse kinematics is not checked here: a caller masks unreachable poses.
+        Full poses [m, rad] (:func:`ppm_stiffness.poses.full_poses`).
     actuator_stiffness : array_like (..., n_legs) or (n_legs,), optional
         [N/m or N·m/rad]; the locked values if None.
 
     Returns
     -------
     ndarray (..., 6, 6)
-        Symmetric; NaN at poses where a leg's passive joints are dependent.
+        Symmetric; NaN at poses a leg cannot reach (no inverse-kinematics solution or a
+        joint coordinate beyond its limits: the single-pose
+        :func:`mass_matrix_at_pose` raises there) and where a leg's passive joints are
+        dependent.
 
     Raises
     ------
@@ -106,8 +108,12 @@ def mass_matrix(
 def _mass_matrices(design: Design, q: FloatArray, k_act: FloatArray) -> FloatArray:
     """M (..., 6, 6) at full poses (..., 6) with actuator stiffnesses (..., n_legs)."""
     total = platform_mass_matrix(design, q)
+    reachable = np.ones(q.shape[:-1], dtype=bool)
     for i, leg in enumerate(design.legs):
-        total = total + leg_mass_matrix(leg.chain(leg.solve(q)), k_act[..., i])
+        leg_pose = leg.solve(q)
+        reachable = reachable & leg.reachable(leg_pose)
+        total = total + leg_mass_matrix(leg.chain(leg_pose), k_act[..., i])
+    total = np.where(reachable[..., None, None], total, np.nan)
     return np.asarray(0.5 * (total + np.swapaxes(total, -1, -2)))
 
 

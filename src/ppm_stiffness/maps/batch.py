@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
 from ppm_stiffness.core.errors import DesignError, InputDataError
-from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal
+from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal, refusal_counts
 from ppm_stiffness.design import Design
 from ppm_stiffness.maps.chunks import (
     Path,
@@ -377,6 +377,7 @@ def stiffness_matrix(
     poses: ArrayLike,
     actuator_stiffness: ArrayLike | None = None,
     *,
+    refused: str = "raise",
     chunk_size: int | None = None,
 ) -> FloatArray:
     """K (..., 6, 6) at P, axes of F_b, at many poses: the batched
@@ -392,6 +393,11 @@ def stiffness_matrix(
         (x, y, z [m], rx, ry, rz [rad]) of P in F_b (:mod:`ppm_stiffness.poses`).
     actuator_stiffness : array_like (n_legs,) or (..., n_legs), optional
         [N/m or N·m/rad]; each leg's locked value when None.
+    refused : {"raise", "nan"}
+        What a pose the single-pose function refuses (unreachable or singular) gives:
+        ``"raise"`` (default) raises that function's error, naming how many poses are
+        refused and why, and the first of them; ``"nan"`` masks them with NaN, as maps
+        do (:func:`evaluate_poses` gives the codes, ``refusal``).
     chunk_size : int, optional
         Poses evaluated at once (:func:`evaluate_poses`).
 
@@ -399,18 +405,19 @@ def stiffness_matrix(
     -------
     ndarray (..., 6, 6)
         [[K_rr, K_rt], [K_rt^T, K_tt]] in N·m/rad, N, N/m, equal to the single-pose
-        K to round-off; NaN where the single-pose function raises (an unreachable or
-        singular pose: no number is given where there is none, as M is NaN where a
-        leg's passive joints are dependent). :func:`evaluate_poses` tells which
-        (``refusal``).
+        K to round-off.
 
     Raises
     ------
+    UnreachablePoseError, SingularConfigurationError
+        With ``refused="raise"``, where a pose is refused.
     InputDataError
-        Poses of another width or not finite.
+        Poses of another width or not finite; ``refused`` not one of the two.
     DesignError
         Actuator stiffnesses of the wrong shape, not finite or not positive.
     """
+    if refused not in ("raise", "nan"):
+        raise InputDataError(f"refused = {refused!r}: give 'raise' or 'nan'")
     batch = evaluate_poses(
         design,
         poses,
@@ -420,4 +427,13 @@ def stiffness_matrix(
         principal=False,
     )
     assert batch.stiffness is not None
+    if refused == "raise" and not np.all(batch.valid):
+        codes = np.asarray(batch.refusal).reshape(-1)
+        first = int(np.flatnonzero(codes)[0])
+        code = Refusal(int(codes[first]))
+        counts = ", ".join(f"{n} {why}" for why, n in refusal_counts(codes).items())
+        raise code.error(
+            f"{counts} of {codes.size} poses refused (first: pose index {first}, "
+            f"{code.reason}); pass refused='nan' to mask them"
+        )
     return np.where(batch.valid[..., None, None], batch.stiffness, np.nan)
