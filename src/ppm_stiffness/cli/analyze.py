@@ -49,9 +49,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--method",
+        "--decoupling",
+        dest="method",
         choices=("paper", "least-squares"),
-        default="paper",
-        help="decoupling shown first (default: the paper's eq. 19)",
+        default=None,
+        help="decoupling shown first (default: the paper's eq. 19 for a planar design or "
+        "a --matrix, the least-squares shift for a spatial design, whose tables lead with "
+        "the spatial principal stiffnesses; 'paper' shows eq. 19 and k_phi, k_x, k_y "
+        "first there too)",
     )
     parser.add_argument(
         "--geometry",
@@ -88,7 +93,8 @@ def run(args: argparse.Namespace) -> int:
         )
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
-        result.update(analyze_matrix(k, args.method))
+        result.update(analyze_matrix(k, args.method or "paper"))
+        result.update(leading_keys(True, args.method), planar=None)  # a matrix: kind unknown
         title = f"matrix {args.matrix}"
     else:
         design = load_design_arg(args)
@@ -101,17 +107,72 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry)
+        method = args.method or ("paper" if design.planar else "least-squares")
+        result = analyze_design(design, pose, wrench, method, tool, args.geometry)
+        result.update(leading_keys(design.planar, args.method))
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name
     if args.json:
-        print(json_document("analyze", result, ANALYSIS_UNITS))
+        print(json_document("analyze", lead(result), ANALYSIS_UNITS))
     else:
         print_tables(result, title)
         if "uncertainty" in result:
             print_pose_uncertainty(result["uncertainty"])
     return 0
+
+
+def leading_keys(planar: bool, asked: str | None) -> dict[str, Any]:
+    """What the tables lead with (added to the JSON; the other keys keep their meaning).
+
+    Parameters
+    ----------
+    planar : bool
+        A planar design (or a ``--matrix``): the paper's eq. (19) decoupling and its
+        k_phi, k_x, k_y first.
+    asked : {"paper", "least-squares"} or None
+        ``--method``; None: the default of the design's kind.
+
+    Returns
+    -------
+    dict
+        ``planar`` (bool), ``leading`` (the JSON keys of the sections shown first, in
+        order) and ``paper_definitions`` (whether the paper's planar k_phi, k_x, k_y
+        are printed).
+    """
+    paper = asked == "paper" or (asked is None and planar)
+    if planar:
+        leading = (
+            ["decoupling", "principal"]
+            if paper
+            else ["decoupling_least_squares", "principal_least_squares"]
+        )
+    else:
+        leading = ["principal_compliance", "decoupling_least_squares", "principal_least_squares"]
+        if paper:
+            leading = ["principal_compliance", "decoupling", "principal"]
+    return {"planar": planar, "leading": leading, "paper_definitions": paper}
+
+
+_RESULT_SECTIONS = (
+    "decoupling",
+    "principal",
+    "decoupling_least_squares",
+    "principal_least_squares",
+    "principal_compliance",
+)
+
+
+def lead(result: dict[str, Any]) -> dict[str, Any]:
+    """``result`` with the sections of ``result["leading"]`` first among the
+    decoupling and principal-stiffness blocks (same keys and values, JSON order)."""
+    keys = list(result)
+    first = min(keys.index(k) for k in _RESULT_SECTIONS if k in result)
+    blocks = [k for k in result.get("leading", []) if k in result]
+    blocks += [k for k in _RESULT_SECTIONS if k in result and k not in blocks]
+    rest = [k for k in keys if k not in blocks]
+    ordered = rest[:first] + blocks + rest[first:]
+    return {k: result[k] for k in ordered}
 
 
 def _clean(m: Any) -> np.ndarray:
@@ -276,37 +337,52 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":
         order.reverse()
+    spatial = result.get("planar") is False
+    if spatial and not result.get("paper_definitions"):
+        order = order[:1]  # eq. (19) and its planar k_phi, k_x, k_y on request only
     for key, pkey in order:
-        dec, pr = result[key], result[pkey]
-        c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
-        c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
-        c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
-        if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
-            c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
-        else:
-            c.print(
-                f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}"
-            )
-        c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
-        c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
-        pt = Table(title="Principal stiffnesses and directions", title_justify="left")
-        for col in ("", "value", "direction"):
-            pt.add_column(col, justify="right")
-        for name, block, unit in (
-            ("rot", "rotational", "N·m/rad"),
-            ("trans", "translational", "N/m"),
-        ):
-            vals = pr[block]["values"]
-            dirs = np.asarray(pr[block]["directions"])
-            for j in range(3):
-                pt.add_row(f"{name} {j + 1}", f"{eng(vals[j], 5)} {unit}", _vec(dirs[j]))
-        c.print(pt)
-        if pr is result["principal"]:
-            r, tr = pr["rotational"]["values"], pr["translational"]["values"]
-            c.print(
-                f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
-                f"k_y = {eng(tr[1], 5)} N/m (paper's definitions)"
-            )
+        _print_decoupling(result, key, pkey, spatial)
+    if spatial and not result.get("paper_definitions"):
+        dec = result["decoupling"]
+        res = "n/a" if dec["already_decoupled"] else f"{dec['residual_coupling']:.4f}"
+        c.print(
+            "the paper's eq. (19) decoupling and its planar k_phi, k_x, k_y (residual "
+            f"coupling {res}): --method paper"
+        )
+
+
+def _print_decoupling(result: dict[str, Any], key: str, pkey: str, spatial: bool) -> None:
+    """One decoupling (``key``) and its principal stiffnesses (``pkey``)."""
+    c = console
+    dec, pr = result[key], result[pkey]
+    c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
+    c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
+    c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
+    if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
+        c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
+    else:
+        c.print(f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}")
+    c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
+    c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
+    pt = Table(title="Principal stiffnesses and directions", title_justify="left")
+    for col in ("", "value", "direction"):
+        pt.add_column(col, justify="right")
+    for name, block, unit in (
+        ("rot", "rotational", "N·m/rad"),
+        ("trans", "translational", "N/m"),
+    ):
+        vals = pr[block]["values"]
+        dirs = np.asarray(pr[block]["directions"])
+        for j in range(3):
+            pt.add_row(f"{name} {j + 1}", f"{eng(vals[j], 5)} {unit}", _vec(dirs[j]))
+    c.print(pt)
+    if key == "decoupling":
+        r, tr = pr["rotational"]["values"], pr["translational"]["values"]
+        c.print(
+            f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
+            f"k_y = {eng(tr[1], 5)} N/m (paper's "
+            + ("planar definitions, of a spatial design)" if spatial else "definitions)")
+        )
 
 
 def print_geometry(result: dict[str, Any]) -> None:
