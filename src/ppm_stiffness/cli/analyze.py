@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich import box
@@ -33,6 +33,9 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+
+if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
+    from ppm_stiffness.core.decoupling import Method
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -107,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        method = args.method or ("paper" if design.planar else "least-squares")
+        method: Method = args.method or ("paper" if design.planar else "least-squares")
         result = analyze_design(design, pose, wrench, method, tool, args.geometry)
         result.update(leading_keys(design.planar, args.method))
         if variables is not None:
