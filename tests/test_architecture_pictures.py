@@ -11,6 +11,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import math
 import re
 from pathlib import Path
 
@@ -302,9 +303,9 @@ def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None
     assert "3-RRR" in rrr_report
     # the actuator table in the rotary units, none of the linear ones
     head = re.search(r"<caption>Actuators under the wrench.*?</thead>", rrr_report).group(0)
-    assert "force G [N·m]" in head and "displacement δ [µrad]" in head
+    assert "force G [N·m]" in head and "displacement δ [deg]" in head  # the CLI's unit
     assert "K<sub>act</sub> unloaded [N·m/rad]" in head and "[N/m]" not in head
-    # displacement cells are in µrad: SI rad x 1e6
+    # displacement cells are in deg: SI rad x 180/pi
     loaded = embedded_json(rrr_report, "analysis-loaded")
     for i, delta in enumerate(loaded["actuator_displacements"]):
         cell = re.search(
@@ -312,7 +313,7 @@ def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None
             r"([^<]+)<",
             rrr_report,
         )
-        assert cell is not None and float(cell.group(1)) == 1e6
+        assert cell is not None and float(cell.group(1)) == 180 / math.pi
         assert abs(float(cell.group(2)) - delta * 1e6) <= 5e-4 * max(abs(delta) * 1e6, 1.0)
     # nothing of the P-P-R legs' parts in the mechanism caption
     caption = re.search(r'id="fig-mechanism".*?</figcaption>', rrr_report, re.S).group(0)

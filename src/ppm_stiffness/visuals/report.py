@@ -368,7 +368,7 @@ def _assemble(
             "decoupling",
             "Decoupling and principal stiffnesses (eq. 28–32)"
             if planar
-            else "Decoupling (eq. 19 and the least-squares shift)",
+            else "Decoupling (the least-squares shift; eq. 19 for comparison)",
             tables.decoupling_section(unloaded, "unloaded", cards=planar),
         ),
         (

@@ -221,13 +221,18 @@ def principal_cards(result: dict[str, Any], key: str) -> str:
 
 def decoupling_section(result: dict[str, Any], key: str, cards: bool = True) -> str:
     """Both decouplings (eq. 19, least squares): d, the residual coupling, M, K'_rr,
-    K'_tt and their eigen-pairs; ``cards``: the paper's k_phi, k_x, k_y first (planar
-    designs)."""
+    K'_tt and their eigen-pairs; ``cards``: the paper's k_phi, k_x, k_y and its eq. (19)
+    first (planar designs), else the least-squares shift first (spatial designs, as
+    ``analyze`` leads)."""
     parts = [principal_cards(result, key)] if cards else []
-    for dkey, pkey, title in (
+    cases = [
         ("decoupling", "principal", "paper's eq. (19)"),
         ("decoupling_least_squares", "principal_least_squares", "least-squares shift"),
-    ):
+    ]
+    if not cards:
+        cases.reverse()
+        cases[1] = (*cases[1][:2], "paper's eq. (19), for comparison (planar definitions)")
+    for dkey, pkey, title in cases:
         dec, pr = result[dkey], result[pkey]
         base = f"{key}/{dkey}"
         d_cells = _vector_cells(dec["d"], f"{base}/d", scale=1e3, sig=4)
