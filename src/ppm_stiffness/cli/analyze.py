@@ -33,6 +33,7 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.leading import default_method, lead, leading_keys
 
 if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
     from ppm_stiffness.core.decoupling import Method
@@ -110,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        method: Method = args.method or ("paper" if design.planar else "least-squares")
+        method: Method = args.method or default_method(design.planar)
         result = analyze_design(design, pose, wrench, method, tool, args.geometry)
         result.update(leading_keys(design.planar, args.method))
         if variables is not None:
@@ -123,59 +124,6 @@ def run(args: argparse.Namespace) -> int:
         if "uncertainty" in result:
             print_pose_uncertainty(result["uncertainty"])
     return 0
-
-
-def leading_keys(planar: bool, asked: str | None) -> dict[str, Any]:
-    """What the tables lead with (added to the JSON; the other keys keep their meaning).
-
-    Parameters
-    ----------
-    planar : bool
-        A planar design (or a ``--matrix``): the paper's eq. (19) decoupling and its
-        k_phi, k_x, k_y first.
-    asked : {"paper", "least-squares"} or None
-        ``--method``; None: the default of the design's kind.
-
-    Returns
-    -------
-    dict
-        ``planar`` (bool), ``leading`` (the JSON keys of the sections shown first, in
-        order) and ``paper_definitions`` (whether the paper's planar k_phi, k_x, k_y
-        are printed).
-    """
-    paper = asked == "paper" or (asked is None and planar)
-    if planar:
-        leading = (
-            ["decoupling", "principal"]
-            if paper
-            else ["decoupling_least_squares", "principal_least_squares"]
-        )
-    else:
-        leading = ["principal_compliance", "decoupling_least_squares", "principal_least_squares"]
-        if paper:
-            leading = ["principal_compliance", "decoupling", "principal"]
-    return {"planar": planar, "leading": leading, "paper_definitions": paper}
-
-
-_RESULT_SECTIONS = (
-    "decoupling",
-    "principal",
-    "decoupling_least_squares",
-    "principal_least_squares",
-    "principal_compliance",
-)
-
-
-def lead(result: dict[str, Any]) -> dict[str, Any]:
-    """``result`` with the sections of ``result["leading"]`` first among the
-    decoupling and principal-stiffness blocks (same keys and values, JSON order)."""
-    keys = list(result)
-    first = min(keys.index(k) for k in _RESULT_SECTIONS if k in result)
-    blocks = [k for k in result.get("leading", []) if k in result]
-    blocks += [k for k in _RESULT_SECTIONS if k in result and k not in blocks]
-    rest = [k for k in keys if k not in blocks]
-    ordered = rest[:first] + blocks + rest[first:]
-    return {k: result[k] for k in ordered}
 
 
 def _clean(m: Any) -> np.ndarray:

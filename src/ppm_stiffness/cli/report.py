@@ -36,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = (
         "Loaded case (--wrench overrides it): the design file's [reference_wrench], else "
         "the paper's f = [5, 5, 20] N, m_z = 0.1 N·m for a planar design and that load "
-        "scaled to a spatial one (its tool point moves by 0.01 %% of the design's size; "
+        "scaled to a spatial one (its tool point moves by 0.01 % of the design's size; "
         "docs/report.md)."
     )
     parser.add_argument(

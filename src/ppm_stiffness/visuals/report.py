@@ -31,6 +31,7 @@ from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.core.pose import POSE_INDEX
 from ppm_stiffness.design import Design
+from ppm_stiffness.leading import default_method, lead, leading_keys
 from ppm_stiffness.maps.slices import cli_scale, map_slice
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.visuals import report_spatial as spatial
@@ -138,10 +139,13 @@ def build_report(
     p = validate_pose(design, pose)  # the full pose (6,)
 
     step(0)
-    unloaded = analyze_design(design, p)
+    # as `analyze --json` prints them (ppm_stiffness.leading: a spatial design leads
+    # with the least-squares decoupling)
+    method = default_method(design.planar)
+    unloaded = lead(analyze_design(design, p, method=method) | leading_keys(design.planar, None))
     ref = reference_wrench(design, p, unloaded["stiffness_matrix"], wrench)
     w = ref.wrench
-    loaded = analyze_design(design, p, w)
+    loaded = lead(analyze_design(design, p, w, method) | leading_keys(design.planar, None))
     finish(0)
 
     step(1)
@@ -337,7 +341,9 @@ def _assemble(
             f"<p>w = K t at {point} with the axes of F<sub>b</sub>; t = (φ, u) [rad, m], "
             "w = (m, f) [N·m, N]. Blocks: K<sub>rr</sub> [N·m/rad], K<sub>rt</sub> [N], "
             "K<sub>tt</sub> [N/m]; actuators locked (compare eq. 22).</p>"
-            + tables.stiffness_table(unloaded, "unloaded", "K [SI], unloaded"),
+            + tables.stiffness_table(
+                unloaded, "unloaded", "K, unloaded (units of each block above)"
+            ),
         ),
         (
             "screw-springs",

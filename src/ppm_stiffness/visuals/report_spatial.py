@@ -45,11 +45,11 @@ POSE_DISPLAY = {
 
 #: How the 3-D view draws each joint kind (the caption's words).
 _JOINT_WORDS = {
-    "U": "U a cross with bars along its two axes",
-    "S": "S a ball",
-    "R": "R a circle with a bar along its axis",
-    "P": "P a square with its slider",
-    "C": "C a diamond with its sleeve",
+    "U": "universal joints U: a cross with bars along their two axes",
+    "S": "spherical joints S: a ball",
+    "R": "revolute joints R: a circle with a bar along the axis",
+    "P": "prismatic joints (type letter P): a square with the slider",
+    "C": "cylindrical joints C: a diamond with the sleeve",
 }
 
 
@@ -67,7 +67,7 @@ def mechanism_caption(design: Design, pose: ArrayLike) -> str:
         + (", each leg's rail over the actuator stroke" if rails else "")
         + ", the legs' links and joints ("
         + ", ".join(_JOINT_WORDS[k] for k in kinds)
-        + "; the actuated joint ringed), the platform, P"
+        + "; the actuated joint ringed), the platform, its point P"
         + (", the tool point T" if view.has_tool else "")
         + " and the frames of F<sub>b</sub> and of the platform."
     )

@@ -41,12 +41,14 @@ _SUPERSCRIPTS = str.maketrans({"2": "²", "3": "³", "4": "⁴"})
 
 
 def shown_unit(si: str) -> tuple[str, float]:
-    """How an SI unit is shown in the report: (unit, scale); powers as superscripts
-    (m², kg·m², kg/m³), no unit for a word or a count."""
+    """How an SI unit is shown in the report: (unit, scale); the powers 2, 3, 4 as
+    superscripts (m², kg·m², kg/m³), another power as written (N/m^q)."""
     if si in _DISPLAY_UNITS:
         return _DISPLAY_UNITS[si]
     head, *powers = si.split("^")
-    text = head + "".join(p[:1].translate(_SUPERSCRIPTS) + p[1:] for p in powers)
+    text = head + "".join(
+        p[:1].translate(_SUPERSCRIPTS) + p[1:] if p[:1] in "234" else "^" + p for p in powers
+    )
     return text, 1.0
 
 

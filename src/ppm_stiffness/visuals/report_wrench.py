@@ -11,8 +11,8 @@ In order of precedence:
    the scale s (two significant digits) that makes the reference point (the tool point)
    move by :data:`REFERENCE_DEFLECTION` of the design's size under the unloaded,
    locked K (the size L: the largest distance between two joints of the mechanism at
-   the pose, :func:`design_size`). The paper's 21 N load moves a hexapod's tool point
-   by under 1 µm; the scaled one by 0.01 % of its size, a load of the order a machine
+   the pose, :func:`design_size`). The paper's 21 N load moves the hexapod's tool point
+   by 0.00127 mm; the scaled one by 0.01 % of its size, a load of the order a machine
    of that size and stiffness is built for.
 """
 

@@ -15,8 +15,9 @@ each leg's links and joints (by kind), any architecture. A planar design lies in
 plane z = 0, its legs clipped to the box around the springs (its rails and guide
 blocks may lie far out); a spatial design is drawn whole, with its base and rails.
 Everything is relative to P (or the tool point T, where K is given) with the axes of
-F_b, in millimetres, like the stiffness matrix; the axis labels say so
-(``x − x_P [mm] (axes of F_b)``), unlike the mechanism picture's, which is in F_b.
+F_b, in millimetres, like the stiffness matrix; the axis labels (``x − x_P [mm]``) and
+the title ("drawn relative to P ... with the axes of F_b") say so: the mechanism
+picture is in F_b.
 
 The spring-axis lines carry the gid ``"spring-axis-<i>"`` and the helices
 ``"spring-helix-<i>"`` (i from 1) so that tests and users can read back the plotted
@@ -269,7 +270,7 @@ def plot_screw_springs(
     # the frame: the axes of F_b, the origin at the point of K (not F_b's origin O)
     at = "T" if np.any(t != 0.0) else "P"
     for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
-        setter(f"{name} − {name}$_{at}$ [mm] (axes of F_b)")
+        setter(f"{name} − {name}$_{at}$ [mm]")
     _equal_box(ax)
     if view is None or view.design.planar:
         ax.view_init(elev=24, azim=-58)
@@ -293,6 +294,9 @@ def plot_screw_springs(
         "with the axes of F_b",
         fontsize=11,
     )
+    from ppm_stiffness.visuals.mechanism3d import declutter_labels
+
+    declutter_labels(ax)  # P, T, the springs' and joints' names apart on screen
     return fig
 
 
