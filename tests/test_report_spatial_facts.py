@@ -275,3 +275,24 @@ def test_colour_bars_have_no_offset_and_small_variation_is_stated() -> None:
         if noted:
             assert f"variation {100 * var:.2g} % over the slice" in ax.get_title()
     assert small >= 1
+
+
+def test_one_panel_map_keeps_its_title_whole() -> None:
+    """A one-panel map of a tall slice (the report's f1 map of the 3-PPR) was 3.4 in wide
+    and its title "First natural frequency f1, locked actuators" ran past both edges;
+    now the figure is at least MIN_WIDTH wide and the title's box lies inside it."""
+    import dataclasses
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.visuals.maps import MIN_WIDTH, plot_stiffness_maps
+
+    smap = stiffness_map(default_design(), phi=0.0, grid=4)
+    one = dataclasses.replace(smap, quantities={"k_x": smap.quantities["k_x"]})
+    fig = plot_stiffness_maps(one, title="First natural frequency f1, locked actuators")
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    assert fig.get_size_inches()[0] >= MIN_WIDTH
+    box = fig._suptitle.get_window_extent(canvas.get_renderer())
+    assert box.x0 >= 0 and box.x1 <= fig.bbox.width

@@ -34,6 +34,8 @@ PER_ROW = 3
 ROW_HEIGHT = 4.0
 #: Width added to each panel for its colour bar and labels [inch].
 _PANEL_EXTRA = 1.9
+#: Smallest figure width [inch] (the title of a one-panel map of a tall slice).
+MIN_WIDTH = 5.5
 #: Resolution of saved raster figures [dots per inch].
 DPI = 150
 _STATE_TEXT = {"max": "actuators locked (maximum)", "min": "actuators at minimum"}
@@ -113,7 +115,8 @@ def plot_stiffness_maps(
     rows = [rows_of(m) for m in maps]
     cols = min(PER_ROW, max(len(m.quantities) for m in maps))  # one map of f1: one panel
     fig = Figure(
-        figsize=(cols * (panel + _PANEL_EXTRA), ROW_HEIGHT * sum(rows) + 0.4),
+        # at least MIN_WIDTH: a one-panel map of a tall slice keeps its title whole
+        figsize=(max(cols * (panel + _PANEL_EXTRA), MIN_WIDTH), ROW_HEIGHT * sum(rows) + 0.4),
         layout="constrained",
     )
     subfigs = fig.subfigures(len(maps), 1, squeeze=False, height_ratios=rows)[:, 0]
