@@ -11,6 +11,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import math
 import re
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # n
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.design import Design, default_design, load_design  # noqa: E402
+from ppm_stiffness.leading import leading_keys  # noqa: E402
 from ppm_stiffness.legs.chain import Joint, Link  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre  # noqa: E402
 from ppm_stiffness.statics.loading import loaded_state  # noqa: E402
@@ -302,9 +304,9 @@ def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None
     assert "3-RRR" in rrr_report
     # the actuator table in the rotary units, none of the linear ones
     head = re.search(r"<caption>Actuators under the wrench.*?</thead>", rrr_report).group(0)
-    assert "force G [N·m]" in head and "displacement δ [µrad]" in head
+    assert "force G [N·m]" in head and "displacement δ [deg]" in head  # the CLI's unit
     assert "K<sub>act</sub> unloaded [N·m/rad]" in head and "[N/m]" not in head
-    # displacement cells are in µrad: SI rad x 1e6
+    # displacement cells are in deg: SI rad x 180/pi
     loaded = embedded_json(rrr_report, "analysis-loaded")
     for i, delta in enumerate(loaded["actuator_displacements"]):
         cell = re.search(
@@ -312,8 +314,9 @@ def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None
             r"([^<]+)<",
             rrr_report,
         )
-        assert cell is not None and float(cell.group(1)) == 1e6
-        assert abs(float(cell.group(2)) - delta * 1e6) <= 5e-4 * max(abs(delta) * 1e6, 1.0)
+        assert cell is not None and float(cell.group(1)) == 180 / math.pi
+        shown = delta * 180 / math.pi
+        assert abs(float(cell.group(2)) - shown) <= 5e-4 * max(abs(shown), 1e-300)
     # nothing of the P-P-R legs' parts in the mechanism caption
     caption = re.search(r'id="fig-mechanism".*?</figcaption>', rrr_report, re.S).group(0)
     for word in ("guide block", "bearing", "rod"):
@@ -353,6 +356,7 @@ def test_report_of_the_other_examples_shows_their_analysis(tmp_path: Path, name:
     design = _design(name)
     for block, wrench in (("analysis-unloaded", None), ("analysis-loaded", DEFAULT_WRENCH)):
         expected = json.loads(dump_json(analyze_design(design, None, wrench)))
+        expected |= leading_keys(True, None)  # as `analyze --json` adds them
         embedded = embedded_json(page, block)
         assert {k: v for k, v in embedded.items() if k not in ENVELOPE_KEYS} == expected
     forces = loaded_state(design, DEFAULT_WRENCH).actuator_forces

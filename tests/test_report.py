@@ -29,6 +29,7 @@ from ppm_stiffness.analysis import (
 )
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.design import default_design, save_design  # noqa: E402
+from ppm_stiffness.leading import leading_keys  # noqa: E402
 from ppm_stiffness.visuals.report import DEFAULT_WRENCH, embedded_json  # noqa: E402
 from report_cells import check_cells, parse, screenshot  # noqa: E402
 
@@ -130,6 +131,7 @@ def test_embedded_json_equals_analyze_design(report: str, design_file: Path) -> 
     design = load_design(design_file)
     for block, wrench in (("analysis-unloaded", None), ("analysis-loaded", DEFAULT_WRENCH)):
         expected = json.loads(dump_json(analyze_design(design, POSE, wrench)))
+        expected |= leading_keys(True, None)  # as `analyze --json` adds them
         embedded = embedded_json(report, block)
         assert embedded["command"] == "analyze"
         assert {k: v for k, v in embedded.items() if k not in ENVELOPE_KEYS} == expected

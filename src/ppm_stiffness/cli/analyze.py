@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich import box
@@ -34,6 +34,10 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.leading import default_method, lead, leading_keys
+
+if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
+    from ppm_stiffness.core.decoupling import Method
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -50,9 +54,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--method",
+        "--decoupling",
+        dest="method",
         choices=("paper", "least-squares"),
-        default="paper",
-        help="decoupling shown first (default: the paper's eq. 19)",
+        default=None,
+        help="decoupling shown first (default: the paper's eq. 19 for a planar design or "
+        "a --matrix, the least-squares shift for a spatial design, whose tables lead with "
+        "the spatial principal stiffnesses; 'paper' shows eq. 19 and k_phi, k_x, k_y "
+        "first there too)",
     )
     parser.add_argument(
         "--geometry",
@@ -90,7 +99,8 @@ def run(args: argparse.Namespace) -> int:
         )
         check_nonsingular(k, f" ({args.matrix})")
         result: dict[str, Any] = {"pose": None, "actuator_stiffness": None}
-        result.update(analyze_matrix(k, args.method).to_dict())
+        result.update(analyze_matrix(k, args.method or "paper").to_dict())
+        result.update(leading_keys(True, args.method), planar=None)  # a matrix: kind unknown
         title = f"matrix {args.matrix}"
     else:
         design = load_design_arg(args)
@@ -103,12 +113,14 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry).to_dict()
+        method: Method = args.method or default_method(design.planar)
+        result = analyze_design(design, pose, wrench, method, tool, args.geometry).to_dict()
+        result.update(leading_keys(design.planar, args.method))
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name
     if args.json:
-        print(json_document("analyze", result, ANALYSIS_UNITS))
+        print(json_document("analyze", lead(result), ANALYSIS_UNITS))
     else:
         print_tables(result, title)
         if "uncertainty" in result:
@@ -278,37 +290,52 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     order = [("decoupling", "principal"), ("decoupling_least_squares", "principal_least_squares")]
     if result.get("method") == "least-squares":
         order.reverse()
+    spatial = result.get("planar") is False
+    if spatial and not result.get("paper_definitions"):
+        order = order[:1]  # eq. (19) and its planar k_phi, k_x, k_y on request only
     for key, pkey in order:
-        dec, pr = result[key], result[pkey]
-        c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
-        c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
-        c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
-        if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
-            c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
-        else:
-            c.print(
-                f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}"
-            )
-        c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
-        c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
-        pt = Table(title="Principal stiffnesses and directions", title_justify="left")
-        for col in ("", "value", "direction"):
-            pt.add_column(col, justify="right")
-        for name, block, unit in (
-            ("rot", "rotational", "N·m/rad"),
-            ("trans", "translational", "N/m"),
-        ):
-            vals = pr[block]["values"]
-            dirs = np.asarray(pr[block]["directions"])
-            for j in range(3):
-                pt.add_row(f"{name} {j + 1}", f"{eng(vals[j], 5)} {unit}", _vec(dirs[j]))
-        c.print(pt)
-        if pr is result["principal"]:
-            r, tr = pr["rotational"]["values"], pr["translational"]["values"]
-            c.print(
-                f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
-                f"k_y = {eng(tr[1], 5)} N/m (paper's definitions)"
-            )
+        _print_decoupling(result, key, pkey, spatial)
+    if spatial and not result.get("paper_definitions"):
+        dec = result["decoupling"]
+        res = "n/a" if dec["already_decoupled"] else f"{dec['residual_coupling']:.4f}"
+        c.print(
+            "the paper's eq. (19) decoupling and its planar k_phi, k_x, k_y (residual "
+            f"coupling {res}): --method paper"
+        )
+
+
+def _print_decoupling(result: dict[str, Any], key: str, pkey: str, spatial: bool) -> None:
+    """One decoupling (``key``) and its principal stiffnesses (``pkey``)."""
+    c = console
+    dec, pr = result[key], result[pkey]
+    c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
+    c.print(_matrix_table("M [N/m] (eq. 19)", dec["M"], ("x", "y", "z")))
+    c.print(f"d \\[mm] = {_vec(1e3 * np.asarray(dec['d']), 2)}")
+    if dec["already_decoupled"]:  # K_rt below core.decoupling.DECOUPLED_TOLERANCE
+        c.print("residual coupling: n/a (already decoupled: K_rt is round-off)")
+    else:
+        c.print(f"residual coupling ||K_rt + D K_tt|| / ||K_rt|| = {dec['residual_coupling']:.4f}")
+    c.print(_matrix_table("K'_rr [N·m/rad]", dec["K_rr"], ("phi_x", "phi_y", "phi_z")))
+    c.print(_matrix_table("K'_tt [N/m]", dec["K_tt"], ("x", "y", "z")))
+    pt = Table(title="Principal stiffnesses and directions", title_justify="left")
+    for col in ("", "value", "direction"):
+        pt.add_column(col, justify="right")
+    for name, block, unit in (
+        ("rot", "rotational", "N·m/rad"),
+        ("trans", "translational", "N/m"),
+    ):
+        vals = pr[block]["values"]
+        dirs = np.asarray(pr[block]["directions"])
+        for j in range(3):
+            pt.add_row(f"{name} {j + 1}", f"{eng(vals[j], 5)} {unit}", _vec(dirs[j]))
+    c.print(pt)
+    if key == "decoupling":
+        r, tr = pr["rotational"]["values"], pr["translational"]["values"]
+        c.print(
+            f"k_phi = {eng(r[2], 5)} N·m/rad, k_x = {eng(tr[0], 5)} N/m, "
+            f"k_y = {eng(tr[1], 5)} N/m (paper's "
+            + ("planar definitions, of a spatial design)" if spatial else "definitions)")
+        )
 
 
 def print_geometry(result: dict[str, Any]) -> None:

@@ -33,7 +33,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pose_arguments(parser)
     add_wrench_argument(parser)
     add_tolerance_arguments(parser)
-    parser.epilog = "Default wrench: the paper's f = [5, 5, 20] N, m_z = 0.1 N·m."
+    parser.epilog = (
+        "Loaded case (--wrench overrides it): the design file's [reference_wrench], else "
+        "the paper's f = [5, 5, 20] N, m_z = 0.1 N·m for a planar design and that load "
+        "scaled to a spatial one (its tool point moves by 0.01 % of the design's size; "
+        "docs/report.md)."
+    )
     parser.add_argument(
         "--grid",
         type=int,
@@ -45,6 +50,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", metavar="DIR", required=True, help="output directory (gets report.html)"
     )
+
+
+def design_text(args: argparse.Namespace) -> str | None:
+    """The design file as written (None for the built-in design): its text, a
+    byte-order mark dropped (not content, as the reader does)."""
+    if args.design is None:
+        return None
+    return Path(args.design).read_bytes().decode("utf-8-sig")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -88,7 +101,9 @@ def run(args: argparse.Namespace) -> int:
             bar.update(task, description=description, completed=fraction)
 
         extra = report_sections(args, design, variables, pose, progress)
-        page = build_report(design, pose, wrench, args.grid, progress, args.design, extra)
+        page = build_report(
+            design, pose, wrench, args.grid, progress, args.design, extra, design_text(args)
+        )
     out_dir.mkdir(exist_ok=True)
     path = out_dir / "report.html"
     with output_files(args.overwrite) as out:

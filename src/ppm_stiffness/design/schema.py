@@ -210,6 +210,29 @@ class WorkspaceModel(PartModel):
         return (self.centre_x, self.centre_y, self.centre_z, self.rx, self.ry, self.phi)
 
 
+class ReferenceWrenchModel(PartModel):
+    """The report's loaded case (``[reference_wrench]``): a wrench on the platform at
+    the tool point, axes of F_b; ``force`` [N], ``moment`` [N·m]. Without it the report
+    loads a planar design with the paper's f = (5, 5, 20) N, m_z = 0.1 N·m and a spatial
+    one with that load scaled to the design (``docs/report.md``)."""
+
+    force: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    moment: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+
+    @model_validator(mode="after")
+    def _not_zero(self) -> ReferenceWrenchModel:
+        if not any(self.force) and not any(self.moment):
+            raise ValueError(
+                "force and moment are both zero: give a load (force [N], moment [N·m]) "
+                "or leave the table out"
+            )
+        return self
+
+    def wrench(self) -> tuple[float, ...]:
+        """(m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N], the library's order."""
+        return (*self.moment, *self.force)
+
+
 _LEG_UNION: Any = Annotated[
     Union[tuple(leg_types().values())],  # noqa: UP007 - built from the registry
     Field(discriminator="type"),
@@ -241,12 +264,16 @@ class Design(PartModel):
         :mod:`ppm_stiffness.design.platform`): the design's mass model, with the legs'
         optional masses (links' sections, actuators' moving parts). None: no mass
         model (natural frequencies are not available; everything else is).
+    reference_wrench : ReferenceWrenchModel or None
+        The report's loaded case (``[reference_wrench]``: force [N], moment [N·m] at the
+        tool point, axes of F_b); None: the report's default (``docs/report.md``).
     """
 
     schema_version: Literal[2] = Field(default=2, alias="schema")
     name: str = "unnamed design"
     workspace: WorkspaceModel = WorkspaceModel()
     tool_point: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    reference_wrench: ReferenceWrenchModel | None = None
     task_coordinates: tuple[str, ...] = ()
     platform: PlatformModel | None = None
     legs: Annotated[list[_LEG_UNION], Field(min_length=3)]

@@ -6,8 +6,11 @@ panel per quantity of the map in its order (k_phi, k_x, k_y for a planar design'
 one row, the paper's layout; the rotational then the translational principal
 stiffnesses of a spatial design's: two rows), the axes in the CLI's units (mm for
 lengths, degrees for angles) with the map's axis names, colour bars in the quantities'
-units, the fixed coordinates and the actuator state in the title. Poses outside the
-workspace (masked) are left blank.
+units with the scale in the unit (kN·m/rad, MN/m: no offset text,
+:mod:`ppm_stiffness.visuals.ticks`), the fixed coordinates and the actuator state in
+the title; a panel whose quantity varies by less than 5 % over the slice says so under
+its title (its colours span the full range all the same). Poses outside the workspace
+(masked) are left blank.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import numpy as np
 from ppm_stiffness.maps.result import QUANTITIES
 from ppm_stiffness.maps.slices import cli_scale
 from ppm_stiffness.maps.workspace import StiffnessMap
+from ppm_stiffness.visuals.ticks import SMALL_VARIATION, plain_formatter, scaled_unit, variation
 
 #: (field, symbol, unit) of the paper's three panels.
 PANELS = tuple((name, QUANTITIES[name][2], QUANTITIES[name][0]) for name in ("k_phi", "k_x", "k_y"))
@@ -30,6 +34,8 @@ PER_ROW = 3
 ROW_HEIGHT = 4.0
 #: Width added to each panel for its colour bar and labels [inch].
 _PANEL_EXTRA = 1.9
+#: Smallest figure width [inch] (the title of a one-panel map of a tall slice).
+MIN_WIDTH = 5.5
 #: Resolution of saved raster figures [dots per inch].
 DPI = 150
 _STATE_TEXT = {"max": "actuators locked (maximum)", "min": "actuators at minimum"}
@@ -109,7 +115,8 @@ def plot_stiffness_maps(
     rows = [rows_of(m) for m in maps]
     cols = min(PER_ROW, max(len(m.quantities) for m in maps))  # one map of f1: one panel
     fig = Figure(
-        figsize=(cols * (panel + _PANEL_EXTRA), ROW_HEIGHT * sum(rows) + 0.4),
+        # at least MIN_WIDTH: a one-panel map of a tall slice keeps its title whole
+        figsize=(max(cols * (panel + _PANEL_EXTRA), MIN_WIDTH), ROW_HEIGHT * sum(rows) + 0.4),
         layout="constrained",
     )
     subfigs = fig.subfigures(len(maps), 1, squeeze=False, height_ratios=rows)[:, 0]
@@ -120,12 +127,20 @@ def plot_stiffness_maps(
             ax.set_axis_off()
         for ax, (name, values) in zip(axes, m.quantities.items(), strict=False):
             unit, symbol = QUANTITIES[name][0], QUANTITIES[name][2]
+            panel_title = symbol
             if np.any(m.reachable):
-                cs = ax.contourf(xs, ys, values, levels=_levels(values), cmap="viridis")
+                levels = _levels(values)
+                cs = ax.contourf(xs, ys, values, levels=levels, cmap="viridis")
                 cbar = sub.colorbar(cs, ax=ax, shrink=0.9)
-                cbar.set_label(f"{symbol} [{unit}]")
-                cbar.formatter.set_powerlimits((-3, 4))
+                # the scale in the unit, no offset text (visuals.ticks)
+                factor, shown = scaled_unit(float(np.ma.max(np.abs(values))), unit)
+                step = float(np.min(np.diff(cbar.get_ticks()))) if len(cbar.get_ticks()) > 1 else 0
+                cbar.formatter = plain_formatter(factor, step)
+                cbar.set_label(f"{symbol} [{shown}]")
                 cbar.update_ticks()
+                var = variation(values)
+                if var < SMALL_VARIATION:
+                    panel_title += f"\nvariation {100 * var:.2g} % over the slice"
             else:
                 ax.text(
                     0.5, 0.5, "no reachable pose", ha="center", va="center", transform=ax.transAxes
@@ -134,7 +149,7 @@ def plot_stiffness_maps(
             ax.set_ylim(ys[0], ys[-1])
             ax.set_xlabel(xlabel)
             ax.set_ylabel(ylabel)
-            ax.set_title(symbol, fontsize=11)
+            ax.set_title(panel_title, fontsize=11)
         label = slice_label(m)
         sub.suptitle((f"{label}, " if label else "") + _state_label(m), fontsize=10)
     names = {n for m in maps for n in m.quantities}

@@ -78,7 +78,7 @@ JOINT_LEGEND = {
     "R": JOINT_NAMES["R"] + " (bar: its axis)",
     "U": JOINT_NAMES["U"] + " (bars: its two axes)",
     "S": JOINT_NAMES["S"],
-    "P": JOINT_NAMES["P"] + " (bar: its slider)",
+    "P": "prismatic joint (type letter P; bar: its slider)",
     "C": JOINT_NAMES["C"] + " (sleeve: its axis)",
 }
 
@@ -476,7 +476,16 @@ def plot_mechanism_3d(
     draw_mechanism_3d(ax, view, unit, once=once)
     _draw_frames(ax, view, 2.0 * unit)
     p = view.centre * MM
-    ax.plot(*p[:, None], marker="+", ms=12, mew=2.0, color="k", ls="", gid="P", label="P")
+    ax.plot(
+        *p[:, None],
+        marker="+",
+        ms=12,
+        mew=2.0,
+        color="k",
+        ls="",
+        gid="P",
+        label=POINT_LEGEND,
+    )
     ax.text(*p, "  P", fontsize=9)
     if view.has_tool:
         t = view.tool * MM
@@ -510,7 +519,132 @@ def plot_mechanism_3d(
         fontsize=9,
         color="tab:red" if view.violations else "k",
     )
+    declutter_labels(ax)
     return fig
 
 
-__all__ = ["draw_mechanism_3d", "plot_mechanism_3d", "view_extent"]
+#: The legend's name of the platform point P (not a joint: the prismatic joint's
+#: legend says "type letter P").
+POINT_LEGEND = "P: platform point (origin of F_p)"
+#: Where a label may sit about its point (ha, va), in order of preference.
+_PLACEMENTS = (
+    ("left", "bottom"),
+    ("right", "bottom"),
+    ("left", "top"),
+    ("right", "top"),
+    ("center", "bottom"),
+    ("center", "top"),
+)
+
+
+def label_boxes(ax: Any) -> list[tuple[Any, Any]]:
+    """Each text of a 3-D axes with its box on screen (display pixels) as drawn: its
+    3-D position projected with the axes' current view, then its alignment."""
+    from matplotlib.transforms import Bbox
+    from mpl_toolkits.mplot3d import proj3d
+
+    fig = ax.figure
+    fig.canvas.draw()  # the layout and the projection ax.M as they will be drawn
+    renderer = fig.canvas.get_renderer()
+    out = []
+    for t in ax.texts:
+        if not t.get_visible() or not t.get_text().strip():
+            continue
+        out.append((t, _box(t, ax, renderer, proj3d, Bbox)))
+    return out
+
+
+def _box(t: Any, ax: Any, renderer: Any, proj3d: Any, bbox: Any) -> Any:
+    """The box (display) of 3-D text ``t`` at its alignment."""
+    x, y, z = t.get_position_3d()
+    xs, ys, _ = proj3d.proj_transform(x, y, z, ax.M)
+    px, py = ax.transData.transform((xs, ys))
+    ext = t.get_window_extent(renderer)
+    w, h = ext.width, ext.height
+    x0 = {"left": px, "right": px - w, "center": px - w / 2}[t.get_ha()]
+    y0 = {"bottom": py, "top": py - h, "center": py - h / 2, "baseline": py}.get(t.get_va(), py)
+    return bbox.from_bounds(x0, y0, w, h)
+
+
+#: Half the side [px] of the box a joint's marker takes on screen for the labels.
+MARKER_HALF = 4.0
+
+
+def marker_boxes(ax: Any) -> list[Any]:
+    """The screen boxes (display pixels) of the single-point markers of a 3-D axes
+    (joints, P, T): :data:`MARKER_HALF` about each projected point."""
+    from matplotlib.transforms import Bbox
+    from mpl_toolkits.mplot3d import proj3d
+
+    out = []
+    for line in ax.get_lines():
+        if line.get_marker() in (None, "None", "", " "):
+            continue
+        xs, ys, zs = (np.atleast_1d(c) for c in line.get_data_3d())
+        if xs.size != 1:
+            continue
+        u, v, _ = proj3d.proj_transform(xs[0], ys[0], zs[0], ax.M)
+        px, py = ax.transData.transform((u, v))
+        out.append(
+            Bbox.from_bounds(px - MARKER_HALF, py - MARKER_HALF, 2 * MARKER_HALF, 2 * MARKER_HALF)
+        )
+    return out
+
+
+def _anchor(t: Any, ax: Any) -> tuple[float, float]:
+    from mpl_toolkits.mplot3d import proj3d
+
+    x, y, z = t.get_position_3d()
+    u, v, _ = proj3d.proj_transform(x, y, z, ax.M)
+    px, py = ax.transData.transform((u, v))
+    return float(px), float(py)
+
+
+def declutter_labels(ax: Any) -> int:
+    """Move colliding labels of a 3-D axes to another side of their point.
+
+    Labels are placed in drawing order; one whose box overlaps a placed one tries the
+    alignments of :data:`_PLACEMENTS` (a leading space to the left of its point, a
+    trailing one to the right) and keeps the first that overlaps none. Returns the
+    number of labels that still overlap another label or a marker (0 when all are
+    apart). The other points' markers (:func:`marker_boxes`) are obstacles as well."""
+    from matplotlib.transforms import Bbox
+    from mpl_toolkits.mplot3d import proj3d
+
+    boxes = label_boxes(ax)
+    renderer = ax.figure.canvas.get_renderer()
+    markers = marker_boxes(ax)
+    placed: list[Any] = []
+    left = 0
+    for t, box in boxes:
+        px, py = _anchor(t, ax)
+        # the other points' markers are obstacles too (not the label's own point)
+        obstacles = placed + [m for m in markers if not m.contains(px, py)]
+        if any(box.overlaps(b) for b in obstacles):
+            word, ha0, va0 = t.get_text(), t.get_ha(), t.get_va()
+            core = word.strip()
+            for ha, va in _PLACEMENTS:
+                t.set_text({"left": " " + core, "right": core + " "}.get(ha, core))
+                t.set_ha(ha)
+                t.set_va(va)
+                box = _box(t, ax, renderer, proj3d, Bbox)
+                if not any(box.overlaps(b) for b in obstacles):
+                    break
+            else:  # no free side: as it was
+                t.set_text(word)
+                t.set_ha(ha0)
+                t.set_va(va0)
+                box = _box(t, ax, renderer, proj3d, Bbox)
+                left += 1
+        placed.append(box)
+    return left
+
+
+__all__ = [
+    "POINT_LEGEND",
+    "declutter_labels",
+    "draw_mechanism_3d",
+    "label_boxes",
+    "plot_mechanism_3d",
+    "view_extent",
+]

@@ -88,6 +88,47 @@ def mode_amplitude(design: Design, shapes: ArrayLike) -> float:
     return AMPLITUDE * size / worst if worst > 0 else 0.0
 
 
+#: Names of the six twist components (rotation about x, ..., z translation).
+COMPONENT_NAMES = (
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+    "x translation",
+    "y translation",
+    "z translation",
+)
+#: A component is named in a mode's title when it carries at least this share of the
+#: mode's balanced norm squared (at most the two largest are named).
+NAMED_SHARE = 0.1
+
+
+def mode_shares(shape: ArrayLike) -> FloatArray:
+    """Share of each twist component (6,) in a mode's balanced norm squared: the
+    rotations times :data:`LENGTH_SCALE` (so that 1 mrad and 1 mm weigh alike, as in
+    :mod:`ppm_stiffness.dynamics.modes`); the shares sum to 1."""
+    b = np.asarray(shape, dtype=float) * np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+    e = b**2
+    return np.asarray(e / np.sum(e))
+
+
+def mode_names(shapes: ArrayLike) -> list[str]:
+    """A distinct name for each mode (6, 6) at P, with its shares: its largest
+    component and, when it carries at least :data:`NAMED_SHARE`, the second, each with
+    its percentage (``"x translation 71 %, rotation about y 29 %"``). Two modes whose
+    names would still be equal (a repeated frequency's pair) get their number
+    (``"..., mode 2"``)."""
+    names = []
+    for v in np.asarray(shapes, dtype=float):
+        share = mode_shares(v)
+        order = np.argsort(-share, kind="stable")
+        parts = [order[0]] + [i for i in order[1:2] if share[i] >= NAMED_SHARE]
+        names.append(", ".join(f"{COMPONENT_NAMES[i]} {100 * share[i]:.0f} %" for i in parts))
+    for name in list(names):
+        if names.count(name) > 1:
+            names = [f"{n}, mode {k + 1}" if n == name else n for k, n in enumerate(names)]
+    return names
+
+
 def _view(shape: FloatArray, planar: bool) -> str:
     """The view of a mode's panel (module doc)."""
     if not planar:
@@ -118,7 +159,8 @@ def plot_modes(
     shapes : array_like (6, 6)
         ``shapes[j]``: the j-th mode's twist at P (axes of F_b) [rad, m].
     directions : sequence of str
-        The name of each mode's dominant component.
+        The name of each mode's dominant component (kept for the callers; the panels
+        are titled by :func:`mode_names`, with each named component's share).
     title : str
         Figure title (the amplitude is appended).
     """
@@ -129,6 +171,7 @@ def plot_modes(
     f = np.asarray(frequencies, dtype=float)
     planar = bool(design.planar)
     amp = mode_amplitude(design, v)
+    names = mode_names(v)
     fig = plt.figure(figsize=(13.5, 8.5))
     rest_poly = platform_polygon(design, q) * MM
     rest_legs = [line * MM for line in leg_polylines(design, q)]
@@ -172,11 +215,15 @@ def plot_modes(
             ax.set_ylabel(f"{_AXIS_NAMES[k]} [mm]")
             ax.grid(True, lw=0.3)
         label = "" if view in ("3d", "top") else f", {view} view"
-        ax.set_title(f"mode {j + 1}: {f[j]:.4g} Hz\n{directions[j]}{label}", fontsize=10)
+        ax.set_title(
+            f"mode {j + 1}: {f[j]:.4g} Hz\n{names[j]}{label}", fontsize=9, gid="mode-title"
+        )
     head = title + "\n" if title else ""
     fig.suptitle(
         f"{head}grey: at rest; colour: displaced along each mode (platform points moved by "
-        f"up to {AMPLITUDE * 100:.0f} % of the platform's size: exaggerated)",
+        f"up to {AMPLITUDE * 100:.0f} % of the platform's size: exaggerated)\nunder each "
+        "mode: its largest components, each with its share of the mode's length-balanced "
+        "norm squared (rotations times the length scale)",
         fontsize=10,
     )
     fig.tight_layout()
@@ -193,4 +240,12 @@ def _equal_3d(ax: Any, points: FloatArray) -> None:
     ax.set_box_aspect((1, 1, 1))
 
 
-__all__ = ["leg_polylines", "mode_amplitude", "platform_polygon", "plot_modes"]
+__all__ = [
+    "COMPONENT_NAMES",
+    "leg_polylines",
+    "mode_amplitude",
+    "mode_names",
+    "mode_shares",
+    "platform_polygon",
+    "plot_modes",
+]

@@ -31,6 +31,7 @@ from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.core.pose import POSE_INDEX
 from ppm_stiffness.design import Design
+from ppm_stiffness.leading import default_method, lead, leading_keys
 from ppm_stiffness.maps.slices import cli_scale, map_slice
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.visuals import report_spatial as spatial
@@ -41,9 +42,12 @@ from ppm_stiffness.visuals.html import figure_block as _figure
 from ppm_stiffness.visuals.html import figure_data_uri
 from ppm_stiffness.visuals.html import json_block as _json_block
 from ppm_stiffness.visuals.leg_geometry import pose_text
+from ppm_stiffness.visuals.report_wrench import PAPER_WRENCH, ReferenceWrench, reference_wrench
 
-#: The paper's loaded case: f = [5, 5, 20] N, m_z = 0.1 N·m, as (m_x, m_y, m_z, f_x, f_y, f_z).
-DEFAULT_WRENCH = np.array([0.0, 0.0, 0.1, 5.0, 5.0, 20.0])
+#: The paper's loaded case: f = [5, 5, 20] N, m_z = 0.1 N·m, as (m_x, m_y, m_z, f_x, f_y, f_z):
+#: the default of a planar design (a spatial one's is scaled to it,
+#: :mod:`ppm_stiffness.visuals.report_wrench`).
+DEFAULT_WRENCH = PAPER_WRENCH
 #: Load ranges of the three deflection curves (Fig. 9 modes) [N, N·m, N]; the same
 #: largest loads as ``ppm-stiffness deflect`` by default.
 DEFLECTION_LOADS = {
@@ -82,6 +86,7 @@ def build_report(
     progress: Progress | None = None,
     source: str | None = None,
     extra_sections: list[tuple[str, str, str]] | None = None,
+    design_text: str | None = None,
 ) -> str:
     """The HTML report of ``design`` at ``pose`` (see the module docstring).
 
@@ -91,8 +96,10 @@ def build_report(
     pose : array_like, shape (3,), optional
         (x [m], y [m], phi [rad]); the workspace centre if None.
     wrench : array_like, shape (6,), optional
-        Loading wrench (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P; default
-        :data:`DEFAULT_WRENCH`, the paper's f = [5, 5, 20] N, m_z = 0.1 N·m.
+        Loading wrench (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at the tool point; default
+        the design's reference wrench (:func:`ppm_stiffness.visuals.report_wrench
+        .reference_wrench`: the design file's ``[reference_wrench]``, else the paper's
+        f = [5, 5, 20] N, m_z = 0.1 N·m for a planar design, scaled to a spatial one).
     grid : int
         Points per axis of the stiffness maps.
     progress : callable, optional
@@ -101,6 +108,9 @@ def build_report(
         Where the design came from (file name), shown in the header.
     extra_sections : list of (id, title, html), optional
         Sections appended after the maps (e.g. the uncertainty section).
+    design_text : str, optional
+        The design file as written, embedded in the "Design parameters" section;
+        without it (a built-in design) the design's TOML serialisation, so labelled.
 
     Returns
     -------
@@ -127,11 +137,19 @@ def build_report(
         done += _STEPS[i][1]
 
     p = validate_pose(design, pose)  # the full pose (6,)
-    w = DEFAULT_WRENCH if wrench is None else np.asarray(wrench, dtype=float)
 
     step(0)
-    unloaded = analyze_design(design, p).to_dict()
-    loaded = analyze_design(design, p, w).to_dict()
+    # as `analyze --json` prints them (ppm_stiffness.leading: a spatial design leads
+    # with the least-squares decoupling)
+    method = default_method(design.planar)
+    unloaded = lead(
+        analyze_design(design, p, method=method).to_dict() | leading_keys(design.planar, None)
+    )
+    ref = reference_wrench(design, p, unloaded["stiffness_matrix"], wrench)
+    w = ref.wrench
+    loaded = lead(
+        analyze_design(design, p, w, method).to_dict() | leading_keys(design.planar, None)
+    )
     finish(0)
 
     step(1)
@@ -139,6 +157,10 @@ def build_report(
     finish(1)
 
     step(2)
+    same_k = same_stiffness(unloaded, loaded)
+    cases = [(unloaded, "Screw springs of K, unloaded (Fig. 5)")]
+    if not same_k:
+        cases.append((loaded, "Screw springs of K under the wrench (Table 5)"))
     spring_uris = [
         figure_data_uri(
             plot_screw_springs(
@@ -149,10 +171,7 @@ def build_report(
                 tool_point=res["tool_point"],
             )
         )
-        for res, title in (
-            (unloaded, "Screw springs of K, unloaded (Fig. 5)"),
-            (loaded, "Screw springs of K under the wrench (Table 5)"),
-        )
+        for res, title in cases
     ]
     finish(2)
 
@@ -174,7 +193,8 @@ def build_report(
     slices: list[float | None] = (
         [math.radians(d) for d in MAP_PHIS_DEG] if design.planar else [None]
     )
-    map_cases = [(ph, ac) for ph in slices for ac in MAP_ACTUATORS]
+    states = MAP_ACTUATORS if actuators_differ(design) else MAP_ACTUATORS[:1]
+    map_cases = [(ph, ac) for ph in slices for ac in states]
     n_maps = len(map_cases)
     for m, (phi, acts) in enumerate(map_cases):
         step(4, m / n_maps)
@@ -183,6 +203,8 @@ def build_report(
             step(4, (m + done_poses / max(total_poses, 1)) / n_maps)
 
         state = f"actuators at their {'maximum' if acts == 'max' else 'minimum'} stiffness"
+        if len(states) == 1:
+            state = "actuators at their stiffness (minimum = maximum: linear laws)"
         key = f"{math.degrees(phi):g}" if phi is not None else ""
         where: dict[str, Any] = {"phi": phi}
         if phi is None:  # the default axes, the other task coordinates at the pose
@@ -226,7 +248,36 @@ def build_report(
         grid,
         source,
         extra_sections,
+        ref,
+        design_text,
+        len(states) == 1,
     )
+
+
+#: K under the wrench equals the unloaded K when no entry differs by more than this
+#: share of the largest (round-off; linear actuators under the frozen geometry).
+SAME_STIFFNESS = 1e-12
+
+
+def same_stiffness(unloaded: dict[str, Any], loaded: dict[str, Any]) -> bool:
+    """True when K under the wrench is the unloaded K to round-off
+    (:data:`SAME_STIFFNESS`): linear actuators, whose stiffness does not change with
+    the load, under the frozen geometry."""
+    k0 = np.asarray(unloaded["stiffness_matrix"], dtype=float)
+    k1 = np.asarray(loaded["stiffness_matrix"], dtype=float)
+    return bool(np.max(np.abs(k1 - k0)) <= SAME_STIFFNESS * np.max(np.abs(k0)))
+
+
+def actuators_differ(design: Design) -> bool:
+    """True when some actuator's stiffness at the maps' "min" state (eq. 20-21 under
+    the reference load) differs from its locked ("max") one; False for linear laws
+    (q = 1), whose two maps would be the same picture."""
+    from ppm_stiffness.maps.workspace import DEFAULT_REFERENCE_FORCE, minimum_actuator_stiffness
+    from ppm_stiffness.model import locked_actuator_stiffness
+
+    k_max = np.asarray(locked_actuator_stiffness(design), dtype=float)
+    k_min = minimum_actuator_stiffness(design, DEFAULT_REFERENCE_FORCE)
+    return not np.allclose(k_min, k_max, rtol=1e-12, atol=0.0)
 
 
 def _assemble(
@@ -241,6 +292,9 @@ def _assemble(
     grid: int,
     source: str | None,
     extra_sections: list[tuple[str, str, str]] | None = None,
+    ref: ReferenceWrench | None = None,
+    design_text: str | None = None,
+    maps_once: bool = False,
 ) -> str:
     try:
         from importlib.metadata import version
@@ -259,6 +313,17 @@ def _assemble(
     point = tables.reference_point(design)
     w = loaded["wrench"]
     wrench_txt = f"f = ({w[3]:g}, {w[4]:g}, {w[5]:g}) N, m = ({w[0]:g}, {w[1]:g}, {w[2]:g}) N·m"
+    ref_txt = ref.text if ref is not None else wrench_txt
+    if same_stiffness(unloaded, loaded):
+        springs_loaded = (
+            '<p class="note" id="springs-loaded-same">K under the wrench is the unloaded K '
+            "(every actuator linear, the geometry frozen): its screw springs are those "
+            "drawn above, not drawn again.</p>"
+        )
+    else:
+        springs_loaded = _figure(
+            spring_uris[1], "Screw springs under the wrench.", "fig-springs-loaded"
+        )
     mech_caption = (
         f"Top view of the {_esc(design.architecture)} in F<sub>b</sub> "
         "[mm]: each leg's base rail (over the actuator stroke) or base pivot, its "
@@ -272,7 +337,7 @@ def _assemble(
         mechanism = spatial.pose_section(design, unloaded) + mechanism
     springs_where = "P" if point == "P" else "the tool point T"
     sections = [
-        ("design", "Design parameters", tables.design_section(design)),
+        ("design", "Design parameters", tables.design_section(design, design_text, source)),
         ("mechanism", "The mechanism at the pose", mechanism),
         (
             "stiffness",
@@ -280,7 +345,9 @@ def _assemble(
             f"<p>w = K t at {point} with the axes of F<sub>b</sub>; t = (φ, u) [rad, m], "
             "w = (m, f) [N·m, N]. Blocks: K<sub>rr</sub> [N·m/rad], K<sub>rt</sub> [N], "
             "K<sub>tt</sub> [N/m]; actuators locked (compare eq. 22).</p>"
-            + tables.stiffness_table(unloaded, "unloaded", "K [SI], unloaded"),
+            + tables.stiffness_table(
+                unloaded, "unloaded", "K, unloaded (units of each block above)"
+            ),
         ),
         (
             "screw-springs",
@@ -311,13 +378,14 @@ def _assemble(
             "decoupling",
             "Decoupling and principal stiffnesses (eq. 28–32)"
             if planar
-            else "Decoupling (eq. 19 and the least-squares shift)",
+            else "Decoupling (the least-squares shift; eq. 19 for comparison)",
             tables.decoupling_section(unloaded, "unloaded", cards=planar),
         ),
         (
             "loaded",
             f"Loaded case: {wrench_txt} (eq. 33–35, Table 5)",
-            tables.loaded_section(design, loaded, unloaded)
+            f'<p class="meta" id="reference-wrench">Reference wrench: {ref_txt}.</p>'
+            + tables.loaded_section(design, loaded, unloaded)
             + (
                 "<h3>Principal stiffnesses under the wrench</h3>"
                 + tables.principal_cards(loaded, "loaded")
@@ -327,7 +395,7 @@ def _assemble(
                 + spatial.compliance_cards(loaded, "loaded")
             )
             + tables.springs_table(loaded, "loaded", "Screw springs under the wrench (Table 5)")
-            + _figure(spring_uris[1], "Screw springs under the wrench.", "fig-springs-loaded")
+            + springs_loaded
             + "<details><summary>Decoupling under the wrench</summary>"
             + tables.decoupling_section(loaded, "loaded", cards=planar)
             + "</details>",
@@ -343,9 +411,9 @@ def _assemble(
                 "locked matrix (linear, as the paper's Fig. 10 model)."
                 if planar
                 else f"Deflection of {point} as the loaded case's wrench ({wrench_txt}) grows "
-                "from zero to its full value (the load axis is its scale, 0 to 1): with the "
-                "actuators' law (eq. 20–21) in the loop (integrate) and with the unloaded, "
-                "locked matrix (linear).",
+                "from zero to its full value (the load axis is the force's magnitude [N], "
+                "the moment growing in proportion): with the actuators' law (eq. 20–21) in "
+                "the loop (integrate) and with the unloaded, locked matrix (linear).",
                 "fig-deflection",
             ),
         ),
@@ -362,6 +430,14 @@ def _assemble(
                 "maps",
                 "Stiffness maps (Figs. 6–7)" if planar else "Stiffness maps",
                 f"<p>{what} over the reachable workspace, {grid} × {grid} grid.</p>"
+                + (
+                    '<p class="note" id="maps-once">Every actuator is linear (q = 1): its '
+                    "stiffness at the maps' minimum state (eq. 20–21 under the reference "
+                    "load) is its locked (maximum) one, so the two maps are the same "
+                    "picture, shown once.</p>"
+                    if maps_once
+                    else ""
+                )
                 + "".join(
                     (
                         _figure(uri, caption, f"fig-map-{key}")
@@ -384,12 +460,18 @@ def _assemble(
         for sid, title, content in sections
     )
     src = f"design file {_esc(source)}" if source else "built-in design"
+    ref_note = {
+        "scaled": " (the paper's load scaled to the design: see the loaded case)",
+        "design file": " (the design file's [reference_wrench])",
+        "paper": " (the paper's load)",
+        "option": " (--wrench)",
+    }.get(ref.source if ref is not None else "", "")
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         f"<title>Stiffness report: {_esc(design.name)}</title><style>{_CSS}</style></head>"
         f"<body><main><h1>Stiffness report: {_esc(design.name)}</h1>"
-        f'<p class="meta">{src}; pose {pose_txt}; loaded case {wrench_txt}.<br>'
+        f'<p class="meta">{src}; pose {pose_txt}; loaded case {wrench_txt}{ref_note}.<br>'
         f"ppm-stiffness {_esc(ver)}, {stamp}. All numbers come from "
         "<code>ppm-stiffness analyze --json</code> (embedded in this page).</p>"
         f"{nav}{body}"

@@ -32,8 +32,9 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.visuals.html import cell, esc, table, vector_cells
 
 #: Scales of the loaded case's wrench along the deflection curve of a spatial design:
-#: the load grows along the direction of that wrench (the report's ``--wrench``, the
-#: paper's f = [5, 5, 20] N, m_z = 0.1 N·m by default) from zero to its full value.
+#: the load grows along the direction of that wrench (the report's reference wrench,
+#: :mod:`ppm_stiffness.visuals.report_wrench`) from zero to its full value; the curve's
+#: load axis is the force's magnitude [N].
 DEFLECTION_SCALES = np.linspace(0.0, 1.0, 41)
 #: Displayed unit and scale of each pose coordinate.
 POSE_DISPLAY = {
@@ -44,11 +45,11 @@ POSE_DISPLAY = {
 
 #: How the 3-D view draws each joint kind (the caption's words).
 _JOINT_WORDS = {
-    "U": "U a cross with bars along its two axes",
-    "S": "S a ball",
-    "R": "R a circle with a bar along its axis",
-    "P": "P a square with its slider",
-    "C": "C a diamond with its sleeve",
+    "U": "universal joints U: a cross with bars along their two axes",
+    "S": "spherical joints S: a ball",
+    "R": "revolute joints R: a circle with a bar along the axis",
+    "P": "prismatic joints (type letter P): a square with the slider",
+    "C": "cylindrical joints C: a diamond with the sleeve",
 }
 
 
@@ -66,7 +67,7 @@ def mechanism_caption(design: Design, pose: ArrayLike) -> str:
         + (", each leg's rail over the actuator stroke" if rails else "")
         + ", the legs' links and joints ("
         + ", ".join(_JOINT_WORDS[k] for k in kinds)
-        + "; the actuated joint ringed), the platform, P"
+        + "; the actuated joint ringed), the platform, its point P"
         + (", the tool point T" if view.has_tool else "")
         + " and the frames of F<sub>b</sub> and of the platform."
     )
@@ -167,18 +168,20 @@ def compliance_section(result: dict[str, Any], key: str, point: str) -> str:
 
 
 def twist_table(loaded: dict[str, Any], point: str) -> str:
-    """The deflection (twist) of the reference point under the wrench [µrad, µm]."""
-    t = loaded["twist"]
+    """The deflection (twist) of the reference point under the wrench [deg, mm], the
+    CLI's units (``analyze --wrench``)."""
+    t = np.asarray(loaded["twist"], dtype=float)
+    scales = [180 / math.pi] * 3 + [1e3] * 3
     ref = float(np.max(np.abs(t)))
-    cells = [cell(t[j], f"loaded/twist/{j}", scale=1e6, sig=4, ref=ref) for j in range(6)]
+    cells = [cell(t[j], f"loaded/twist/{j}", scale=scales[j], sig=4, ref=ref) for j in range(6)]
     return table(
         [
-            "φ<sub>x</sub> [µrad]",
-            "φ<sub>y</sub> [µrad]",
-            "φ<sub>z</sub> [µrad]",
-            "x [µm]",
-            "y [µm]",
-            "z [µm]",
+            "φ<sub>x</sub> [deg]",
+            "φ<sub>y</sub> [deg]",
+            "φ<sub>z</sub> [deg]",
+            "x [mm]",
+            "y [mm]",
+            "z [mm]",
         ],
         [cells],
         caption=f"Deflection of {point} under the wrench (twist, axes of F<sub>b</sub>; the "
@@ -188,14 +191,19 @@ def twist_table(loaded: dict[str, Any], point: str) -> str:
 
 def deflection_curves(design: Design, pose: ArrayLike, wrench: ArrayLike) -> list[Any]:
     """The tool point's deflection as ``wrench`` grows from zero to its full value
-    (:data:`DEFLECTION_SCALES`), with the actuators' law integrated along the path and
-    with the unloaded, locked matrix (:func:`ppm_stiffness.statics.deflection
-    .deflection_path`, mode ``"wrench"``: the load is a dimensionless scale)."""
-    from ppm_stiffness.statics.deflection import deflection_path
+    (:data:`DEFLECTION_SCALES` of it), with the actuators' law integrated along the path
+    and with the unloaded, locked matrix (:func:`ppm_stiffness.statics.deflection
+    .deflection_path`, mode ``"direction"``: the load is the magnitude of the force
+    [N], or of the moment [N·m] for a pure moment, :func:`~ppm_stiffness.statics
+    .deflection.direction_wrench`)."""
+    from ppm_stiffness.statics.deflection import DIRECTION, deflection_path, direction_wrench
 
+    unit = direction_wrench(wrench)
+    full = float(np.linalg.norm(np.asarray(wrench, dtype=float)[3:]))
+    full = full if full > 0 else float(np.linalg.norm(np.asarray(wrench, dtype=float)[:3]))
     return [
-        deflection_path(design, wrench, DEFLECTION_SCALES, pose, method=method)
-        for method in ("integrate", "linear")
+        deflection_path(design, unit, DEFLECTION_SCALES * full, pose, mode=DIRECTION, method=m)
+        for m in ("integrate", "linear")
     ]
 
 

@@ -34,10 +34,22 @@ _DISPLAY_UNITS: dict[str, tuple[str, float]] = {
     "m": ("mm", 1e3),
     "rad": ("deg", 180 / math.pi),
     "Pa": ("GPa", 1e-9),
-    "m^2": ("m²", 1.0),
-    "m^4": ("m⁴", 1.0),
     "1": ("–", 1.0),
 }
+#: Powers written as superscripts in every shown unit (``kg·m^2`` -> ``kg·m²``).
+_SUPERSCRIPTS = str.maketrans({"2": "²", "3": "³", "4": "⁴"})
+
+
+def shown_unit(si: str) -> tuple[str, float]:
+    """How an SI unit is shown in the report: (unit, scale); the powers 2, 3, 4 as
+    superscripts (m², kg·m², kg/m³), another power as written (N/m^q)."""
+    if si in _DISPLAY_UNITS:
+        return _DISPLAY_UNITS[si]
+    head, *powers = si.split("^")
+    text = head + "".join(
+        p[:1].translate(_SUPERSCRIPTS) + p[1:] if p[:1] in "234" else "^" + p for p in powers
+    )
+    return text, 1.0
 
 
 #: SI unit of the design's top-level parameters shown in the report (the legs' come
@@ -54,12 +66,15 @@ _DESIGN_UNITS = {
 
 
 def param_text(key: str, value: Any, si_unit: str | None = None) -> tuple[str, str]:
-    """A parameter as shown: its text in display units (mm, deg, GPa, µm) and the unit."""
+    """A parameter as shown: its text in display units (mm, deg, GPa; µm for an
+    actuator's threshold displacement) and the unit ("" for a word)."""
     si = si_unit if si_unit is not None else _DESIGN_UNITS.get(key, "")
     if key.endswith("threshold_displacement") and si == "m":
         unit, scale = "µm", 1e6
+    elif isinstance(value, str):  # a word (mass_centre_from = "base"): no unit
+        unit, scale = "", 1.0
     else:
-        unit, scale = _DISPLAY_UNITS.get(si, (si or "SI", 1.0))
+        unit, scale = shown_unit(si)
     if isinstance(value, (list, tuple)):
         text = "(" + ", ".join(f"{float(x) * scale:.6g}" for x in value) + ")"
     elif isinstance(value, (int, float)):
@@ -85,9 +100,13 @@ def workspace_rows(design: Design) -> list[list[str]]:
     return rows
 
 
-def design_section(design: Design) -> str:
+def design_section(
+    design: Design, design_text: str | None = None, source: str | None = None
+) -> str:
     """The design's parameters: the workspace and tool point, one column per leg, and
-    the design file (TOML) folded."""
+    the design file folded: ``design_text``, the file as written (its comments and
+    layout, escaped), or without it (a built-in design) its TOML serialisation, so
+    labelled."""
     parts = []
     rows = workspace_rows(design)
     text, unit = param_text("tool_point", design.tool_point)
@@ -108,8 +127,15 @@ def design_section(design: Design) -> str:
             cls="params",
         )
     )
-    toml = _esc(dump_design(design))
-    parts.append(f"<details><summary>Design file (TOML, SI)</summary><pre>{toml}</pre></details>")
+    if design_text is not None:
+        what = f"Design file {_esc(source)} as written" if source else "Design file as written"
+        text = design_text
+    else:
+        what = "Design as TOML (built-in design: its serialisation, SI)"
+        text = dump_design(design)
+    parts.append(
+        f'<details><summary>{what}</summary><pre id="design-file">{_esc(text)}</pre></details>'
+    )
     return '<div class="cols">' + "".join(parts[:2]) + "</div>" + parts[2]
 
 
@@ -197,13 +223,18 @@ def principal_cards(result: dict[str, Any], key: str) -> str:
 
 def decoupling_section(result: dict[str, Any], key: str, cards: bool = True) -> str:
     """Both decouplings (eq. 19, least squares): d, the residual coupling, M, K'_rr,
-    K'_tt and their eigen-pairs; ``cards``: the paper's k_phi, k_x, k_y first (planar
-    designs)."""
+    K'_tt and their eigen-pairs; ``cards``: the paper's k_phi, k_x, k_y and its eq. (19)
+    first (planar designs), else the least-squares shift first (spatial designs, as
+    ``analyze`` leads)."""
     parts = [principal_cards(result, key)] if cards else []
-    for dkey, pkey, title in (
+    cases = [
         ("decoupling", "principal", "paper's eq. (19)"),
         ("decoupling_least_squares", "principal_least_squares", "least-squares shift"),
-    ):
+    ]
+    if not cards:
+        cases.reverse()
+        cases[1] = (*cases[1][:2], "paper's eq. (19), for comparison (planar definitions)")
+    for dkey, pkey, title in cases:
         dec, pr = result[dkey], result[pkey]
         base = f"{key}/{dkey}"
         d_cells = _vector_cells(dec["d"], f"{base}/d", scale=1e3, sig=4)
@@ -271,7 +302,7 @@ def decoupling_section(result: dict[str, Any], key: str, cards: bool = True) -> 
 
 
 #: Shown unit and scale of an actuator displacement, by its SI unit.
-_DISPLACEMENT_DISPLAY = {"m": ("µm", 1e6), "rad": ("µrad", 1e6)}
+_DISPLACEMENT_DISPLAY = {"m": ("mm", 1e3), "rad": ("deg", 180 / math.pi)}  # as the CLI
 
 
 def actuator_units(design: Design) -> list[tuple[str, str, float, str]]:

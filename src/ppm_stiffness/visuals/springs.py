@@ -14,8 +14,10 @@ the mechanism pictures (:mod:`ppm_stiffness.visuals.leg_geometry`,
 each leg's links and joints (by kind), any architecture. A planar design lies in the
 plane z = 0, its legs clipped to the box around the springs (its rails and guide
 blocks may lie far out); a spatial design is drawn whole, with its base and rails.
-Everything is relative to P with the axes of F_b, in millimetres, like the stiffness
-matrix.
+Everything is relative to P (or the tool point T, where K is given) with the axes of
+F_b, in millimetres, like the stiffness matrix; the axis labels (``x − x_P [mm]``) and
+the title ("drawn relative to P ... with the axes of F_b") say so: the mechanism
+picture is in F_b.
 
 The spring-axis lines carry the gid ``"spring-axis-<i>"`` and the helices
 ``"spring-helix-<i>"`` (i from 1) so that tests and users can read back the plotted
@@ -265,9 +267,10 @@ def plot_screw_springs(
     ax.set_xlim3d(lo[0], hi[0])
     ax.set_ylim3d(lo[1], hi[1])
     ax.set_zlim3d(lo[2], hi[2])
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("y [mm]")
-    ax.set_zlabel("z [mm]")
+    # the frame: the axes of F_b, the origin at the point of K (not F_b's origin O)
+    at = "T" if np.any(t != 0.0) else "P"
+    for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
+        setter(f"{name} − {name}$_{at}$ [mm]")
     _equal_box(ax)
     if view is None or view.design.planar:
         ax.view_init(elev=24, azim=-58)
@@ -286,9 +289,14 @@ def plot_screw_springs(
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, framealpha=0.9)
     cb.set_label(label)
     ax.set_title(
-        title or "Six screw springs of K, relative to P with the axes of F_b",
+        (title or "Six screw springs of K")
+        + f"\ndrawn relative to {at} ({'tool point' if at == 'T' else 'platform point'}) "
+        "with the axes of F_b",
         fontsize=11,
     )
+    from ppm_stiffness.visuals.mechanism3d import declutter_labels
+
+    declutter_labels(ax)  # P, T, the springs' and joints' names apart on screen
     return fig
 
 
