@@ -49,7 +49,7 @@ def page(tmp_path_factory: pytest.TempPathFactory) -> str:
 
 def _stiffness(design: object, pose: np.ndarray) -> np.ndarray:
     """The unloaded K at the tool point, as the report has it."""
-    return np.asarray(analyze_design(design, pose)["stiffness_matrix"])
+    return np.asarray(analyze_design(design, pose).stiffness_matrix)
 
 
 def _k(name: str) -> tuple[object, np.ndarray, np.ndarray]:
@@ -221,7 +221,7 @@ def test_mode_names_give_shares_and_are_distinct() -> None:
     design = design_named("3prs")
     pose = full_pose(design, np.array([0.42, math.radians(8.0), math.radians(-5.0)]))
     result = modal_analysis(design, pose, tool_point=np.zeros(3))
-    shapes = np.array([m["shape"] for m in result["modes"]])
+    shapes = np.array([m["shape"] for m in result.to_dict()["modes"]])
     names = mode_names(shapes)
     assert len(set(names)) == 6
     for v, name in zip(shapes, names, strict=True):

@@ -67,7 +67,7 @@ def _pose(name: str) -> np.ndarray:
 def _reference(name: str) -> np.ndarray:
     """The report's loaded case of an example: the paper's load scaled to it."""
     design, pose = design_named(name), _pose(name)
-    k = analyze_design(design, pose)["stiffness_matrix"]
+    k = analyze_design(design, pose).stiffness_matrix
     return reference_wrench(design, pose, k).wrench
 
 

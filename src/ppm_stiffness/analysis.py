@@ -31,6 +31,7 @@ from ppm_stiffness.core.principal import PrincipalCompliance, principal_complian
 from ppm_stiffness.core.results import DeprecatedMapping
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.analysis import first_mode
+from ppm_stiffness.leading import default_method, lead, leading_keys
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     stiffness_at_pose,
@@ -253,6 +254,9 @@ class Analysis(MatrixAnalysis):
         [Hz] with a mass model (not with ``geometry="moving"``).
     first_mode_direction : str or None
         The first mode's dominant direction, with ``first_frequency``.
+    planar : bool
+        A planar design: its tables lead with the paper's eq. (19) unless ``method`` is
+        the least-squares shift (:mod:`ppm_stiffness.leading`).
     """
 
     pose: FloatArray
@@ -271,6 +275,7 @@ class Analysis(MatrixAnalysis):
     load_margin: LoadMargin | None = None
     first_frequency: float | None = None
     first_mode_direction: str | None = None
+    planar: bool = True
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (lists, floats, strings): the dict ``analyze`` returned in 0.2,
@@ -300,7 +305,8 @@ class Analysis(MatrixAnalysis):
         if self.first_frequency is not None:
             out["first_frequency"] = self.first_frequency
             out["first_mode_direction"] = self.first_mode_direction
-        return out
+        out.update(leading_keys(self.planar, self.method))
+        return lead(out)
 
     def to_json(self) -> str:
         """The text ``ppm-stiffness analyze --json`` prints for this analysis."""
@@ -311,7 +317,7 @@ def analyze_design(
     design: Design,
     pose: ArrayLike | None = None,
     wrench: ArrayLike | None = None,
-    method: Method = "paper",
+    method: Method | None = None,
     tool_point: ArrayLike | None = None,
     geometry: str = "frozen",
 ) -> Analysis:
@@ -326,8 +332,10 @@ def analyze_design(
         of P in F_b (:mod:`ppm_stiffness.poses`); the home pose if None.
     wrench : array_like (6,), optional
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] applied at the tool point, axes of F_b.
-    method : {"paper", "least-squares"}
-        The decoupling shown first (``method``); both are computed.
+    method : {"paper", "least-squares"}, optional
+        The decoupling shown first (``method``); both are computed. None: the paper's
+        eq. (19) for a planar design, the least-squares shift for a spatial one
+        (:func:`ppm_stiffness.leading.default_method`).
     tool_point : array_like (3,), optional
         In the platform frame [m]; ``design.tool_point`` if None ((0, 0, 0) is P).
     geometry : {"frozen", "moving"}
@@ -370,7 +378,10 @@ def analyze_design(
         "architecture": design.architecture,
         "tool_point": tool,
         "actuator_units": [tuple(leg.actuator_units()) for leg in design.legs],
+        "planar": design.planar,
     }
+    if method is None:
+        method = default_method(design.planar)
     if wrench is None:
         k_act = actuator_stiffness_vector(design, None)
         k = stiffness_at_pose(design, p, k_act)

@@ -34,10 +34,10 @@ from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
-from ppm_stiffness.leading import default_method, lead, leading_keys
+from ppm_stiffness.leading import lead, leading_keys
 
 if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
-    from ppm_stiffness.core.decoupling import Method
+    pass
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -113,9 +113,7 @@ def run(args: argparse.Namespace) -> int:
             )
         if args.geometry == "moving" and variables is not None:
             raise InputDataError("--tolerances works with the frozen geometry only")
-        method: Method = args.method or default_method(design.planar)
-        result = analyze_design(design, pose, wrench, method, tool, args.geometry).to_dict()
-        result.update(leading_keys(design.planar, args.method))
+        result = analyze_design(design, pose, wrench, args.method, tool, args.geometry).to_dict()
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
         title = design.name

@@ -31,7 +31,6 @@ from ppm_stiffness.core.eigenscrews import eigenscrews
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
 from ppm_stiffness.core.pose import POSE_INDEX
 from ppm_stiffness.design import Design
-from ppm_stiffness.leading import default_method, lead, leading_keys
 from ppm_stiffness.maps.slices import cli_scale, map_slice
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.visuals import report_spatial as spatial
@@ -141,15 +140,10 @@ def build_report(
     step(0)
     # as `analyze --json` prints them (ppm_stiffness.leading: a spatial design leads
     # with the least-squares decoupling)
-    method = default_method(design.planar)
-    unloaded = lead(
-        analyze_design(design, p, method=method).to_dict() | leading_keys(design.planar, None)
-    )
+    unloaded = analyze_design(design, p).to_dict()
     ref = reference_wrench(design, p, unloaded["stiffness_matrix"], wrench)
     w = ref.wrench
-    loaded = lead(
-        analyze_design(design, p, w, method).to_dict() | leading_keys(design.planar, None)
-    )
+    loaded = analyze_design(design, p, w).to_dict()
     finish(0)
 
     step(1)

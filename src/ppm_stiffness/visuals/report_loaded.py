@@ -59,11 +59,8 @@ def loaded_geometry_section(
 
     p = np.asarray(pose, dtype=float)
     w = np.asarray(wrench, dtype=float)
-    from ppm_stiffness.leading import default_method, lead, leading_keys
-
-    method = default_method(design.planar)  # as `analyze --json` (ppm_stiffness.leading)
-    doc = analyze_design(design, p, w, method, geometry="moving").to_dict()
-    doc = lead(doc | leading_keys(design.planar, None))
+    # as `analyze --json` prints it (ppm_stiffness.leading)
+    doc = analyze_design(design, p, w, geometry="moving").to_dict()
     curves = moving_deflection(design, w, SCALES, p, "integrate", "wrench")
     uri = figure_data_uri(plot_deflection_curves([curves.frozen, curves.moving]))
     mg = doc["moving_geometry"]
