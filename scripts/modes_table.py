@@ -53,7 +53,7 @@ def design_of(file: str | None) -> Design:
 
 def row(name: str, design: Design) -> str:
     """One markdown row of the table."""
-    result = modal_analysis(design)
+    result = modal_analysis(design).to_dict()
     masses = result["masses"]
     freqs = ", ".join(f"{f:.1f}" for f in result["frequencies"])
     cells = [name, *(f"{masses[k]:.4g}" for k in ("platform", "links", "carriages")), freqs]
