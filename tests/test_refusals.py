@@ -340,3 +340,36 @@ def test_no_equilibrium_is_masked_like_loaded_state(monkeypatch: pytest.MonkeyPa
     codes = [code_of(lambda p: loaded_state(design, WRENCH, p), p) for p in poses]
     np.testing.assert_array_equal(res.refusal, codes)
     assert codes == [Refusal.NO_EQUILIBRIUM, Refusal.NO_EQUILIBRIUM, Refusal.UNREACHABLE]
+
+
+@pytest.mark.parametrize(
+    ("name", "z_mm", "outward"),
+    [("3rps", 438.7482193696061, 1.0), ("hexapod_6ups", 149.65129411818793, -1.0)],
+)
+def test_a_pose_exactly_at_a_stroke_end_is_reachable_for_the_map_and_the_single_pose(
+    name: str, z_mm: float, outward: float, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The issue-27 attack's poses (z found by bisection): one leg is at its stroke end
+    to round-off (0.45 m, 0.175 m). Before, the single pose was refused ("leg length
+    |AB| 450.00 mm outside [300.00, 450.00] mm") by the last bit of the length; a pose
+    1 um farther out stays refused, by the map's mask and the single pose alike."""
+    from ppm_stiffness.design.io import load_design
+
+    path = f"examples/{name}.toml"
+    design = load_design(path)
+    at_end = np.array(design.workspace.start(), dtype=float)
+    at_end[2] = z_mm / 1000
+    gaps = [
+        abs(float(leg.solve(at_end).coordinates[c]) - end)
+        for leg in design.legs
+        for c, ends in leg.limits().items()
+        for end in ends
+    ]
+    assert min(gaps) < 1e-15  # a leg at its stroke end to round-off
+    for dz, reachable in ((0.0, True), (outward * 1e-6, False)):
+        pose = at_end + np.array([0, 0, dz, 0, 0, 0])
+        assert all(bool(leg.reachable(leg.solve(pose))) for leg in design.legs) is reachable
+        assert main(["analyze", "--design", path, "--z", repr(float(pose[2]) * 1000)]) == (
+            0 if reachable else 2
+        )
+        capsys.readouterr()

@@ -56,6 +56,35 @@ from ppm_stiffness.legs.parts import (
 MAX_LENGTH = 10.0
 #: Largest angle a design file may give [rad]: beyond it, degrees are likely.
 MAX_ANGLE = 2 * math.pi
+#: Relative round-off allowed at a joint limit (of the limit's magnitude): a pose placed
+#: exactly at a stroke end computes its length a few ulp past it, and stays reachable.
+LIMIT_RTOL = 1e-12
+
+
+def within_limits(q: ArrayLike, lo: float, hi: float) -> FloatArray:
+    """Mask of joint coordinates ``q`` in ``[lo, hi]`` up to round-off.
+
+    The one limit test of single poses (:meth:`LegModel.check`) and maps
+    (:meth:`LegModel.reachable`): each end is widened by :data:`LIMIT_RTOL` times
+    ``max(|lo|, |hi|)`` (finite ends only), so a pose exactly at a stroke end is
+    reachable whichever way its last bit rounds.
+
+    Parameters
+    ----------
+    q : array_like (...)
+        Joint coordinate values [m or rad].
+    lo, hi : float
+        The admissible range [m or rad].
+
+    Returns
+    -------
+    ndarray of bool (...)
+    """
+    ends = [abs(v) for v in (lo, hi) if math.isfinite(v)]
+    tol = LIMIT_RTOL * max(ends, default=0.0)
+    q = np.asarray(q, dtype=float)
+    return np.asarray((q >= lo - tol) & (q <= hi + tol))
+
 
 #: A working mode (+1 or -1) of a leg whose inverse kinematics has two solutions; an
 #: integer, never a boolean (``branch = true`` is refused, as every coerced number).
@@ -322,8 +351,7 @@ class LegModel(PartModel):
         """Mask of poses where the IK is solvable and every coordinate is in range."""
         ok = np.asarray(leg_pose.solvable, dtype=bool)
         for name, (lo, hi) in self.limits().items():
-            q = leg_pose.coordinates[name]
-            ok = ok & (q >= lo) & (q <= hi)
+            ok = ok & within_limits(leg_pose.coordinates[name], lo, hi)
         return np.asarray(ok)
 
     def check(self, leg_pose: LegPose, label: str) -> None:
@@ -335,7 +363,7 @@ class LegModel(PartModel):
             )
         for name, (lo, hi) in self.limits().items():
             q = float(leg_pose.coordinates[name])
-            if not lo <= q <= hi:
+            if not within_limits(q, lo, hi):
                 c = self.COORDINATES[name]
                 scale, unit = (1e3, "mm") if c.unit == "m" else (180 / np.pi, "deg")
                 raise UnreachablePoseError(
