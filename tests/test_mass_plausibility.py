@@ -174,3 +174,55 @@ def test_a_platform_lighter_than_a_milligram_is_refused(
     milli = _edited(tmp_path, HEXAPOD, "mass = 1.766", "mass = 1.766e-7")
     with pytest.raises(DesignError, match=r"did you mean 0\.0001766 \(t\)\?"):
         load_design(milli)
+
+
+BUILTIN = ROOT / "src" / "ppm_stiffness" / "data" / "paper_3ppr.toml"
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "refused"),
+    [
+        (
+            "mass = 0.08505",
+            "mass = 85.05",
+            r"key 'leg\*': proximal\.mass = 85\.05: implausible density: a link of section "
+            r"0\.00021 m\^2 and 0\.2236 m .*did you mean 0\.08505 \(g\)\? \(figures of leg1; "
+            r"every leg alike\)$",
+        ),
+        (
+            "mass_centre = 0.08",
+            "mass_centre = 10.0",
+            r"key 'leg\*': distal\.mass_centre = 10: .* longest length over its stroke is "
+            r"0\.3436 m .*did you mean 0\.01 \(mm\)\? \(figures of leg1; every leg alike\)$",
+        ),
+    ],
+)
+def test_one_slip_in_every_leg_of_different_lengths_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], old: str, new: str, refused: str
+) -> None:
+    """The built-in's three legs differ in length, so the same slip in [parts] gave three
+    messages with different figures, one a line (the 3-RPR's equal legs gave one): the
+    same key, value and hint in every leg is one line under ``leg*``."""
+    path = _edited(tmp_path, BUILTIN, old, new)
+    with pytest.raises(DesignError, match=refused) as caught:
+        load_design(path)
+    assert len(str(caught.value).splitlines()) == 1
+    _cli_refuses(["modes", "--design", str(path)], capsys, refused)
+
+
+@pytest.mark.parametrize("command", ["sweep", "optimize"])
+def test_a_vary_range_slipping_in_every_leg_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    argv = [command, "--design", str(BUILTIN), "--vary", "leg*.distal.mass_centre=0.05:10"]
+    if command == "sweep":
+        argv[-1] += ":2"
+    else:
+        argv += ["--budget", "10", "--out", str(tmp_path / "o.toml")]
+    _cli_refuses(
+        [*argv, "--quiet"],
+        capsys,
+        r"HI = 10 m is refused by the design \(key 'leg\*': distal\.mass_centre = 10: .*"
+        r"\(figures of leg1; every leg alike\)\)$",
+    )
+    assert not (tmp_path / "o.toml").exists()

@@ -376,16 +376,30 @@ def _position(data: Any, path: Path) -> tuple[int, ...]:
 
 def _tidy(issues: list[Issue], n_legs: int) -> list[Issue]:
     """Issues without repeats, in file order; the same error in every leg is one issue,
-    named with the glob ``leg*`` (``leg*.platform_radius``)."""
+    named with the glob ``leg*`` (``leg*.platform_radius``): the same message, or the
+    same value refused with the same hint but leg-dependent figures
+    (:func:`_same_slip`), given once with the first leg's figures."""
     unique = list(dict.fromkeys(issues))
     groups: dict[tuple[str, str], list[Issue]] = {}
     for issue in unique:
         glob = re.sub(r"^leg\d+(?=\.|$)", "leg*", issue.key)
-        groups.setdefault((glob, issue.message), []).append(issue)
+        groups.setdefault((glob, _same_slip(issue.message)), []).append(issue)
     out = []
-    for (glob, message), group in groups.items():
+    for (glob, _), group in groups.items():
         if n_legs > 1 and glob != group[0].key and len(group) == n_legs:
+            message = group[0].message
+            if any(issue.message != message for issue in group):
+                message += f" (figures of {group[0].key}; every leg alike)"
             out.append(Issue(group[0].position, glob, message))
         else:
             out += group
     return sorted(out, key=lambda issue: issue.position)
+
+
+def _same_slip(message: str) -> str:
+    """What makes two legs' errors the same error: the key and value the message starts
+    with (``"proximal.mass = 85.05"``) and its hint (``"did you mean 0.08505 (g)?"``),
+    when it has one; else the whole message."""
+    head = message.split(": ", 1)[0]
+    hint = re.search(r"did you mean [^?]*\?", message)
+    return f"{head} | {hint.group(0)}" if hint and " = " in head else message
