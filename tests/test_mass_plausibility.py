@@ -226,3 +226,41 @@ def test_a_vary_range_slipping_in_every_leg_is_one_line(
         r"\(figures of leg1; every leg alike\)\)$",
     )
     assert not (tmp_path / "o.toml").exists()
+
+
+@pytest.mark.parametrize(
+    ("source", "old", "new", "refused"),
+    [
+        (
+            BUILTIN,
+            "carriage_mass = 0.2",
+            "carriage_mass = 200.0",
+            r"key 'leg\*': actuator\.carriage_mass = 200: implausible mass: 862 times the "
+            r"platform's mass \(0\.232 kg\), above 100; masses are in kg: did you mean 0\.2 "
+            r"\(g\)\?$",
+        ),
+        (
+            ROOT / "examples" / "3prs.toml",
+            "carriage_mass = 6.8",
+            "carriage_mass = 6800.0",
+            r"key 'leg\*': actuator\.carriage_mass = 6800: implausible mass: 472 times the "
+            r"platform's mass \(14\.3965 kg\), above 100; .*did you mean 6\.8 \(g\)\?$",
+        ),
+    ],
+)
+def test_a_carriage_mass_in_grams_is_refused_against_the_platforms(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    source: Path,
+    old: str,
+    new: str,
+    refused: str,
+) -> None:
+    """A carriage mass in grams was accepted (200 kg on the built-in, 6800 kg on the
+    3-PRS: below the 1e4 kg bound of any mass). 862 = 200 / 0.232, 472 = 6800 / 14.3965;
+    the shipped carriages are 0.4 to 0.9 times their platform's mass."""
+    path = _edited(tmp_path, source, old, new)
+    with pytest.raises(DesignError, match=refused):
+        load_design(path)
+    _cli_refuses(["modes", "--design", str(path)], capsys, refused)
+    assert load_design(source).legs[0].actuator.carriage_mass == float(old.split("= ")[1])

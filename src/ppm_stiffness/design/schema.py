@@ -284,18 +284,25 @@ class Design(PartModel):
     def validation_context(cls, data: dict[str, Any]) -> dict[str, Any]:
         """What the parts of a design need to know of the whole while it is validated:
         its task coordinates when the raw ``data`` states them (``task_coordinates``, or
-        the one set its leg types state)."""
+        the one set its leg types state), and the platform's mass [kg]
+        (``platform_mass``, a positive finite number given), against which the legs
+        check their carriages."""
+        context: dict[str, Any] = {}
+        platform = data.get("platform")
+        mass: Any = platform.get("mass") if isinstance(platform, dict) else None
+        if _is_scalar(mass) and 0 < mass < math.inf:
+            context["platform_mass"] = float(mass)
         given = data.get("task_coordinates")
         if isinstance(given, (list, tuple)) and all(isinstance(n, str) for n in given):
-            return {"task_coordinates": tuple(given)}
+            return {**context, "task_coordinates": tuple(given)}
         legs = data.get("legs")
         types = leg_types()
         if isinstance(legs, list) and legs:
             kinds = [leg.get("type") if isinstance(leg, dict) else None for leg in legs]
             stated = {types[k].TASK_COORDINATES for k in kinds if k in types}
             if len(stated) == 1 and all(k in types for k in kinds):
-                return {"task_coordinates": stated.pop()}
-        return {}
+                return {**context, "task_coordinates": stated.pop()}
+        return context
 
     @field_validator("task_coordinates")
     @classmethod

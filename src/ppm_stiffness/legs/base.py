@@ -41,6 +41,7 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import ImplausibleDesignWarning, UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
 from ppm_stiffness.legs.parts import (
+    MAX_CARRIAGE_RATIO,
     MAX_LINK_DENSITY,
     MAX_REFLECTED,
     ActuatorModel,
@@ -50,6 +51,7 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     StrictNumber,
     check_density,
+    check_mass_ratio,
 )
 
 #: Largest length a design file may give [m]: beyond it, a length in mm is likely.
@@ -245,6 +247,23 @@ class LegModel(PartModel):
                 "actuator.rotor_inertia of a linear actuator needs actuator.gear_ratio "
                 "[rad/m], the motor's rotation per metre of travel (2 pi / lead of a "
                 "ball screw)"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _carriage_mass(self, info: ValidationInfo) -> LegModel:
+        """A carriage at most :data:`~ppm_stiffness.legs.parts.MAX_CARRIAGE_RATIO` times
+        the platform's mass (validation context ``platform_mass`` [kg], when the design
+        gives one)."""
+        carriage = self.actuator.carriage_mass
+        platform = (info.context or {}).get("platform_mass")
+        if carriage is not None and isinstance(platform, float):
+            check_mass_ratio(
+                "actuator.carriage_mass",
+                carriage,
+                platform,
+                "the platform's mass",
+                MAX_CARRIAGE_RATIO,
             )
         return self
 

@@ -38,7 +38,9 @@ e.g. 2 pi / lead of a ball screw), reflected to the actuated coordinate as
 (g, kg·mm^2), and so is a nonzero mass below :data:`MIN_MASS`. The leg
 (:class:`~ppm_stiffness.legs.base.LegModel`) checks what needs its lengths: a link's
 density against its section (:func:`check_density`, :data:`MAX_LINK_DENSITY`), its
-centre of mass within the leg, and a rotor's reflection (:data:`MAX_REFLECTED`).
+centre of mass within the leg, a rotor's reflection (:data:`MAX_REFLECTED`) and, in
+a design with a platform mass, a carriage's mass against it
+(:func:`check_mass_ratio`, :data:`MAX_CARRIAGE_RATIO`).
 """
 
 from __future__ import annotations
@@ -136,6 +138,10 @@ MAX_REFLECTED = MAX_MASS
 #: design (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, repeated here to avoid an import
 #: cycle). Above, an inertia in kg·mm^2 is likely.
 MAX_GYRATION = 10.0
+#: Largest carriage mass of an actuator per platform mass: a carriage moves with its
+#: leg's end, a share of the platform it carries (the shipped examples: 0.4 to 0.9);
+#: a carriage mass typed in grams is 400 to 900 times its platform's there.
+MAX_CARRIAGE_RATIO = 100.0
 #: Largest rotor inertia [kg·m^2] of an actuator (a motor of some 100 kW): above, an
 #: inertia in kg·mm^2 is likely.
 MAX_ROTOR_INERTIA = 1.0
@@ -181,6 +187,30 @@ def check_density(key: str, mass: float, volume: float, body: str, limit: float,
         raise ValueError(
             f"{key} = {mass:g}: implausible density: {body} would be {density:.3g} kg/m^3, "
             f"above {limit:g} ({why}); masses are in kg: did you mean {mass * 1e-3:.6g} (g)?"
+        )
+
+
+def check_mass_ratio(key: str, mass: float, reference: float, body: str, limit: float) -> None:
+    """Refuse a mass more than ``limit`` times the mass of a body it goes with (a
+    carriage against the platform it moves) as a mass in grams, as :func:`check_density`
+    does against a volume.
+
+    Parameters
+    ----------
+    key : str
+        The mass's key, which starts the message.
+    mass, reference : float [kg]
+        The mass checked and the one it is measured against (> 0).
+    body : str
+        What the reference is, for the message (``"the platform's mass"``).
+    limit : float
+        The largest plausible ratio ``mass / reference``.
+    """
+    if reference > 0 and mass > limit * reference:
+        raise ValueError(
+            f"{key} = {mass:g}: implausible mass: {mass / reference:.3g} times {body} "
+            f"({reference:g} kg), above {limit:g}; masses are in kg: did you mean "
+            f"{mass * 1e-3:.6g} (g)?"
         )
 
 
