@@ -264,3 +264,23 @@ def test_a_carriage_mass_in_grams_is_refused_against_the_platforms(
         load_design(path)
     _cli_refuses(["modes", "--design", str(path)], capsys, refused)
     assert load_design(source).legs[0].actuator.carriage_mass == float(old.split("= ")[1])
+
+
+def test_a_threshold_displacement_beyond_the_stroke_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """threshold_displacement = 6 (m) on the built-in, whose strokes are 50 mm, was
+    accepted (the actuators then never left their locked branch); at the stroke it is
+    accepted (no deflection exceeds it)."""
+    path = _edited(
+        tmp_path, BUILTIN, "threshold_displacement = 6e-06", "threshold_displacement = 6.0"
+    )
+    refused = (
+        r"key 'leg\*': actuator\.threshold_displacement = 6: beyond the actuator's stroke "
+        r"\(0\.05 m\), .*did you mean 0\.006 \(mm\)\?$"
+    )
+    with pytest.raises(DesignError, match=refused):
+        load_design(path)
+    _cli_refuses(["analyze", "--design", str(path)], capsys, refused)
+    stroke = default_design().with_parameters({"actuator.threshold_displacement": 0.05})
+    assert stroke.legs[0].actuator.threshold_displacement == 0.05

@@ -251,6 +251,29 @@ class LegModel(PartModel):
         return self
 
     @model_validator(mode="after")
+    def _threshold_within_stroke(self) -> LegModel:
+        """An actuator's ``threshold_displacement`` at most its stroke (the range of its
+        coordinate): no deflection exceeds it, so a larger value is a unit slip (mm, µm
+        typed as m)."""
+        lo, hi = self.limits().get(self.ACTUATED_COORDINATE, (-math.inf, math.inf))
+        stroke, threshold = hi - lo, self.actuator.threshold_displacement
+        if not math.isfinite(stroke) or threshold <= stroke:
+            return self
+        unit = "rad" if self.ACTUATED_KIND == "R" else "m"
+        slip = (
+            f"did you mean {math.radians(threshold):.6g} (deg)?"
+            if unit == "rad"
+            else f"did you mean {threshold / 1000:.6g} (mm)?"
+            if threshold / 1000 <= stroke
+            else f"did you mean {threshold * 1e-6:.6g} (µm)?"
+        )
+        raise ValueError(
+            f"actuator.threshold_displacement = {threshold:g}: beyond the actuator's "
+            f"stroke ({stroke:.4g} {unit}), which no deflection exceeds (an actuator "
+            f"locked under every load is q = 1 with k_a = locked_stiffness); {slip}"
+        )
+
+    @model_validator(mode="after")
     def _carriage_mass(self, info: ValidationInfo) -> LegModel:
         """A carriage at most :data:`~ppm_stiffness.legs.parts.MAX_CARRIAGE_RATIO` times
         the platform's mass (validation context ``platform_mass`` [kg], when the design

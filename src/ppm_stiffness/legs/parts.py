@@ -350,8 +350,9 @@ class ActuatorModel(PartModel):
 
     For ``q < 1`` the stiffness is ``locked_stiffness`` while the displacement is at
     most ``threshold_displacement`` (the force at most ``k_a delta_th^q``: the unloaded
-    K, small loads) and the tangent ``q k_a delta**(q-1)`` above it; a huge threshold
-    makes the actuator constant. ``q = 1`` is a linear spring: its tangent is ``k_a``
+    K, small loads) and the tangent ``q k_a delta**(q-1)`` above it; a threshold at
+    the actuator's stroke makes it constant (a leg refuses one beyond its stroke as a
+    unit slip). ``q = 1`` is a linear spring: its tangent is ``k_a``
     at every load, so ``locked_stiffness`` and ``k_a`` are one stiffness. A file may
     give either (the other follows) or both equal; two different values are refused,
     and setting either by name (:meth:`~ppm_stiffness.design.schema.Design.
