@@ -66,6 +66,12 @@ young_modulus = { pm = 1e10 }
         ('["leg*.guide.yaw"]\npm = -0.1\n', r"leg\*.guide.yaw.pm = -0.1 must be finite and >= 0"),
         ('["leg*.guide.yaw"]\nsigma = "-5%"\n', r"sigma = '-5%' must be finite and >= 0"),
         ('["leg*.guide.yaw"]\npm = "ten%"\n', "is not a percentage"),
+        (
+            '["leg1.guide.yaw"]\npm = "150%"\n',
+            r"leg1\.guide\.yaw\.pm = '150%': a relative tolerance of 100 % or more reaches "
+            r"zero .*below 100 % \(did you mean \"1\.5%\"\?\)$",
+        ),
+        ('["leg1.guide.yaw"]\nsigma = "100%"\n', r"sigma = '100%': a relative tolerance"),
         ('["leg*.guide.yaw"]\npm = "10"\n', "not a number or a percentage"),
         ('["leg*.guide.yaw"]\npm = 0.1\nsigma = 0.1\n', "exactly one of pm and sigma"),
         ('["leg*.guide.yaw"]\npm = 0.1\nspread = 1\n', "guide.yaw.spread: unknown key"),
@@ -93,7 +99,7 @@ def test_unknown_and_overlapping_parameters() -> None:
     ("spec", "below"),
     [
         ('sigma = "60%"', 0.0478),  # P(N(1, 0.6) <= 0) = Phi(-1/0.6)
-        ('pm = "150%"', 1.0 / 6.0),  # P(U(-0.5, 2.5) <= 0)
+        ("pm = 2550.0", 1.0 / 6.0),  # 150 % of 1700 N·m/rad: P(U(-0.5, 2.5) <= 0)
     ],
 )
 def test_values_that_would_make_a_stiffness_negative_are_redrawn_and_counted(
@@ -198,7 +204,12 @@ def test_commands_with_tolerances(tmp_path: Path, capsys: pytest.CaptureFixture[
 
 
 @pytest.mark.parametrize(
-    "text", ['["leg*.guide.yaw"]\npm = -1\n', '["leg*.guide.yaw"]\npm = "x"\n']
+    "text",
+    [
+        '["leg*.guide.yaw"]\npm = -1\n',
+        '["leg*.guide.yaw"]\npm = "x"\n',
+        '["leg*.guide.yaw"]\npm = "150%"\n',
+    ],
 )
 def test_bad_tolerance_file_exit_2_nothing_written(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], text: str

@@ -7,6 +7,8 @@ File format (TOML). Each table named by a parameter name or glob of
   parameter's SI unit, or relative to its catalogue value);
 - ``sigma = 5000.0`` or ``sigma = "5%"``: normal with this 1-sigma;
 
+a relative value of 100 % or more is refused (it reaches zero: :data:`MAX_RELATIVE`),
+
 and optionally ``tied = true``::
 
     ["leg*.guide.yaw"]
@@ -44,6 +46,10 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import tied_note
+
+#: Smallest relative tolerance refused (100 %): a half-width or a sigma of the whole
+#: catalogue value reaches zero (a stiffness or a mass of 0 or less).
+MAX_RELATIVE = 1.0
 
 #: Keys of one tolerance entry.
 ENTRY_KEYS = ("pm", "sigma", "tied")
@@ -123,6 +129,12 @@ def _parse_value(key: str, raw: Any) -> tuple[float, bool]:
         )
     if not math.isfinite(value) or value < 0:
         raise InputDataError(f"tolerance file: {key} = {raw!r} must be finite and >= 0")
+    if relative and value >= MAX_RELATIVE:
+        raise InputDataError(
+            f"tolerance file: {key} = {raw!r}: a relative tolerance of 100 % or more "
+            "reaches zero (a stiffness or a mass of 0 or less); relative tolerances are "
+            f'below 100 % (did you mean "{value:g}%"?)'
+        )
     return value, relative
 
 
