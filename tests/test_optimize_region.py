@@ -9,6 +9,7 @@ worst deflection from :func:`ppm_stiffness.loaded_state` pose by pose.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -160,3 +161,62 @@ def test_the_region_is_a_table_not_a_varied_parameter() -> None:
     assert not any("required" in n for n in design.scalar_parameter_names())
     copy = design.with_parameters({"leg1.platform_radius": 0.05})
     assert copy.workspace.required == design.workspace.required
+
+
+@pytest.mark.parametrize(
+    ("example", "old", "new", "refused"),
+    [
+        (
+            "hexapod_6ups.toml",
+            "rz = [-0.05, 0.05]",
+            "rz = [-3.0, 3.0]",
+            r"key 'workspace\.required\.rz': rz = \[-3, 3\]: neither end is reachable .*"
+            r"in radians: did you mean \[-0\.0523599, 0\.0523599\]\?$",
+        ),
+        (
+            "../src/ppm_stiffness/data/paper_3ppr.toml",
+            "phi = [-0.1, 0.1]",
+            "phi = [-2.0, 2.0]",
+            r"key 'workspace\.required\.phi': phi = \[-2, 2\]: .*did you mean "
+            r"\[-0\.0349066, 0\.0349066\]\?$",
+        ),
+    ],
+)
+def test_a_required_angle_range_in_degrees_within_pi_is_refused(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    example: str,
+    old: str,
+    new: str,
+    refused: str,
+) -> None:
+    """rz = [-3, 3] (degrees meant) passes the |angle| <= pi check of the schema: compare
+    accepted it (a third of the region covered, rz +-171.9 deg printed). Neither end is
+    reachable while both read as degrees are: refused by compare, sweep and the library
+    (region_of); the shipped region (both ends reachable) is not. (The 3-RPR reaches
+    phi = +-2 rad: a wide range that is reachable is no slip.)"""
+    from ppm_stiffness.cli import main
+
+    text = (ROOT / "examples" / example).read_text(encoding="utf-8")
+    assert old in text
+    path = tmp_path / Path(example).name
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    design = pps.load_design(path)
+    with pytest.raises(DesignError, match=refused):
+        region_of(design)
+    for argv in (["compare"], ["sweep", "--vary", "platform.mass=0.5:1:2"]):
+        assert main([*argv, "--design", str(path), "--quiet"]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and len(err.strip().splitlines()) == 1, err
+        assert re.search(refused, err.strip()), err
+    assert region_of(pps.load_design(ROOT / "examples" / example)) is not None
+
+
+def test_a_wide_required_angle_range_that_is_reachable_is_kept(tmp_path: Path) -> None:
+    """The 3-RPR reaches phi = +-2 rad (+-114.6 deg) at its home position: such a range
+    is a design's, not a slip, and region_of keeps it."""
+    text = (ROOT / "examples" / "3rpr.toml").read_text(encoding="utf-8")
+    path = tmp_path / "3rpr.toml"
+    path.write_text(text.replace("phi = [-0.1, 0.1]", "phi = [-2.0, 2.0]", 1), encoding="utf-8")
+    region = region_of(pps.load_design(path))
+    assert region.range("rz") == (-2.0, 2.0)

@@ -56,6 +56,21 @@ LINE_SPAN = {"length": 1.0, "angle": math.pi}
 REFINE_STEPS = 30
 
 
+def reachable_values(design: Design, pose: ArrayLike, name: str, values: ArrayLike) -> np.ndarray:
+    """Mask (n,) of the ``values`` (n,) of task coordinate ``name`` [m or rad] that are
+    reachable with the other task coordinates of the full pose (6,) fixed (the pose
+    completed, every leg within its limits; module doc)."""
+    from ppm_stiffness.poses import full_poses, task_indices
+
+    values = np.asarray(values, dtype=float).reshape(-1)
+    grid = np.tile(as_poses(pose), (values.size, 1))
+    grid[:, POSE_INDEX[name]] = values
+    full, ok = full_poses(design, grid[:, list(task_indices(design))])
+    for leg in design.legs:
+        ok &= np.asarray(leg.reachable(leg.solve(full)), dtype=bool)
+    return np.asarray(ok, dtype=bool)
+
+
 def reachable_along(design: Design, pose: ArrayLike, name: str) -> list[tuple[float, float]]:
     """Intervals of task coordinate ``name`` [m or rad] reachable with the other task
     coordinates of the full pose (6,) fixed.
@@ -64,19 +79,12 @@ def reachable_along(design: Design, pose: ArrayLike, name: str) -> list[tuple[fl
     the pose's: an unreachable value far out would shift the window off the workspace),
     each end then refined by bisection to well below a micrometre or microradian.
     """
-    from ppm_stiffness.poses import full_poses, home_pose, task_indices
+    from ppm_stiffness.poses import home_pose
 
-    p = as_poses(pose)
     i = POSE_INDEX[name]
-    task = list(task_indices(design))
 
     def reachable(values: np.ndarray) -> np.ndarray:
-        grid = np.tile(p, (values.size, 1))
-        grid[:, i] = values
-        full, ok = full_poses(design, grid[:, task])
-        for leg in design.legs:
-            ok &= np.asarray(leg.reachable(leg.solve(full)), dtype=bool)
-        return np.asarray(ok, dtype=bool)
+        return reachable_values(design, pose, name, values)
 
     half = LINE_SPAN["angle" if name in ANGLE_COORDINATES else "length"]
     centre = float(home_pose(design)[i])

@@ -108,7 +108,45 @@ def region_of(design: Design, override: RequiredRegionModel | None = None) -> Re
             f"table (ranges of {', '.join(design.task_coordinates)} [m, rad] and grid) or "
             "pass --region"
         )
+    _check_angles_in_radians(design, region)
     return region
+
+
+def _check_angles_in_radians(design: Design, region: RequiredRegionModel) -> None:
+    """Refuse an angle range of ``[workspace.required]`` typed in degrees: neither end
+    reachable (the other task coordinates at the home pose) while both ends read as
+    degrees are (``rz = [-3, 3]`` on the hexapod, meant as +-3 deg, passed the |angle|
+    <= pi check of the schema and covered a third of the region).
+
+    Raises
+    ------
+    DesignError
+        Naming the key, the range and the likely range in radians.
+    """
+    import math
+
+    from ppm_stiffness.core.pose import ANGLE_COORDINATES
+    from ppm_stiffness.maps.reach import reachable_values
+    from ppm_stiffness.poses import home_pose
+
+    for name, (lo, hi) in region.ranges().items():
+        if name not in ANGLE_COORDINATES or lo == hi:
+            continue
+        meant = (math.radians(lo), math.radians(hi))
+        home = home_pose(design)
+        ends, ends_meant = (reachable_values(design, home, name, v) for v in ((lo, hi), meant))
+        if not ends.any() and ends_meant.all():
+            key = (
+                "rz"
+                if name == "rz" and not design.planar
+                else REGION_KEYS[POSE_COORDINATES.index(name)]
+            )
+            raise DesignError(
+                f"design {design.name!r}: key 'workspace.required.{key}': {key} = [{lo:g}, "
+                f"{hi:g}]: neither end is reachable (the other task coordinates at the "
+                f"home pose), while both are read as degrees; angles in design files are "
+                f"in radians: did you mean [{meant[0]:.6g}, {meant[1]:.6g}]?"
+            )
 
 
 def with_region(design: Design, region: RequiredRegionModel) -> Design:
