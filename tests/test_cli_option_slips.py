@@ -15,6 +15,7 @@ import pytest
 from ppm_stiffness.cli import main
 from ppm_stiffness.cli.common import design_size_mm
 from ppm_stiffness.design import default_design
+from ppm_stiffness.statics.measurements import Measurements
 
 ROOT = Path(__file__).resolve().parents[1]
 RPS = str(ROOT / "examples" / "3rps.toml")
@@ -133,3 +134,61 @@ def test_compare_quiet_prints_nothing_on_stderr(capsys: pytest.CaptureFixture[st
     assert main(argv) == 0
     out, err = capsys.readouterr()
     assert err == "" and "symmetric" in out.lower()
+
+
+PLANAR = ROOT / "src" / "ppm_stiffness" / "data" / "measurements_synthetic_planar.csv"
+
+
+def _scaled_positions(tmp_path: Path, factor: float) -> Path:
+    """The shipped planar measurements with x_mm and y_mm multiplied by ``factor``."""
+    lines = []
+    for line in PLANAR.read_text(encoding="utf-8").splitlines():
+        if line and not line.startswith(("#", "load")):
+            f = line.split(",")  # load, phi_z_deg, x_mm, y_mm
+            f[2:4] = [f"{float(v) * factor:.6g}" for v in f[2:4]]
+            line = ",".join(f)
+        lines.append(line)
+    path = tmp_path / f"m{factor:g}.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_column_named_twice_is_refused_by_every_header_reader(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """``fit-actuator`` took the first of two ``force_N`` columns silently (issue 27's
+    attack); the measurements reader had its own check, now shared (csvio)."""
+    path = tmp_path / "f.csv"
+    path.write_text("displacement_mm,force_N,force_N\n0.1,1,9\n0.2,2,9\n0.3,3,9\n")
+    out = tmp_path / "fit.png"
+    line = _refused(capsys, ["fit-actuator", str(path), "--plot", str(out)])
+    assert "column 'force_N' appears more than once (columns 2 and 3)" in line
+    assert not out.exists()
+    meas = tmp_path / "m.csv"
+    meas.write_text("# mode: planar-force\nload,x_mm,y_mm,x_mm\n1,0.1,0.1,0.1\n")
+    line = _refused(capsys, ["deflect", "--measurements", str(meas)])
+    assert "column 'x_mm' appears more than once (columns 2 and 4)" in line
+
+
+def test_measured_deflections_beyond_the_design_are_refused(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The shipped planar data (up to 0.7918 mm) in um under the x_mm header: 791.8 mm,
+    beyond the 3-PPR's 442 mm; before, deflect compared them with the model silently."""
+    line = _refused(capsys, ["deflect", "--measurements", str(_scaled_positions(tmp_path, 1e3))])
+    assert "line 19: x_mm = 791.8 mm, beyond the design's size (442 mm" in line
+    assert "if these are um, divide by 1000" in line
+
+
+def test_large_measured_deflections_are_warned_of() -> None:
+    """Between a tenth of the design's size and the size: a warning naming the row and
+    the value (71.3 mm = 90 x 0.7918 mm, beyond 44.2 mm), not a refusal."""
+    from ppm_stiffness.statics.actuator_fit import ImplausibleDataWarning
+    from ppm_stiffness.statics.measurements import check_displacement_scale, read_measurements
+
+    size = 1e-3 * design_size_mm(default_design())
+    meas = read_measurements(PLANAR)
+    check_displacement_scale(meas, size)  # the shipped data: nothing to say
+    big = Measurements(meas.loads, meas.twists * 90, meas.components, source="m.csv")
+    with pytest.warns(ImplausibleDataWarning, match=r"x_mm = 71\.26\d* mm, more than 10%"):
+        check_displacement_scale(big, size)

@@ -58,6 +58,7 @@ from ppm_stiffness.statics.deflection import (
 )
 from ppm_stiffness.statics.measurements import (
     Measurements,
+    check_displacement_scale,
     check_mode,
     cli_order,
     measured_poses,
@@ -346,6 +347,7 @@ def compute(
     meas = None
     if args.measurements is not None:
         meas = read_measurements(check_input_path(args.measurements, "--measurements"))
+        check_displacement_scale(meas, 1e-3 * design_size_mm(design))
     mode = _mode(args, meas)
     _check_alpha(args, mode)
     unit: np.ndarray | None = None
