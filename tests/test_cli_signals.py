@@ -135,3 +135,23 @@ def test_sigterm_during_a_sweep_writes_the_partial_csv_and_exits_143(
     assert lines[0].startswith("# partial: interrupted after 4 of 6 designs")
     assert len(lines) == 2 + 4  # the comment, the header, 4 rows
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.csv"]
+
+
+def test_an_interrupted_report_leaves_no_empty_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``report --out rep`` creates ``rep``; interrupted as report.html is written (issue
+    27's attack: SIGTERM at the first temporary file) it left ``rep/`` behind, empty."""
+    import ppm_stiffness.visuals.report as report
+    from ppm_stiffness.cli import Terminated, main
+    from ppm_stiffness.cli.output_files import OutputFiles
+
+    def interrupted(self: OutputFiles) -> None:
+        raise Terminated(signal.SIGTERM)
+
+    monkeypatch.setattr(report, "build_report", lambda *args: "<html></html>")
+    monkeypatch.setattr(OutputFiles, "commit", interrupted)
+    # 130, Ctrl-C's code: no real signal reached the handler main installs
+    assert main(["report", "--out", str(tmp_path / "rep"), "--quiet"]) == 130
+    assert capsys.readouterr().err == "ppm-stiffness: terminated (SIGTERM)\n"
+    assert os.listdir(tmp_path) == []
