@@ -5,7 +5,8 @@ shows it, comment and blank lines counted), so that an error can name the line. 
 CSV reader of the package reads through :func:`read_numbered_csv` (measurements,
 force-displacement data, ``--matrix`` and ``--target`` matrices), which accepts UTF-8
 with or without a byte-order mark (:data:`CSV_ENCODING`: spreadsheet programs write
-one).
+one). A reader of a file with a header row takes its names from :func:`header_columns`,
+which refuses a column named twice.
 """
 
 from __future__ import annotations
@@ -65,6 +66,27 @@ def read_numbered_csv(path: str | Path) -> CommentedCsv:
     except (OSError, UnicodeDecodeError) as exc:
         raise InputDataError(f"cannot read {p}: {exc}") from None
     return out
+
+
+def header_columns(path: str | Path, row: list[str]) -> list[str]:
+    """The header row's column names (stripped), each once.
+
+    Raises
+    ------
+    InputDataError
+        ``"FILE: column 'force_N' appears more than once (columns 2 and 3); give each
+        column once"``: a reader that looks a name up would take one of the two
+        silently.
+    """
+    names = [c.strip() for c in row]
+    for j, name in enumerate(names):
+        if name in names[:j]:
+            first = names.index(name)
+            raise InputDataError(
+                f"{path}: column {name!r} appears more than once (columns {first + 1} and "
+                f"{j + 1}); give each column once"
+            )
+    return names
 
 
 def read_commented_csv(path: str | Path) -> tuple[list[str], list[list[str]]]:

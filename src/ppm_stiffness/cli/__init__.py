@@ -9,10 +9,12 @@ become one line on stderr and exit code 2, never a traceback. Before a command r
 glibc's malloc thresholds are raised in this process
 (:func:`ppm_stiffness._allocator.tune_allocator`; ``PPM_STIFFNESS_NO_MALLOPT=1`` opts
 out): batch temporaries then stay on the heap instead of page-faulting on every use.
-SIGTERM (``timeout``, ``kill``, a job scheduler) takes the path of Ctrl-C while
-:func:`main` runs (:class:`Terminated`, a KeyboardInterrupt): temporary output files are
-removed, an interrupted sweep or optimisation writes what it has done, and the exit code
-is 143 (128 + 15, as a shell reports a terminated process) instead of Ctrl-C's 130.
+SIGTERM (``timeout``, ``kill``, a job scheduler) and SIGHUP (the terminal closed, an
+ssh session lost) take the path of Ctrl-C while :func:`main` runs (:class:`Terminated`,
+a KeyboardInterrupt): temporary output files are removed, an interrupted sweep or
+optimisation writes what it has done, and the exit code is 128 + the signal's number
+(143 for SIGTERM, 129 for SIGHUP, as a shell reports a terminated process) instead of
+Ctrl-C's 130.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import warnings
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from types import FrameType
-from typing import NoReturn, TextIO
+from typing import Any, NoReturn, TextIO
 
 from ppm_stiffness.core.errors import PPMStiffnessError
 
@@ -198,19 +200,41 @@ def _one_line_warning(
 INTERRUPTED_EXIT = 128 + signal.SIGINT
 TERMINATED_EXIT = 128 + signal.SIGTERM
 
+#: The signals that take Ctrl-C's path while :func:`main` runs: SIGTERM and, where the
+#: platform has it, SIGHUP (whose default action would kill the process on the spot,
+#: leaving its temporary files behind).
+TERMINATING_SIGNALS: tuple[signal.Signals, ...] = (signal.SIGTERM,) + tuple(
+    getattr(signal, name) for name in ("SIGHUP",) if hasattr(signal, name)
+)
+
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM received by the CLI process: raised where the signal arrives, so that it
-    takes Ctrl-C's path (temporary files removed, partial results written)."""
+    """SIGTERM or SIGHUP received by the CLI process: raised where the signal arrives, so
+    that it takes Ctrl-C's path (temporary files removed, partial results written).
+
+    Parameters
+    ----------
+    signum : int
+        The signal received (default SIGTERM).
+    """
+
+    def __init__(self, signum: int = signal.SIGTERM) -> None:
+        super().__init__(signum)
+        self.signum = int(signum)
+
+    @property
+    def name(self) -> str:
+        """The signal's name, e.g. ``"SIGTERM"``."""
+        return signal.Signals(self.signum).name
 
 
 @contextmanager
 def _sigterm_as_interrupt() -> Iterator[list[int]]:
-    """While the block runs, SIGTERM in this process raises :class:`Terminated` (once; a
-    second SIGTERM during the clean-up is ignored). Yields the list of signals received.
-    A process forked meanwhile (a local worker) that inherits the handler gets the
-    default action instead: it is not the CLI. Outside the main thread (where no handler
-    can be installed) nothing changes."""
+    """While the block runs, SIGTERM or SIGHUP in this process raises
+    :class:`Terminated` (once; a second signal during the clean-up is ignored). Yields
+    the list of signals received. A process forked meanwhile (a local worker) that
+    inherits the handler gets the default action instead: it is not the CLI. Outside the
+    main thread (where no handler can be installed) nothing changes."""
     received: list[int] = []
     pid = os.getpid()
 
@@ -221,17 +245,20 @@ def _sigterm_as_interrupt() -> Iterator[list[int]]:
             return
         if not received:
             received.append(signum)
-            raise Terminated
+            raise Terminated(signum)
 
+    previous: dict[signal.Signals, Any] = {}
     try:
-        previous = signal.signal(signal.SIGTERM, handler)
+        for sig in TERMINATING_SIGNALS:
+            previous[sig] = signal.signal(sig, handler)
     except ValueError:  # not the main thread
         yield received
         return
     try:
         yield received
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for sig, action in previous.items():
+            signal.signal(sig, action)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -252,7 +279,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     with _sigterm_as_interrupt() as received:
         code = _run_command(args)
     if received and code == INTERRUPTED_EXIT:
-        return TERMINATED_EXIT
+        return 128 + received[0]
     return code
 
 
@@ -267,9 +294,9 @@ def _run_command(args: argparse.Namespace) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"ppm-stiffness: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
-    except Terminated:
-        print("ppm-stiffness: terminated (SIGTERM)", file=sys.stderr)
-        return INTERRUPTED_EXIT  # main: TERMINATED_EXIT
+    except Terminated as exc:
+        print(f"ppm-stiffness: terminated ({exc.name})", file=sys.stderr)
+        return INTERRUPTED_EXIT  # main: 128 + the signal's number
     except KeyboardInterrupt:
         print("ppm-stiffness: interrupted", file=sys.stderr)
         return INTERRUPTED_EXIT

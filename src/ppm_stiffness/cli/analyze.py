@@ -26,6 +26,7 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.tolerances import (
     add_tolerance_arguments,
+    check_tolerance_options,
     pose_uncertainty,
     print_pose_uncertainty,
     read_tolerance_args,
@@ -81,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.model import check_nonsingular
 
     if args.matrix is not None:
+        check_tolerance_options(args)  # without --tolerances: neither method nor samples
         if (
             args.design is not None
             or args.wrench is not None

@@ -191,6 +191,69 @@ POSE_OPTIONS = {
 }
 
 
+#: Largest |angle| an option in degrees takes [deg] (a full turn): beyond it, a unit
+#: slip (mrad, or a value in some other unit) is likely.
+MAX_OPTION_ANGLE_DEG = 360.0
+#: A length option [mm] beyond this many times the design's size
+#: (:func:`design_size_mm`) is refused as a likely unit slip (um, or a value in m
+#: mixed with mm).
+DESIGN_SIZE_FACTOR = 10.0
+
+
+def check_option_angle(text: str, value: float) -> None:
+    """Refuse an angle [deg] beyond +-:data:`MAX_OPTION_ANGLE_DEG` as a likely unit slip.
+
+    Parameters
+    ----------
+    text : str
+        The option and what it names, which starts the message (``"--rz"``,
+        ``"--bounds rx"``).
+    value : float
+        The angle as given [deg].
+
+    Raises
+    ------
+    InputDataError
+        ``"--rz 5730 deg: beyond +-360 deg; the option takes degrees (if these are
+        mrad, write 328.3)"``.
+    """
+    if abs(value) > MAX_OPTION_ANGLE_DEG:
+        raise InputDataError(
+            f"{text} {value:g} deg: beyond +-{MAX_OPTION_ANGLE_DEG:g} deg; the option "
+            f"takes degrees (if these are mrad, write {math.degrees(value * 1e-3):.4g})"
+        )
+
+
+def design_size_mm(design: Design) -> float:
+    """The design's size [mm]: the largest distance between two of its joints at the
+    home pose (:func:`ppm_stiffness.visuals.report_wrench.design_size`, no plotting)."""
+    from ppm_stiffness.poses import home_pose
+    from ppm_stiffness.visuals.report_wrench import design_size
+
+    return 1e3 * design_size(design, home_pose(design))
+
+
+def check_option_length(
+    text: str, value: float, size_mm: float, factor: float = DESIGN_SIZE_FACTOR
+) -> None:
+    """Refuse a length [mm] beyond ``factor`` times the design's size ``size_mm``
+    (:func:`design_size_mm`; default :data:`DESIGN_SIZE_FACTOR`) as a likely unit slip.
+
+    Raises
+    ------
+    InputDataError
+        ``"--bounds x 10000 mm: beyond 10 times the design's size (442 mm, ...); the
+        option takes mm (if these are um, write 10)"``.
+    """
+    if abs(value) > factor * size_mm:
+        times = "" if factor == 1 else f"{factor:g} times "
+        raise InputDataError(
+            f"{text} {value:g} mm: beyond {times}the design's size ({size_mm:.3g} mm, the "
+            f"largest distance between two joints); the option takes mm (if these are "
+            f"um, write {value * 1e-3:.4g})"
+        )
+
+
 def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
     """``--x --y --z`` [mm], ``--rx --ry --rz`` [deg] (R = Rz Ry Rx), ``--phi`` = --rz:
     the design's task coordinates; the others follow from the legs."""
@@ -269,11 +332,12 @@ def pose_options_given(
     InputDataError
         A value that is not finite, a coordinate that is not a task coordinate of
         ``design`` (naming those the user may give: the task coordinates that are not in
-        ``axes``), one of ``axes`` (the axes of a map vary), or --phi and --rz together.
+        ``axes``), one of ``axes`` (the axes of a map vary), --phi and --rz together,
+        or an angle beyond +-360 deg (:func:`check_option_angle`).
     """
     task = design.task_coordinates
     given: dict[str, float] = {}
-    for option, (name, factor, _unit) in POSE_OPTIONS.items():
+    for option, (name, factor, unit) in POSE_OPTIONS.items():
         value = getattr(args, option, None)
         if value is None:
             continue
@@ -292,6 +356,8 @@ def pose_options_given(
             )
         if name in given:
             raise InputDataError("--phi and --rz are the same coordinate: give one")
+        if unit == "deg":
+            check_option_angle(f"--{option}", value)
         given[name] = value * factor
     return given
 

@@ -193,7 +193,8 @@ def run(args: argparse.Namespace) -> int:
                 )
         if args.load_margin:
             console.print(margin_note(summaries[0].margin_poses))
-        err_console.print(f"{len(designs)} designs in {wall:.3g} s ({executor_label(args)})")
+        if not args.quiet:  # --quiet: no progress bar and no timing line
+            err_console.print(f"{len(designs)} designs in {wall:.3g} s ({executor_label(args)})")
     if args.out and not args.json:
         console.print(f"maps written to {escape(args.out)}")
     return 0

@@ -21,8 +21,11 @@ from ppm_stiffness.cli.common import (
     add_pose_arguments,
     add_tool_point_argument,
     check_input_path,
+    check_option_angle,
+    check_option_length,
     check_output_path,
     console,
+    design_size_mm,
     eng,
     json_document,
     load_design_arg,
@@ -55,6 +58,7 @@ from ppm_stiffness.statics.deflection import (
 )
 from ppm_stiffness.statics.measurements import (
     Measurements,
+    check_displacement_scale,
     check_mode,
     cli_order,
     measured_poses,
@@ -147,9 +151,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--alpha",
         type=float,
-        default=45.0,
         metavar="DEG",
-        help="direction of the planar force in the xy plane [deg] (default 45, Fig. 10a)",
+        help="with --mode planar-force: direction of the force in the xy plane [deg] "
+        f"(default {DEFAULT_ALPHA_DEG:g}, Fig. 10a)",
     )
     parser.add_argument(
         "--wrench",
@@ -210,6 +214,11 @@ def _load_grid(top: float, step: float) -> np.ndarray:
         raise InputDataError(f"--max must be a finite load > 0, got {top}")
     if not (math.isfinite(step) and step > 0):
         raise InputDataError(f"--step must be finite and > 0, got {step}")
+    if step > top:
+        raise InputDataError(
+            f"--step {step:g} is larger than --max {top:g}: the curve would have no load "
+            f"between 0 and --max; give --step <= {top:g} (default --max / 20)"
+        )
     n = math.floor(top / step * (1 + 1e-12)) + 1
     if n > _MAX_POINTS:
         raise InputDataError(f"--max / --step gives {n} loads, more than {_MAX_POINTS}")
@@ -220,6 +229,7 @@ def _load_grid(top: float, step: float) -> np.ndarray:
 def load_deflect_design(args: argparse.Namespace) -> Design:
     """The design with the actuator overrides (--k-a, --q, --threshold) applied."""
     design = load_design_arg(args)
+    _check_threshold(args, design)
     overrides = {
         name: value
         for name, value in (
@@ -277,6 +287,37 @@ def _mode(args: argparse.Namespace, meas: Measurements | None) -> str:
     return mode
 
 
+#: Default --alpha [deg]: the planar force at 45 deg (Fig. 10a).
+DEFAULT_ALPHA_DEG = 45.0
+
+
+def _check_alpha(args: argparse.Namespace, mode: str) -> None:
+    """--alpha finite, within +-360 deg, and given only with the planar force (the one
+    mode it sets; any other ignored it); filled in with its default."""
+    if args.alpha is None:
+        args.alpha = DEFAULT_ALPHA_DEG
+        return
+    if not math.isfinite(args.alpha):
+        raise InputDataError("--alpha must be finite")
+    if mode != "planar-force":
+        raise InputDataError(
+            f"--alpha {args.alpha:g}: it sets the direction of the planar force, unused "
+            f"with --mode {mode}; give it with --mode planar-force only"
+        )
+    check_option_angle("--alpha", args.alpha)
+
+
+def _check_threshold(args: argparse.Namespace, design: Design) -> None:
+    """--threshold [mm] finite and not beyond the design's size (an actuator's
+    deflection cannot exceed it: a likely unit slip, um typed as mm;
+    :func:`~ppm_stiffness.cli.common.check_option_length`)."""
+    if args.threshold is None:
+        return
+    if not math.isfinite(args.threshold):
+        raise InputDataError(f"--threshold must be finite, got {args.threshold}")
+    check_option_length("--threshold", args.threshold, design_size_mm(design), factor=1)
+
+
 def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
     """Refuse measurements whose pose columns give another pose than the curve's (they
     were ignored: a curve at the home pose was compared with rows measured elsewhere)."""
@@ -306,9 +347,9 @@ def compute(
     meas = None
     if args.measurements is not None:
         meas = read_measurements(check_input_path(args.measurements, "--measurements"))
+        check_displacement_scale(meas, 1e-3 * design_size_mm(design))
     mode = _mode(args, meas)
-    if not math.isfinite(args.alpha):
-        raise InputDataError("--alpha must be finite")
+    _check_alpha(args, mode)
     unit: np.ndarray | None = None
     if mode == DIRECTION:
         if args.direction is not None:

@@ -6,6 +6,7 @@ others fixed by the pose options (``--z``, ``--rx``, ...)."""
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -19,8 +20,11 @@ from ppm_stiffness.cli.common import (
     add_overwrite_argument,
     add_pose_arguments,
     add_tool_point_argument,
+    check_option_angle,
+    check_option_length,
     check_output_path,
     console,
+    design_size_mm,
     eng,
     json_document,
     load_design_arg,
@@ -101,10 +105,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--reference-force",
         type=float,
-        default=DEFAULT_REFERENCE_FORCE,
         metavar="N",
-        help="actuator load that defines 'min', each leg on its own law [N, or N·m for a "
-        f"rotary actuator] (default {DEFAULT_REFERENCE_FORCE:g})",
+        help="with --actuators min: the actuator load that defines 'min', each leg on its "
+        f"own law [N, or N·m for a rotary actuator] (default {DEFAULT_REFERENCE_FORCE:g})",
     )
     parser.add_argument(
         "--grid", type=int, default=200, metavar="N", help="N x N grid points (default 200)"
@@ -149,7 +152,11 @@ def _fixed(args: argparse.Namespace, design: Design, axes: tuple[str, str]) -> d
     return pose_options_given(args, design, axes)
 
 
-def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:
+def _parse_bounds(text: str | None, axes: tuple[str, str], design: Design) -> np.ndarray | None:
+    """--bounds [mm, deg] in SI; a likely unit slip refused: an angle beyond +-360 deg,
+    a length far beyond the design's size (:func:`~ppm_stiffness.cli.common
+    .check_option_length`), or lengths of one axis within +-1 mm while the other's reach
+    100 times further (metres mixed with mm)."""
     from ppm_stiffness.maps.slices import cli_scale
 
     if text is None:
@@ -157,7 +164,33 @@ def _parse_bounds(text: str | None, axes: tuple[str, str]) -> np.ndarray | None:
     (fa, ua), (fb, ub) = cli_scale(axes[0]), cli_scale(axes[1])
     spec = f"{axes[0]}_min,{axes[0]}_max [{ua}],{axes[1]}_min,{axes[1]}_max [{ub}]"
     values = np.array(parse_floats(text, 4, "--bounds", spec))
+    _check_bounds_units(values, axes, (ua, ub), design)
     return values / np.array([fa, fa, fb, fb])
+
+
+def _check_bounds_units(
+    values: np.ndarray, axes: tuple[str, str], units: tuple[str, str], design: Design
+) -> None:
+    """The unit-slip checks of :func:`_parse_bounds` on its values (4,) [mm or deg]."""
+    from ppm_stiffness.cli.study_options import METRE_LIKE_MM
+
+    size = design_size_mm(design) if "mm" in units else math.nan
+    for k, (axis, unit) in enumerate(zip(axes, units, strict=True)):
+        for v in values[2 * k : 2 * k + 2]:
+            if unit == "deg":
+                check_option_angle(f"--bounds {axis}", float(v))
+            else:
+                check_option_length(f"--bounds {axis}", float(v), size)
+    if units == ("mm", "mm"):
+        reach = [float(np.max(np.abs(values[2 * k : 2 * k + 2]))) for k in (0, 1)]
+        small = int(np.argmin(reach))
+        if 0 < reach[small] <= METRE_LIKE_MM and reach[1 - small] > 100 * reach[small]:
+            ends = ",".join(f"{1e3 * v:g}" for v in values[2 * small : 2 * small + 2])
+            raise InputDataError(
+                f"--bounds: {axes[small]} within +-{reach[small]:g} mm but "
+                f"{axes[1 - small]} up to {reach[1 - small]:g} mm: both are in mm (if "
+                f"{axes[small]}'s ends are metres, write {ends})"
+            )
 
 
 def _header(name: str) -> str:
@@ -255,7 +288,14 @@ def run(args: argparse.Namespace) -> int:
         except InputDataError as exc:
             raise InputDataError(f"--actuators: {exc}") from None
         state = "wrench"
-    bounds = _parse_bounds(args.bounds, axes)
+    if args.reference_force is not None and state != "min":
+        raise InputDataError(
+            f"--reference-force {args.reference_force:g}: it sets the actuator load that "
+            f"defines --actuators min, unused with --actuators {state}"
+        )
+    if args.reference_force is None:
+        args.reference_force = DEFAULT_REFERENCE_FORCE
+    bounds = _parse_bounds(args.bounds, axes, design)
     variables = read_tolerance_args(args, design)
     if args.geometry == "moving" and variables is not None:
         raise InputDataError("--tolerances works with the frozen geometry only")

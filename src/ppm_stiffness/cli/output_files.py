@@ -60,12 +60,15 @@ class OutputFiles:
         dest = Path(path)
         for _ in range(100):
             tmp = dest.with_name(f".{dest.name}.{secrets.token_hex(4)}.tmp{dest.suffix}")
+            # registered before it exists: a signal (Ctrl-C, SIGTERM) that arrives as the
+            # file is created then finds it in ``pending`` and the clean-up removes it
+            self.pending.append((tmp, dest, option))
             try:
                 fd = os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666)
             except FileExistsError:  # pragma: no cover - 2^-32 per try
+                self.pending.pop()  # another's file: not ours to remove
                 continue
             os.close(fd)
-            self.pending.append((tmp, dest, option))
             return tmp
         raise InputDataError(f"{option} {path}: cannot create a temporary file beside it")
 
@@ -101,10 +104,11 @@ class OutputFiles:
 
     def discard(self) -> None:
         """Remove the temporary files (those not moved into place)."""
-        for tmp, _, _ in self.pending:
+        while self.pending:  # an entry leaves the list once its file is gone
+            tmp = self.pending[-1][0]
             with suppress(OSError):
                 tmp.unlink(missing_ok=True)
-        self.pending.clear()
+            self.pending.pop()
 
 
 def _link_new(tmp: Path, dest: Path) -> None:
@@ -135,7 +139,11 @@ def output_files(overwrite: bool) -> Iterator[OutputFiles]:
     except BaseException:
         files.discard()
         raise
-    files.commit()
+    try:
+        files.commit()
+    except BaseException:  # a signal during the commit's own clean-up: finish it
+        files.discard()
+        raise
 
 
 __all__ = ["OutputFiles", "output_files"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from contextlib import suppress
 from pathlib import Path
 
 from ppm_stiffness.cli.common import (
@@ -104,10 +105,17 @@ def run(args: argparse.Namespace) -> int:
         page = build_report(
             design, pose, wrench, args.grid, progress, args.design, extra, design_text(args)
         )
-    out_dir.mkdir(exist_ok=True)
+    created = not out_dir.is_dir()
     path = out_dir / "report.html"
-    with output_files(args.overwrite) as out:
-        out.temp(path, "--out").write_text(page, encoding="utf-8")
+    try:
+        out_dir.mkdir(exist_ok=True)
+        with output_files(args.overwrite) as out:
+            out.temp(path, "--out").write_text(page, encoding="utf-8")
+    except BaseException:  # refused or interrupted: no empty folder of ours left
+        if created:
+            with suppress(OSError):
+                out_dir.rmdir()
+        raise
     console.print(
         f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, {time.perf_counter() - start:.1f} s)"
     )

@@ -66,7 +66,9 @@ def add_execution_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="tcp://HOST:PORT",
         help="evaluate the designs on this Dask distributed scheduler (extra 'dask')",
     )
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--quiet", action="store_true", help="no progress bar (compare: nor timing line)"
+    )
 
 
 #: Smallest nonzero extent of --region along x or y [mm]: below it, metres are likely.

@@ -36,22 +36,52 @@ def add_tolerance_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--tolerance-method",
         choices=("first-order", "qmc"),
-        default="first-order",
-        help="first-order propagation (bands ±2σ) or quasi-Monte Carlo (Sobol; bands 5th-"
-        "95th percentile, right near singularities) (default first-order)",
+        help="with --tolerances: first-order propagation (bands ±2σ) or quasi-Monte Carlo "
+        "(Sobol; bands 5th-95th percentile, right near singularities) (default "
+        f"{DEFAULT_TOLERANCE_METHOD})",
     )
     parser.add_argument(
         "--samples",
         type=int,
-        default=64,
         metavar="N",
-        help="QMC samples (default 64; a power of 2 keeps Sobol's balance)",
+        help=f"with --tolerance-method qmc: QMC samples (default {DEFAULT_SAMPLES}; a power "
+        "of 2 keeps Sobol's balance)",
     )
+
+
+#: Defaults of --tolerance-method and --samples.
+DEFAULT_TOLERANCE_METHOD = "first-order"
+DEFAULT_SAMPLES = 64
+
+
+def check_tolerance_options(args: argparse.Namespace) -> None:
+    """Refuse --tolerance-method without --tolerances and --samples without
+    --tolerance-method qmc (each would be ignored); fill in their defaults."""
+    method, samples = args.tolerance_method, args.samples
+    if getattr(args, "tolerances", None) is None:
+        if method is not None:
+            raise InputDataError(
+                f"--tolerance-method {method}: it sets how the tolerances of --tolerances "
+                "propagate, unused without it; give --tolerances TOL.toml too"
+            )
+        if samples is not None:
+            raise InputDataError(
+                f"--samples {samples}: it counts the QMC samples of --tolerances with "
+                "--tolerance-method qmc, unused without them; give both"
+            )
+    elif samples is not None and method != "qmc":
+        raise InputDataError(
+            f"--samples {samples}: it counts the QMC samples, unused with --tolerance-method "
+            f"{method or DEFAULT_TOLERANCE_METHOD}; add --tolerance-method qmc"
+        )
+    args.tolerance_method = method or DEFAULT_TOLERANCE_METHOD
+    args.samples = DEFAULT_SAMPLES if samples is None else samples
 
 
 def read_tolerance_args(args: argparse.Namespace, design: Any) -> list[Any] | None:
     """The tolerance variables of ``--tolerances`` (None without it), checked before
-    any computation."""
+    any computation (with --tolerance-method and --samples: :func:`check_tolerance_options`)."""
+    check_tolerance_options(args)
     path = getattr(args, "tolerances", None)
     if path is None:
         return None
@@ -380,6 +410,7 @@ def report_sections(
 
 __all__ = [
     "add_tolerance_arguments",
+    "check_tolerance_options",
     "compute_bands",
     "curve_uncertainty",
     "map_uncertainty",

@@ -28,6 +28,7 @@ from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
     add_seed_argument,
+    check_option_angle,
     check_output_path,
     console,
     eng,
@@ -120,6 +121,7 @@ def _check_args(args: argparse.Namespace) -> None:
             setattr(args, name, default)
         elif not math.isfinite(value) or value < 0:
             raise InputDataError(f"--{name} must be finite and >= 0, got {value}")
+    check_option_angle("--angle", args.angle)
 
 
 def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:

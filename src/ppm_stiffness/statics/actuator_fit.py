@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.csvio import read_numbered_csv
+from ppm_stiffness.csvio import header_columns, read_numbered_csv
 
 #: Displacement column names and their factor to metres.
 DISPLACEMENT_COLUMNS = {"displacement_mm": 1e-3, "displacement_m": 1.0}
@@ -221,7 +221,7 @@ def read_force_displacement(path: str | Path) -> ForceDisplacementData:
     comments, rows = data.comments, data.rows
     if not rows:
         raise InputDataError(f"{p}: no header row and no data")
-    header = [c.strip() for c in rows[0]]
+    header = header_columns(p, rows[0])
     disp_cols = [c for c in header if c in DISPLACEMENT_COLUMNS]
     if len(disp_cols) != 1 or FORCE_COLUMN not in header:
         raise InputDataError(

@@ -65,7 +65,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.core.pose import POSE_COORDINATES
-from ppm_stiffness.csvio import read_numbered_csv
+from ppm_stiffness.csvio import header_columns, read_numbered_csv
 from ppm_stiffness.design import Design
 from ppm_stiffness.statics.deflection import (
     CURVE_MODES,
@@ -212,9 +212,6 @@ def _check_header(p: Path, header: list[str]) -> None:
                 f"({PHI_COLUMN} = pose_rz_deg); {', '.join(WRENCH_COLUMNS)}; "
                 f"{', '.join(COMPONENT_COLUMNS)}; sigma_ + a component"
             )
-    dup = sorted({c for c in header if header.count(c) > 1})
-    if dup:
-        raise InputDataError(f"{p}: column {dup[0]!r} appears more than once")
     present = set(header)
     loads = present & set(LOAD_COLUMNS)
     wrench = present & set(WRENCH_COLUMNS)
@@ -244,6 +241,59 @@ def _check_header(p: Path, header: list[str]) -> None:
             raise InputDataError(f"{p}: column {s!r} without the component {c!r} it is for")
 
 
+#: Measured displacements beyond this fraction of the design's size get a warning
+#: (:func:`check_displacement_scale`); beyond the size itself they are refused.
+LARGE_DISPLACEMENT_FRACTION = 0.1
+
+
+def check_displacement_scale(meas: Measurements, size: float) -> None:
+    """Measured positions (``x_mm``, ``y_mm``, ``z_mm``) against the design's size.
+
+    A platform's deflection under load beyond the design's size (the largest distance
+    between two of its joints) is not a deflection: values in um under an ``_mm``
+    header are the likely slip, refused naming the column, the row and the value. Beyond
+    :data:`LARGE_DISPLACEMENT_FRACTION` of it an
+    :class:`~ppm_stiffness.statics.actuator_fit.ImplausibleDataWarning` (as
+    ``fit-actuator`` gives for a ``displacement_m`` column in mm): a compliant
+    mechanism may deflect that far, but rarely.
+
+    Parameters
+    ----------
+    meas : Measurements
+    size : float
+        The design's size [m] (> 0).
+
+    Raises
+    ------
+    InputDataError
+        A measured position beyond ``size``.
+    """
+    import warnings
+
+    from ppm_stiffness.statics.actuator_fit import ImplausibleDataWarning
+
+    pos = np.abs(meas.twists[:, POSITION])
+    if not np.any(np.isfinite(pos)):
+        return
+    k, j = np.unravel_index(int(np.nanargmax(pos)), pos.shape)
+    big, column = float(pos[k, j]), COMPONENT_COLUMNS[POSITION[int(j)]]
+    value = f"{column} = {1e3 * meas.twists[k, POSITION[int(j)]]:g} mm"
+    if big > size:
+        raise InputDataError(
+            f"{meas.row_label(int(k))}: {value}, beyond the design's size "
+            f"({1e3 * size:.3g} mm, the largest distance between two joints): not a "
+            f"deflection; the column takes mm (if these are um, divide by 1000)"
+        )
+    if big > LARGE_DISPLACEMENT_FRACTION * size:
+        warnings.warn(
+            f"{meas.row_label(int(k))}: {value}, more than "
+            f"{LARGE_DISPLACEMENT_FRACTION:.0%} of the design's size ({1e3 * size:.3g} "
+            "mm): check the column's unit (mm)",
+            ImplausibleDataWarning,
+            stacklevel=2,
+        )
+
+
 def read_measurements(path: str | Path) -> Measurements:
     """Read a measurement CSV (format in the module docstring).
 
@@ -263,7 +313,7 @@ def read_measurements(path: str | Path) -> Measurements:
     rows, lines = data.rows, data.row_lines[1:]
     if len(rows) < 2:
         raise InputDataError(f"{p}: needs a header row and at least one data row")
-    header = [c.strip() for c in rows[0]]
+    header = header_columns(p, rows[0])
     _check_header(p, header)
     values = np.full((len(rows) - 1, len(header)), np.nan)
     for k, row in enumerate(rows[1:]):
