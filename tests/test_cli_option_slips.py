@@ -203,3 +203,28 @@ def test_large_measured_deflections_are_warned_of() -> None:
     big = Measurements(meas.loads, meas.twists * 90, meas.components, source="m.csv")
     with pytest.warns(ImplausibleDataWarning, match=r"x_mm = 71\.26\d* mm, more than 10%"):
         check_displacement_scale(big, size)
+
+
+def test_a_threshold_beyond_the_stroke_is_named_in_the_options_unit(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """``deflect --threshold 60`` (mm) on the built-in design, whose strokes are 50 mm:
+    one line in mm, the design check's reason given once (it read
+    "actuator.threshold_displacement = 0.06: actuator.threshold_displacement = 0.06: ...;
+    did you mean 6e-05 (mm)?", a hint in the design key's metres)."""
+    assert main(["deflect", "--mode", "planar-force", "--threshold", "60"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert "--threshold 60 mm: beyond the actuator's stroke (0.05 m)" in err
+    assert "threshold_displacement" not in err and "did you mean" not in err
+
+
+def test_check_value_names_the_parameter_once() -> None:
+    """A leg-level check's message starts with its own key; check_value gives the full
+    name once."""
+    from ppm_stiffness.core.errors import DesignError
+    from ppm_stiffness.design import default_design
+
+    with pytest.raises(DesignError, match=r"^actuator\.threshold_displacement = 6: beyond") as e:
+        default_design().check_value("actuator.threshold_displacement", 6.0)
+    assert str(e.value).count("threshold_displacement") == 1

@@ -251,7 +251,11 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
         try:
             design.check_value(name, value)
         except DesignError as exc:  # blame the option, not a design key
-            raise InputDataError(f"{options[name]}: {exc}") from None
+            text = f"{options[name]}: {exc}"
+            if name == "actuator.threshold_displacement":  # the option is in mm, the key in m
+                why = str(exc).split(": ", 1)[1].split("; did you mean")[0]
+                text = f"--threshold {args.threshold:g} mm: {why}"
+            raise InputDataError(text) from None
     if overrides:
         design = design.with_parameters(overrides)
     return design

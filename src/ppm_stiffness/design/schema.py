@@ -527,7 +527,7 @@ class Design(PartModel):
         """
         _, issues = design_issues(Design, self._replaced({name: value}))
         if issues:
-            why = "; ".join(dict.fromkeys(issue.message for issue in issues))
+            why = "; ".join(dict.fromkeys(_unprefixed(issue.message, name) for issue in issues))
             raise DesignError(f"{name} = {value:g}: {why}")
 
     def check_range(self, name: str, low: float, high: float) -> None:
@@ -630,6 +630,16 @@ def _tie_linear_actuators(data: dict[str, Any], given: dict[int, dict[str, float
         value = named[0] if named else actuator["k_a"]
         for key in ACTUATOR_STIFFNESSES:
             actuator[key] = value
+
+
+def _unprefixed(message: str, name: str) -> str:
+    """``message`` without a leading ``"<key> = <value>: "`` that names ``name`` (or
+    its last parts) again: a leg-level check's message already starts so, and
+    :meth:`Design.check_value` puts the full name first."""
+    head, sep, rest = message.partition(" = ")
+    if sep and name.endswith(head) and ": " in rest:
+        return rest.split(": ", 1)[1]
+    return message
 
 
 def _split(name: str) -> list[Any]:
