@@ -284,3 +284,17 @@ def test_a_threshold_displacement_beyond_the_stroke_is_refused(
     _cli_refuses(["analyze", "--design", str(path)], capsys, refused)
     stroke = default_design().with_parameters({"actuator.threshold_displacement": 0.05})
     assert stroke.legs[0].actuator.threshold_displacement == 0.05
+
+
+def test_a_platform_below_a_milligram_is_one_error_not_two(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 1e-30 kg platform on the 3-PRS: refused on its own; its carriages (6.8 kg,
+    6.8e30 times it) are not measured against it (that second line read 'did you mean
+    0.0068 (g)?' of a plausible carriage)."""
+    path = _edited(tmp_path, ROOT / "examples" / "3prs.toml", "mass = 14.3965", "mass = 1e-30")
+    _cli_refuses(
+        ["modes", "--design", str(path)],
+        capsys,
+        r"key 'platform\.mass': mass = 1e-30: implausible mass, below 1e-06 kg",
+    )

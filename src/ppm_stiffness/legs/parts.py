@@ -200,13 +200,15 @@ def check_mass_ratio(key: str, mass: float, reference: float, body: str, limit: 
     key : str
         The mass's key, which starts the message.
     mass, reference : float [kg]
-        The mass checked and the one it is measured against (> 0).
+        The mass checked and the one it is measured against; a reference below
+        :data:`MIN_MASS` is refused on its own (:func:`check_mass`), and nothing is
+        measured against it.
     body : str
         What the reference is, for the message (``"the platform's mass"``).
     limit : float
         The largest plausible ratio ``mass / reference``.
     """
-    if reference > 0 and mass > limit * reference:
+    if reference >= MIN_MASS and mass > limit * reference:
         raise ValueError(
             f"{key} = {mass:g}: implausible mass: {mass / reference:.3g} times {body} "
             f"({reference:g} kg), above {limit:g}; masses are in kg: did you mean "
