@@ -79,10 +79,12 @@ def test_a_first_order_band_below_zero_stiffness_is_warned_about() -> None:
 def test_analyze_warns_of_a_negative_first_order_bound(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Guide yaw springs within 500 % (1 sigma): the printed first-order bounds of k_phi,
-    k_x, k_y and f1 are negative; a one-line warning says the band is meaningless."""
+    """Guide yaw springs (1700 N·m/rad) with sigma = 8500 N·m/rad (500 %, given in
+    absolute units: a relative tolerance of 100 % or more is refused): the printed
+    first-order bounds of k_phi, k_x, k_y and f1 are negative; a one-line warning says
+    the band is meaningless."""
     tol = tmp_path / "tol.toml"
-    tol.write_text('["leg*.guide.yaw"]\nsigma = "500%"\n', encoding="utf-8")
+    tol.write_text('["leg*.guide.yaw"]\nsigma = 8500.0\n', encoding="utf-8")
     assert main(["analyze", "--tolerances", str(tol)]) == 0
     out, err = capsys.readouterr()
     assert err.count("\n") == 1
