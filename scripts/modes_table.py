@@ -20,6 +20,7 @@ from typing import Any
 
 from ppm_stiffness.design import Design, default_design, design_from_dict, load_design
 from ppm_stiffness.design.io import design_to_dict
+from ppm_stiffness.design.schema import MASS_FIELDS
 from ppm_stiffness.dynamics.analysis import modal_analysis
 
 #: The table's rows: name in the docs, design file (None: the built-in paper design).
@@ -35,16 +36,7 @@ DESIGNS = (
     ("3-RPS tilting table", "examples/3rps.toml"),
 )
 #: The mass keys of a leg's parts (left out for the platform alone).
-LEG_MASS_KEYS = (
-    "mass",
-    "mass_centre",
-    "mass_centre_from",
-    "inertia_transverse",
-    "inertia_axial",
-    "carriage_mass",
-    "rotor_inertia",
-    "gear_ratio",
-)
+LEG_MASS_KEYS = MASS_FIELDS
 
 
 def design_of(file: str | None) -> Design:

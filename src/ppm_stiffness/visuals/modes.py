@@ -29,7 +29,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core import pose as pose6
-from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_BALANCE, FloatArray
+from ppm_stiffness.core.conventions import (
+    DIRECTION_NAMES,
+    LENGTH_SCALE,
+    TWIST_BALANCE,
+    FloatArray,
+)
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.chain import Link
 
@@ -89,14 +94,7 @@ def mode_amplitude(design: Design, shapes: ArrayLike) -> float:
 
 
 #: Names of the six twist components (rotation about x, ..., z translation).
-COMPONENT_NAMES = (
-    "rotation about x",
-    "rotation about y",
-    "rotation about z",
-    "x translation",
-    "y translation",
-    "z translation",
-)
+COMPONENT_NAMES = DIRECTION_NAMES
 #: A component is named in a mode's title when it carries at least this share of the
 #: mode's balanced norm squared (at most the two largest are named).
 NAMED_SHARE = 0.1
