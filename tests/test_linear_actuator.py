@@ -125,13 +125,29 @@ def test_the_law_made_linear_in_the_same_call_ties_them() -> None:
     assert all(leg.actuator.locked_stiffness == 2e4 for leg in design.legs)
 
 
-def test_a_law_made_linear_takes_k_a() -> None:
-    """q set to 1 alone (deflect --q 1): eq. (20) with q = 1 is G = k_a delta, so the
-    locked value follows k_a (before: 1.1108e5 N/m unloaded, 44.75 N/m under load)."""
+def test_a_law_made_linear_with_two_stiffnesses_is_refused() -> None:
+    """q set to 1 alone on the paper's law (locked 1.1108e5, k_a 44.75): the two differ,
+    and which one is meant is not ours to guess (taking k_a made the unloaded k_x 770
+    times lower than at q = 0.9999): refused naming both; with k_a named too, one
+    stiffness."""
     design = load_design(PAPER)
-    linear = design.with_parameters({"actuator.q": 1.0})
-    assert all(leg.actuator.locked_stiffness == leg.actuator.k_a == 44.75 for leg in linear.legs)
-    design.check_value("actuator.q", 1.0)  # what deflect --q 1 checks first: accepted
+    with pytest.raises(DesignError, match=r"k_a = 44\.75 and locked_stiffness = 111080 differ"):
+        design.with_parameters({"actuator.q": 1.0})
+    with pytest.raises(DesignError, match=r"^actuator\.q = 1: .*differ, but with q = 1"):
+        design.check_value("actuator.q", 1.0)
+    linear = design.with_parameters({"actuator.q": 1.0, "actuator.k_a": 2e4})
+    assert all(leg.actuator.locked_stiffness == leg.actuator.k_a == 2e4 for leg in linear.legs)
+
+
+def test_deflect_q_1_alone_is_refused_naming_both(capsys: pytest.CaptureFixture[str]) -> None:
+    """``deflect --q 1`` on the paper's law: one line naming both stiffnesses and --k-a
+    as the way to give the one; with --k-a it runs."""
+    assert main(["deflect", "--mode", "moment", "--max", "0.1", "--step", "0.1", "--q", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith("ppm-stiffness: error: --q: ")
+    assert "k_a = 44.75 and locked_stiffness = 111080 differ" in err
+    argv = ["deflect", "--mode", "moment", "--max", "0.1", "--step", "0.1", "--q", "1"]
+    assert main([*argv, "--k-a", "1e5"]) == 0
 
 
 def test_both_set_differently_are_refused() -> None:

@@ -248,6 +248,8 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
         "actuator.threshold_displacement": "--threshold",
     }
     for name, value in overrides.items():
+        if name == "actuator.q" and "actuator.k_a" in overrides:
+            continue  # --q 1 --k-a K: one stiffness, checked with it below
         try:
             design.check_value(name, value)
         except DesignError as exc:  # blame the option, not a design key
@@ -257,7 +259,10 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
                 text = f"--threshold {args.threshold:g} mm: {why}"
             raise InputDataError(text) from None
     if overrides:
-        design = design.with_parameters(overrides)
+        try:
+            design = design.with_parameters(overrides)
+        except DesignError as exc:
+            raise InputDataError(f"{', '.join(options[n] for n in overrides)}: {exc}") from None
     return design
 
 

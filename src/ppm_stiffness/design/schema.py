@@ -617,19 +617,18 @@ def _tie_linear_actuators(data: dict[str, Any], given: dict[int, dict[str, float
     """Keep a linear law's two stiffnesses one (:class:`~ppm_stiffness.legs.parts.
     ActuatorModel`) where this change set some of a leg's ``q``, ``locked_stiffness``,
     ``k_a`` (``given``: leg index -> {key: value}) and its law is linear after it
-    (q = 1): one stiffness set sets the other; a law made linear with neither set
-    takes ``k_a`` (eq. 20 with q = 1: ``G = k_a delta`` at every load). Both set to
-    different values are left for the validation to refuse."""
+    (q = 1): one stiffness set sets the other. Both set to different values, or a law
+    made linear with neither set while its two differ, are left for the validation to
+    refuse naming both: which one the user meant is not ours to guess (the unloaded K
+    uses ``locked_stiffness``, the loaded one ``k_a``: 1.1108e5 against 44.75 N/m on
+    the paper's law)."""
     for leg, values in given.items():
         actuator = data["legs"][leg]["actuator"]
-        if actuator["q"] != 1:
-            continue
         named = [values[k] for k in ACTUATOR_STIFFNESSES if k in values]
-        if len(named) == 2:
+        if actuator["q"] != 1 or len(named) != 1:
             continue
-        value = named[0] if named else actuator["k_a"]
         for key in ACTUATOR_STIFFNESSES:
-            actuator[key] = value
+            actuator[key] = named[0]
 
 
 def _unprefixed(message: str, name: str) -> str:
