@@ -53,6 +53,9 @@ def test_an_estimate_at_the_lower_bound_is_flagged(tmp_path: Path) -> None:
     assert result.at_bound == {"leg1.actuator.k_a": "lower"}
     assert math.isnan(result.standard_errors[0]) and math.isnan(result.correlation[0, 0])
     assert "no valid standard error" in result.bound_messages()[0]
+    # nor a combination: the only one weighed on k_a and gave it a relative sigma
+    # of 1.3e-5 as if it were determined
+    assert result.combinations == []
 
 
 def test_a_fit_inside_the_range_is_not_flagged() -> None:
@@ -92,12 +95,14 @@ def test_the_table_and_the_json_flag_it(tmp_path: Path, capsys: pytest.CaptureFi
     text = " ".join(out.split())
     assert "at lower bound" in text and "warning: leg1.actuator.k_a is at the lower" in text
     assert "ppm-stiffness: warning: leg1.actuator.k_a is at the lower bound" in err
-    assert "relative 1σ not valid: leg1.actuator.k_a at a bound" in text
+    assert "no combination includes leg1.actuator.k_a: at a bound of the search" in text
+    assert "weakest combination" not in text
     assert main([*argv, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     (p,) = doc["parameters"]
     assert p["standard_error"] is None and p["at_bound"] == "lower"
     assert p["estimate"] == pytest.approx(60e3, rel=1e-9)
     assert doc["correlation"] == [[None]] and "the bound" in doc["warnings"][0]
+    assert doc["combinations"] == []
     spec = json.loads((ROOT / "docs/schemas/identify.schema.json").read_text("utf-8"))
     jsonschema.validate(doc, spec, cls=jsonschema.Draft202012Validator)

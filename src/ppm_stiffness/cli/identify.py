@@ -207,13 +207,18 @@ def _print(result: Any, out: str | None) -> None:
             corr.add_row(f"p{k + 1}", *("-" if math.isnan(v) else f"{v:+.2f}" for v in row))
         if len(result.names) <= 8:
             c.print(corr)
-    weakest = result.combinations[-1]
-    bound = [n for n, w in weakest.weights.items() if abs(w) > 0.1 and n in result.at_bound]
-    sigma = "not valid: " + ", ".join(bound) + " at a bound" if bound else ""
-    c.print(
-        f"weakest combination: {escape(weakest.describe())} (relative 1σ "
-        f"{sigma or f'{weakest.relative_sigma:.3g}'})"
-    )
+    if result.combinations:  # of the parameters not at a bound
+        weakest = result.combinations[-1]
+        c.print(
+            f"weakest combination: {escape(weakest.describe())} (relative 1σ "
+            f"{weakest.relative_sigma:.3g})"
+        )
+    if result.at_bound:
+        c.print(
+            "no combination includes "
+            + escape(", ".join(result.at_bound))
+            + ": at a bound of the search, its 1σ is not valid"
+        )
     if result.fixed:
         c.print(f"[yellow]fixed at catalogue values:[/yellow] {escape(', '.join(result.fixed))}")
     if out:

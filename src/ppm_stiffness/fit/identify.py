@@ -384,7 +384,8 @@ class IdentificationResult:
     weighted_rms : float
         RMS of the residuals divided by their sigma (about 1 when the sigmas are right).
     combinations : list of Combination
-        At the solution, strongest first.
+        At the solution, strongest first, of the parameters not at a bound (empty if
+        every one is).
     fixed : list of str
         Parameters fixed at their catalogue values as unidentifiable.
     n_rows, n_values : int
@@ -693,7 +694,10 @@ def identify(
         )
         theta, jac_final, nfev = fit.x, np.asarray(fit.jac), int(fit.nfev)
     values = theta * problem.scale
-    final = combinations(jac_final, names)
+    at_bound = _at_bound(names, theta, lower, upper)
+    inside = np.array([n not in at_bound for n in names])
+    # an estimate at a bound has no valid sigma, nor a combination that weighs on it
+    final = combinations(jac_final[:, inside], [n for n in names if n not in at_bound])
     weak = unidentifiable(final)
     if weak:
         warnings.warn(
@@ -702,10 +706,9 @@ def identify(
             IdentifiabilityWarning,
             stacklevel=2,
         )
-    at_bound = _at_bound(names, theta, lower, upper)
     for name, side in at_bound.items():
         warnings.warn(bound_message(name, side), BoundWarning, stacklevel=2)
-    se_theta, corr = _covariance(jac_final, np.array([n not in at_bound for n in names]))
+    se_theta, corr = _covariance(jac_final, inside)
     predicted = problem.predict(values)
     err = np.where(rows.measured, predicted - rows.twists, np.nan)
     with warnings.catch_warnings():
