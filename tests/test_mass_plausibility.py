@@ -95,7 +95,7 @@ def test_a_length_range_that_puts_a_centre_outside_the_leg_is_refused(tmp_path: 
     """A 3-RRR leg is proximal_length + 0.15 m long at most: with the distal centre 0.2 m
     from its start, a proximal length down to 0.01 m puts it outside the leg."""
     path = _edited(tmp_path, RRR, "mass_centre = 0.04749", "mass_centre = 0.2")
-    with pytest.warns(ImplausibleDesignWarning):
+    with pytest.warns(ImplausibleDesignWarning, match=r"\.mass_centre beyond [0-9.]+ m puts"):
         design = load_design(path)
         design.check_range("leg*.proximal_length", 0.1, 0.2)  # 0.25 m and more: fine
         refused = (

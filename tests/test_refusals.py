@@ -354,6 +354,7 @@ def test_a_pose_exactly_at_a_stroke_end_is_reachable_for_the_map_and_the_single_
     |AB| 450.00 mm outside [300.00, 450.00] mm") by the last bit of the length; a pose
     1 um farther out stays refused, by the map's mask and the single pose alike."""
     from ppm_stiffness.design.io import load_design
+    from ppm_stiffness.visuals.leg_geometry import limit_violations
 
     path = f"examples/{name}.toml"
     design = load_design(path)
@@ -369,6 +370,9 @@ def test_a_pose_exactly_at_a_stroke_end_is_reachable_for_the_map_and_the_single_
     for dz, reachable in ((0.0, True), (outward * 1e-6, False)):
         pose = at_end + np.array([0, 0, dz, 0, 0, 0])
         assert all(bool(leg.reachable(leg.solve(pose))) for leg in design.legs) is reachable
+        # the mechanism picture's list of violated limits says the same
+        violations = [v for leg in design.legs for v in limit_violations(leg, leg.solve(pose))]
+        assert (violations == []) is reachable
         assert main(["analyze", "--design", path, "--z", repr(float(pose[2]) * 1000)]) == (
             0 if reachable else 2
         )

@@ -132,7 +132,9 @@ class MatrixAnalysis(DeprecatedMapping):
         The six screw springs (eq. 5-11); ``eigenscrews.repeated`` the groups that
         share a repeated eigenvalue.
     decoupling : Decoupling
-        The paper's eq. (19), whatever ``method``.
+        The paper's eq. (19), whatever ``method`` (a spatial design's tables and JSON
+        lead with ``decoupling_least_squares``: :mod:`ppm_stiffness.leading`; on the
+        hexapod eq. (19) doubles the coupling, residual 2.0).
     decoupling_least_squares : Decoupling
         The shift that minimises the coupling.
     principal_compliance : PrincipalCompliance

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose
+from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, within_limits
 from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.poses import dependent_indices, full_pose, task_indices
 
@@ -186,7 +186,7 @@ def limit_violations(leg: LegModel, leg_pose: LegPose) -> list[str]:
     out = []
     for name, (lo, hi) in leg.limits().items():
         q = float(leg_pose.coordinates[name])
-        if not lo <= q <= hi:
+        if not within_limits(q, lo, hi):  # the model's own test (round-off at the ends)
             c = leg.COORDINATES[name]
             v, unit = display(q, c.unit)
             a, _ = display(lo, c.unit)

@@ -104,7 +104,7 @@ def mode_shares(shape: ArrayLike) -> FloatArray:
     """Share of each twist component (6,) in a mode's balanced norm squared: the
     rotations times :data:`LENGTH_SCALE` (so that 1 mrad and 1 mm weigh alike, as in
     :mod:`ppm_stiffness.dynamics.modes`); the shares sum to 1."""
-    b = np.asarray(shape, dtype=float) * np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+    b = np.asarray(shape, dtype=float) * TWIST_BALANCE
     e = b**2
     return np.asarray(e / np.sum(e))
 
