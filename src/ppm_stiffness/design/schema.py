@@ -13,6 +13,7 @@ from __future__ import annotations
 import fnmatch
 import math
 from collections import Counter
+from collections.abc import Iterable
 from typing import Annotated, Any, Literal, Union
 
 from pydantic import (
@@ -598,6 +599,21 @@ def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
         elif isinstance(value, BaseModel):
             names += _scalar_names(value, f"{prefix}.{key}")
     return names
+
+
+def shared_parameter(
+    groups: Iterable[tuple[str, Iterable[str]]],
+) -> tuple[str, str, str] | None:
+    """The first parameter set by two of ``groups`` (label, the parameters it sets, e.g.
+    :meth:`Design.addressed`), as ``(earlier label, later label, parameter)``; None if
+    none is. Each caller words its own refusal (with :func:`tied_note`)."""
+    owner: dict[str, str] = {}
+    for label, names in groups:
+        for name in names:
+            if name in owner:
+                return owner[name], label, name
+            owner[name] = label
+    return None
 
 
 def tied_note(name: str) -> str:

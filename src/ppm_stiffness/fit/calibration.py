@@ -26,7 +26,7 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
 from ppm_stiffness.design import Design
-from ppm_stiffness.design.schema import tied_note
+from ppm_stiffness.design.schema import shared_parameter, tied_note
 from ppm_stiffness.model import check_nonsingular, stiffness_at_pose
 
 #: A singular value below this fraction of the largest marks a flat direction.
@@ -131,15 +131,12 @@ def evaluations_per_start(n_free: int) -> int:
 def _check_distinct(design: Design, names: list[str]) -> None:
     """Refuse two free parameters that set one (a linear actuator's ``locked_stiffness``
     and ``k_a``, :meth:`~ppm_stiffness.design.schema.Design.addressed`)."""
-    seen: dict[str, str] = {}
-    for name in names:
-        for match in design.addressed(name):
-            if match in seen:
-                raise InputDataError(
-                    f"free parameters {seen[match]!r} and {name!r} both set {match!r}"
-                    + tied_note(match)
-                )
-            seen[match] = name
+    shared = shared_parameter((name, design.addressed(name)) for name in names)
+    if shared is not None:
+        first, name, match = shared
+        raise InputDataError(
+            f"free parameters {first!r} and {name!r} both set {match!r}" + tied_note(match)
+        )
 
 
 def calibrate(

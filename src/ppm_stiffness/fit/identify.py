@@ -79,7 +79,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.design import Design
-from ppm_stiffness.design.schema import tied_note
+from ppm_stiffness.design.schema import shared_parameter, tied_note
 from ppm_stiffness.statics.measurements import (
     COMPONENT_COLUMNS,
     Measurements,
@@ -471,15 +471,13 @@ def _free_parameters(design: Design, free: Sequence[str]) -> tuple[list[str], Fl
     names = [n.strip() for n in free if n.strip()]
     if not names:
         raise InputDataError("no free parameter given")
-    seen: dict[str, str] = {}
-    for name in names:
-        for match in design.addressed(name):  # DesignError for an unknown name
-            if match in seen:
-                raise InputDataError(
-                    f"free parameters {seen[match]!r} and {name!r} both address {match!r}"
-                    + tied_note(match)
-                )
-            seen[match] = name
+    # DesignError for an unknown name
+    shared = shared_parameter((name, design.addressed(name)) for name in names)
+    if shared is not None:
+        first, name, match = shared
+        raise InputDataError(
+            f"free parameters {first!r} and {name!r} both address {match!r}" + tied_note(match)
+        )
     return names, np.array([design.parameter(n) for n in names])
 
 

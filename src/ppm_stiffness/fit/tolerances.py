@@ -45,7 +45,7 @@ import numpy as np
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.design.schema import tied_note
+from ppm_stiffness.design.schema import shared_parameter, tied_note
 
 #: Smallest relative tolerance refused (100 %): a half-width or a sigma of the whole
 #: catalogue value reaches zero (a stiffness or a mass of 0 or less).
@@ -209,16 +209,16 @@ def tolerance_variables(design: Design, entries: list[ToleranceEntry]) -> list[T
     InputDataError
         Two entries that address the same parameter.
     """
-    owner: dict[str, str] = {}
+    # an actuator's two stiffnesses under q = 1 are one parameter (Design.addressed)
+    shared = shared_parameter((e.name, design.addressed(e.name)) for e in entries)
+    if shared is not None:
+        first, name, n = shared
+        raise InputDataError(
+            f"tolerance file: {first!r} and {name!r} both address {n!r}" + tied_note(n)
+        )
     out: list[ToleranceVariable] = []
     for e in entries:
         names = design.expand(e.name)
-        for n in design.addressed(e.name):  # an actuator's two stiffnesses under q = 1
-            if n in owner:
-                raise InputDataError(
-                    f"tolerance file: {owner[n]!r} and {e.name!r} both address {n!r}" + tied_note(n)
-                )
-            owner[n] = e.name
         nominal = np.array([design.parameter(n) for n in names])
         width = e.value * np.abs(nominal) if e.relative else np.full(len(names), e.value)
         groups = [list(range(len(names)))] if e.tied else [[k] for k in range(len(names))]

@@ -26,7 +26,7 @@ import numpy as np
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.design.schema import tied_note
+from ppm_stiffness.design.schema import shared_parameter, tied_note
 
 #: Most values along one variable of a grid sweep.
 MAX_VALUES = 10_000
@@ -223,14 +223,12 @@ def parameter_families(design: Design) -> str:
 
 def check_distinct(variables: Sequence[Variable]) -> None:
     """Refuse two variables that set the same parameter (InputDataError)."""
-    seen: dict[str, str] = {}
-    for v in variables:
-        for m in v.matches:
-            if m in seen:
-                raise InputDataError(
-                    f"--vary {v.name} and --vary {seen[m]} both set parameter {m!r}" + tied_note(m)
-                )
-            seen[m] = v.name
+    shared = shared_parameter((v.name, v.matches) for v in variables)
+    if shared is not None:
+        first, name, m = shared
+        raise InputDataError(
+            f"--vary {name} and --vary {first} both set parameter {m!r}" + tied_note(m)
+        )
     if not variables:
         raise InputDataError("give at least one --vary NAME=LO:HI")
 
