@@ -285,10 +285,11 @@ class Design(PartModel):
     def validation_context(cls, data: dict[str, Any]) -> dict[str, Any]:
         """What the parts of a design need to know of the whole while it is validated:
         its task coordinates when the raw ``data`` states them (``task_coordinates``, or
-        the one set its leg types state), and the platform's mass [kg]
+        the one set its leg types state), the home pose as written (``home_pose``, (6,)
+        [m, rad]: where a chain leg's joints are given), and the platform's mass [kg]
         (``platform_mass``, a positive finite number given), against which the legs
         check their carriages."""
-        context: dict[str, Any] = {}
+        context: dict[str, Any] = {"home_pose": _home_pose(data.get("workspace"))}
         platform = data.get("platform")
         mass: Any = platform.get("mass") if isinstance(platform, dict) else None
         if _is_scalar(mass) and 0 < mass < math.inf:
@@ -382,7 +383,7 @@ class Design(PartModel):
     @property
     def architecture(self) -> str:
         """E.g. ``"3-PPR"``, ``"4-PPR"``, or ``"2-PRR+1-RPR"`` for mixed legs."""
-        counts = Counter(leg.type for leg in self.legs)
+        counts = Counter(leg.architecture_name() for leg in self.legs)
         return "+".join(f"{n}-{t}" for t, n in counts.items())
 
     @property
@@ -565,6 +566,14 @@ class Design(PartModel):
         return names
 
 
+def _home_pose(workspace: Any) -> tuple[float, ...]:
+    """The home pose (x, y, z, rx, ry, rz) a raw ``[workspace]`` table writes (its
+    defaults for keys not given or not numbers: the model's validation reports those)."""
+    table = workspace if isinstance(workspace, dict) else {}
+    keys = ("centre_x", "centre_y", "centre_z", "rx", "ry", "phi")
+    return tuple(float(v) if _is_scalar(v := table.get(k, 0.0)) else 0.0 for k in keys)
+
+
 def _leg_mass_keys(leg: LegModel) -> list[str]:
     """Dotted keys (within a leg) of the masses a leg's parts carry."""
     keys = []
@@ -730,8 +739,8 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
     table: dict[str, list[Any]] = {}
     units: dict[str, str] = {}
     for i, leg in enumerate(design.legs):
-        for key, value in leg:
-            if key == "type" or value is None:
+        for key, value in leg.parameter_items():
+            if value is None:
                 continue
             if isinstance(value, BaseModel):
                 for sub, v in value:
@@ -753,5 +762,5 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
                     )
             else:
                 table.setdefault(key, [None] * len(design.legs))[i] = value
-                units.setdefault(key, type(leg).UNITS.get(key, ""))
+                units.setdefault(key, leg.parameter_unit(key))
     return [(name, values, units.get(name, "")) for name, values in table.items()]

@@ -132,6 +132,12 @@ class PartsApplied:
     issues: list[Issue]
     bad_legs: set[int]
     meant: set[str]
+    origin: list[int] | None = None
+
+    def written_leg(self, index: int) -> int:
+        """The index in the file of merged leg ``index`` (a pattern's copies are its
+        written leg's)."""
+        return index if self.origin is None or index >= len(self.origin) else self.origin[index]
 
 
 def apply_parts(data: dict[str, Any]) -> PartsApplied:
@@ -153,6 +159,7 @@ def apply_parts(data: dict[str, Any]) -> PartsApplied:
     part_names: set[str] = set()  # the parts the typed legs have
     typed = 0
     new_legs = []
+    origin: list[int] = []
     for i, leg in enumerate(legs):
         kind = leg.get("type") if isinstance(leg, dict) else None
         if not isinstance(leg, dict) or not isinstance(kind, str) or kind not in types:
@@ -162,6 +169,7 @@ def apply_parts(data: dict[str, Any]) -> PartsApplied:
                 issues.append(_issue(data, ("legs", i, "type"), message))
                 bad_legs.add(i)
             new_legs.append(leg)
+            origin.append(i)
             continue
         typed += 1
         fields = types[kind].model_fields
@@ -171,7 +179,14 @@ def apply_parts(data: dict[str, Any]) -> PartsApplied:
             if name in fields:
                 used.add(name)
                 out[name] = _merge(value, leg[name]) if name in leg else copy.deepcopy(value)
-        new_legs.append(out)
+        try:
+            copies = types[kind].pattern_copies(out)
+        except ValueError as exc:
+            issues.append(_issue(data, ("legs", i, "pattern"), str(exc)))
+            copies = [{k: v for k, v in out.items() if k != "pattern"}]
+        new_legs += copies
+        origin += [i] * len(copies)
+        continue
     if typed and typed == len(legs):  # else "no leg has it" may not be true
         for name in parts:
             if name not in used:
@@ -182,7 +197,7 @@ def apply_parts(data: dict[str, Any]) -> PartsApplied:
     if not parts_is_table:  # the legs' missing parts were likely in it
         meant.update(part_names)
     merged["legs"] = new_legs
-    return PartsApplied(merged, issues, bad_legs, meant)
+    return PartsApplied(merged, issues, {origin.index(i) for i in bad_legs}, meant, origin)
 
 
 def _is_part(annotation: Any) -> bool:
@@ -237,6 +252,8 @@ def _issues_of(
             message = f"expected {_EXPECTED[kind]}, got {value_kind(error['input'])}"
         elif kind == "too_short" and path == ("legs",):
             message = f"a design needs at least 3 legs ([[legs]] tables), got {len(merged['legs'])}"
+        if len(path) >= 2 and path[0] == "legs" and isinstance(path[1], int):
+            path = ("legs", parts.written_leg(path[1]), *path[2:])  # a pattern's copy
         raws.append(_Raw(_from_parts(data, path), kind, message))
     raws = _without_consequences(raws, data, parts.meant)
     return [_issue(data, raw.path, raw.message) for raw in raws]

@@ -242,7 +242,7 @@ class LegModel(PartModel):
         """A linear actuator's rotor needs its gear ratio [rad/m] (no default: 1 rad/m
         is no drive)."""
         law = self.actuator
-        if self.ACTUATED_KIND == "P" and law.rotor_inertia is not None and law.gear_ratio is None:
+        if self.actuated_kind() == "P" and law.rotor_inertia is not None and law.gear_ratio is None:
             raise ValueError(
                 "actuator.rotor_inertia of a linear actuator needs actuator.gear_ratio "
                 "[rad/m], the motor's rotation per metre of travel (2 pi / lead of a "
@@ -259,7 +259,7 @@ class LegModel(PartModel):
         stroke, threshold = hi - lo, self.actuator.threshold_displacement
         if not math.isfinite(stroke) or threshold <= stroke:
             return self
-        unit = "rad" if self.ACTUATED_KIND == "R" else "m"
+        unit = "rad" if self.actuated_kind() == "R" else "m"
         slip = (
             f"did you mean {math.radians(threshold):.6g} (deg)?"
             if unit == "rad"
@@ -299,7 +299,7 @@ class LegModel(PartModel):
             return self
         reflected = law.rotor_inertia * law.gear_ratio**2
         if reflected > MAX_REFLECTED:
-            unit = "kg·m^2" if self.ACTUATED_KIND == "R" else "kg"
+            unit = "kg·m^2" if self.actuated_kind() == "R" else "kg"
             cm2 = law.rotor_inertia * 1e-4
             ratio = (
                 "2 pi / lead [rad/m] (1257 for a 5 mm lead)"
@@ -348,8 +348,49 @@ class LegModel(PartModel):
 
     def drive_units(self) -> dict[str, str]:
         """SI units of the actuator's mass fields (carriage, rotor, gear ratio)."""
-        ratio = "rad/m" if self.ACTUATED_KIND == "P" else "rad/rad"
+        ratio = "rad/m" if self.actuated_kind() == "P" else "rad/rad"
         return {"carriage_mass": "kg", "rotor_inertia": "kg·m^2", "gear_ratio": ratio}
+
+    @classmethod
+    def pattern_copies(cls, raw: dict[str, Any]) -> list[dict[str, Any]]:
+        """The legs a raw leg table stands for: itself, or the copies its ``pattern``
+        writes (a leg type that has patterns overrides this).
+
+        Raises
+        ------
+        ValueError
+            A ``pattern`` on a leg type that has none.
+        """
+        if "pattern" in raw:
+            raise ValueError(
+                f'a {raw.get("type")} leg has no pattern (a chain leg\'s: type = "chain")'
+            )
+        return [raw]
+
+    def parameter_items(self) -> list[tuple[str, Any]]:
+        """The leg's parameters for tables, by dotted key within the leg: a part (a
+        model, whose fields the table spreads) or a value; its ``type`` left out."""
+        return [(key, value) for key, value in self if key != "type"]
+
+    def parameter_unit(self, key: str) -> str:
+        """SI unit of a geometry value of :meth:`parameter_items` ("" if none)."""
+        return self.UNITS.get(key, "")
+
+    def architecture_name(self) -> str:
+        """The leg's letters in a design's architecture (``"PPR"`` in ``"3-PPR"``)."""
+        return self.type
+
+    def actuated_kind(self) -> str:
+        """Kind of the actuated joint ("P": linear actuator, "R": rotary)."""
+        return self.ACTUATED_KIND
+
+    def coordinate(self, name: str) -> Coordinate:
+        """Label and unit of the joint coordinate ``name`` (a key of :meth:`limits`)."""
+        return self.COORDINATES[name]
+
+    def coordinate_names(self) -> list[str]:
+        """The joint coordinates that have limits, in order."""
+        return list(self.COORDINATES)
 
     # -- to be provided by each leg type ------------------------------------------
     def attachment(self) -> FloatArray:  # pragma: no cover - abstract
@@ -406,7 +447,7 @@ class LegModel(PartModel):
         for name, (lo, hi) in self.limits().items():
             q = float(leg_pose.coordinates[name])
             if not within_limits(q, lo, hi):
-                c = self.COORDINATES[name]
+                c = self.coordinate(name)
                 scale, unit = (1e3, "mm") if c.unit == "m" else (180 / np.pi, "deg")
                 raise UnreachablePoseError(
                     f"{label}: {c.label} {q * scale:.2f} {unit} outside "
@@ -456,7 +497,7 @@ class LegModel(PartModel):
 
     def actuator_units(self) -> tuple[str, str, str]:
         """Units of the actuator's force, displacement and stiffness."""
-        if self.ACTUATED_KIND == "R":
+        if self.actuated_kind() == "R":
             return "N·m", "rad", "N·m/rad"
         return "N", "m", "N/m"
 

@@ -66,7 +66,7 @@ def check_actuator_travel(design: Design, displacements: ArrayLike) -> None:
     worst = np.where(np.isnan(d[~ok]), np.inf, d[~ok]).max(axis=0)
     i = int(np.argmax(worst / spans))
     leg = design.legs[i]
-    rotary = leg.COORDINATES[leg.ACTUATED_COORDINATE].unit == "rad"
+    rotary = leg.coordinate(leg.ACTUATED_COORDINATE).unit == "rad"
     scale, unit = (180 / np.pi, "deg") if rotary else (1e3, "mm")
     raise InputDataError(
         f"load too large: actuator {i + 1} would move {worst[i] * scale:.4g} {unit}, "

@@ -187,7 +187,7 @@ def limit_violations(leg: LegModel, leg_pose: LegPose) -> list[str]:
     for name, (lo, hi) in leg.limits().items():
         q = float(leg_pose.coordinates[name])
         if not within_limits(q, lo, hi):  # the model's own test (round-off at the ends)
-            c = leg.COORDINATES[name]
+            c = leg.coordinate(name)
             v, unit = display(q, c.unit)
             a, _ = display(lo, c.unit)
             b, _ = display(hi, c.unit)
@@ -325,7 +325,8 @@ def title_text(view: MechanismView, head: str | None = None, width: int = 110) -
     names: list[str] = []
     units: dict[str, str] = {}
     for leg in design.legs:
-        for name, c in leg.COORDINATES.items():
+        for name in leg.coordinate_names():
+            c = leg.coordinate(name)
             if name not in names:
                 names.append(name)
                 units[name] = c.unit

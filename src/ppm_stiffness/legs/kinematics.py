@@ -1,0 +1,322 @@
+"""Inverse kinematics of any serial chain: product of exponentials and Newton's method.
+
+A leg written as a list of joints (:mod:`ppm_stiffness.legs.types.chain_leg`) is, for
+its kinematics, a serial chain of one-freedom screws given at the design's home pose:
+a revolute freedom is a unit axis ``a`` through a point ``c`` (F_b, absolute) [m], a
+prismatic one a unit direction ``a``. Joint coordinates are zero at home; the body
+after freedom i moves by
+
+    G_i(q) = exp(xi_1 q_1) ... exp(xi_i q_i)
+
+(a rotation ``exp(hat(a) q)`` about c, or a translation ``a q``), and a point or axis
+fixed to that body at home moves with G_i. A U joint is two revolutes (e1, then e2);
+an S joint three, about the x, y and z axes of F_b through its centre at home (their
+product parametrises its rotation away from +-90 deg of the middle one, far beyond
+any ball joint's range).
+
+The platform is the body after the last freedom: the chain closes at a pose when
+``G_n(q)`` carries the platform's home pose onto it. Newton's method solves the
+closure's six equations, in length-balanced units (rotations times
+:data:`~ppm_stiffness.core.conventions.LENGTH_SCALE`), by least squares with the
+minimum-norm step (a leg of fewer than six independent freedoms cannot close at
+every pose: the remaining error is what its constraint reports; a chain with an
+internal freedom, a rod's spin between two ball joints, keeps it at zero). A pose far
+from home is reached by continuation along the straight line from the home pose in
+pose coordinates (steps of at most :data:`CONTINUATION_STEP`), so that the solution
+is the home pose's assembly mode and does not depend on which other poses are solved
+with it.
+
+Arrays have one leading batch axis (n poses). SI throughout.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core import pose as pose6
+from ppm_stiffness.core.conventions import LENGTH_SCALE, BoolArray, FloatArray, cross, hat
+
+#: Largest closure error [m, or rad times LENGTH_SCALE] of a closed chain.
+CLOSURE_TOLERANCE = 1e-12
+#: Largest closure error [m, balanced] of a chain that closes: a Newton solution beyond
+#: it is a least-squares one (the pose is out of the chain's reach).
+CLOSED = 1e-9
+#: Newton iterations per continuation step before a pose is declared not solved.
+MAX_ITERATIONS = 40
+#: Largest continuation step along the path from home [m, or rad times LENGTH_SCALE].
+CONTINUATION_STEP = 0.05
+#: Last Newton step [m or rad] at which a continuation step before the last is taken as
+#: solved (only the last one needs the full precision).
+PATH_TOLERANCE = 1e-6
+#: Largest Newton step on the joint coordinates [m or rad].
+MAX_STEP = 0.3
+#: Singular-value ratio below which a direction of the chain's Jacobian counts as absent.
+RANK_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Freedoms:
+    """A chain's freedoms at home (module doc), in order from the base.
+
+    Attributes
+    ----------
+    axes : ndarray (n, 3)
+        Unit axis (revolute) or direction (prismatic) of each freedom, F_b.
+    points : ndarray (n, 3) [m]
+        A point of each revolute's axis, F_b (ignored for a prismatic freedom).
+    prismatic : ndarray of bool (n,)
+    """
+
+    axes: FloatArray
+    points: FloatArray
+    prismatic: FloatArray
+
+    @property
+    def count(self) -> int:
+        return int(self.axes.shape[0])
+
+
+@dataclass(frozen=True)
+class ChainState:
+    """A chain at n poses.
+
+    Attributes
+    ----------
+    q : ndarray (n, f)
+        Joint coordinates [m or rad], zero at home.
+    rotations : ndarray (n, f + 1, 3, 3)
+        Rotation of the body after each freedom (index 0: the base, the identity).
+    translations : ndarray (n, f + 1, 3) [m]
+        Its translation: a point x fixed to that body at home is at ``R x + t``.
+    error : ndarray (n, 6)
+        Remaining closure error, length-balanced (module doc), at the platform's
+        reference point: (rotation vector * LENGTH_SCALE, translation) [m].
+    converged : ndarray of bool (n,)
+        Newton's last step was within tolerance (the least-squares solution found).
+    """
+
+    q: FloatArray
+    rotations: FloatArray
+    translations: FloatArray
+    error: FloatArray
+    converged: BoolArray
+
+    def carry(self, body: int, point: ArrayLike) -> FloatArray:
+        """Where a point fixed to ``body`` (0: base, i: after freedom i) at home (3,)
+        is, (n, 3) [m], F_b."""
+        x = np.asarray(point, dtype=float)
+        return np.asarray(self.rotations[:, body] @ x + self.translations[:, body])
+
+    def turn(self, body: int, axis: ArrayLike) -> FloatArray:
+        """A direction fixed to ``body`` at home (3,), now; (n, 3)."""
+        return np.asarray(self.rotations[:, body] @ np.asarray(axis, dtype=float))
+
+
+def forward(freedoms: Freedoms, q: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Rotations (n, f + 1, 3, 3) and translations (n, f + 1, 3) of every body."""
+    n, f = q.shape
+    rot = np.empty((n, f + 1, 3, 3))
+    trans = np.empty((n, f + 1, 3))
+    rot[:, 0] = np.eye(3)
+    trans[:, 0] = 0.0
+    for i in range(f):
+        a = freedoms.axes[i]
+        if freedoms.prismatic[i]:
+            rot[:, i + 1] = rot[:, i]
+            trans[:, i + 1] = trans[:, i] + q[:, i, None] * (rot[:, i] @ a)
+            continue
+        # Rodrigues: R_i = cos I + sin hat(a) + (1 - cos) a a^T, about c: t_i = c - R_i c
+        cos, sin = np.cos(q[:, i])[:, None, None], np.sin(q[:, i])[:, None, None]
+        r_i = cos * np.eye(3) + sin * hat(a) + (1.0 - cos) * np.outer(a, a)
+        c = freedoms.points[i]
+        rot[:, i + 1] = rot[:, i] @ r_i
+        # x -> R_prev (R_i (x - c) + c) + t_prev
+        trans[:, i + 1] = trans[:, i] + rot[:, i] @ c - rot[:, i + 1] @ c
+    return rot, trans
+
+
+def rotation_log(r: FloatArray) -> FloatArray:
+    """Rotation vectors (n, 3) of rotations (n, 3, 3) of angle below pi."""
+    cos = np.clip((np.trace(r, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cos)
+    axial = np.stack(
+        [r[..., 2, 1] - r[..., 1, 2], r[..., 0, 2] - r[..., 2, 0], r[..., 1, 0] - r[..., 0, 1]],
+        axis=-1,
+    )
+    small = angle < 1e-6
+    factor = np.where(
+        small, 0.5 + angle**2 / 12.0, angle / (2.0 * np.sin(np.where(small, 1, angle)))
+    )
+    return np.asarray(factor[..., None] * axial)
+
+
+def jacobian(
+    freedoms: Freedoms, rot: FloatArray, trans: FloatArray, reference: FloatArray
+) -> FloatArray:
+    """Unit twists (n, 6, f) of the freedoms now, at ``reference`` (n, 3) [m] (F_b)."""
+    n = rot.shape[0]
+    f = freedoms.count
+    out = np.zeros((n, 6, f))
+    for i in range(f):
+        a = rot[:, i] @ freedoms.axes[i]
+        if freedoms.prismatic[i]:
+            out[:, 3:, i] = a
+        else:
+            c = (rot[:, i] @ freedoms.points[i]) + trans[:, i]
+            out[:, :3, i] = a
+            out[:, 3:, i] = cross(c - reference, a)
+    return out
+
+
+_BALANCE_TWIST = np.array([LENGTH_SCALE] * 3 + [1.0] * 3)
+#: Pose coordinates (x, y, z, rx, ry, rz) to path length [m].
+_PATH_WEIGHTS = np.array([1.0] * 3 + [LENGTH_SCALE] * 3)
+
+
+def closure_error(
+    rot_end: FloatArray,
+    trans_end: FloatArray,
+    home: FloatArray,
+    target: FloatArray,
+) -> FloatArray:
+    """Balanced error twist (n, 6) from the chain's end to the target poses (n, 6):
+    the rotation vector of ``R_target R_now^T`` and the position error of P."""
+    p_home = pose6.position(home)
+    r_home = pose6.rotation(home)
+    p_now = (rot_end @ p_home) + trans_end
+    r_now = rot_end @ r_home
+    dr = rotation_log(pose6.rotation(target) @ np.swapaxes(r_now, -1, -2))
+    return np.concatenate([dr, pose6.position(target) - p_now], axis=-1) * _BALANCE_TWIST
+
+
+def _newton(
+    freedoms: Freedoms,
+    home: FloatArray,
+    target: FloatArray,
+    q: FloatArray,
+    tolerance: FloatArray,
+) -> tuple[FloatArray, BoolArray]:
+    """Least-squares Newton from ``q`` (n, f) toward ``target`` (n, 6) until the last
+    step is within ``tolerance`` (n,) [m or rad]; (q, converged). Each iteration works
+    on the poses not yet converged only."""
+    p_home = pose6.position(home)
+    q = q.copy()
+    converged = np.zeros(q.shape[0], dtype=bool)
+    active = np.arange(q.shape[0])
+    for _ in range(MAX_ITERATIONS):
+        qa = q[active]
+        rot, trans = forward(freedoms, qa)
+        error = closure_error(rot[:, -1], trans[:, -1], home, target[active])
+        reference = (rot[:, -1] @ p_home) + trans[:, -1]
+        jac = jacobian(freedoms, rot, trans, reference) * _BALANCE_TWIST[:, None]
+        step = _least_squares(jac, error)
+        size = np.max(np.abs(step), axis=-1, initial=0.0)
+        with np.errstate(invalid="ignore"):
+            scale = np.minimum(1.0, MAX_STEP / np.maximum(size, 1e-300))
+        q[active] = qa + step * scale[:, None]
+        done = size <= tolerance[active]
+        converged[active[done]] = True
+        active = active[~done & np.isfinite(size)]
+        if active.size == 0:
+            break
+    return q, converged
+
+
+def _least_squares(jac: FloatArray, error: FloatArray) -> FloatArray:
+    """Minimum-norm least-squares steps (n, f) of ``jac @ step = error`` (jac (n, 6, f)
+    of full rank: the normal equations of the smaller side); NaN where singular."""
+    f = jac.shape[-1]
+    if f == 0:
+        return np.zeros(error.shape[:-1] + (0,))
+    jt = np.swapaxes(jac, -1, -2)
+    with np.errstate(all="ignore"):
+        if f <= 6:  # (J^T J) step = J^T e
+            normal, rhs = jt @ jac, np.einsum("nji,nj->ni", jac, error)
+            return _solve_or_nan(normal, rhs)
+        y = _solve_or_nan(jac @ jt, error)  # step = J^T (J J^T)^-1 e
+        return np.asarray(np.einsum("nij,nj->ni", jt, y))
+
+
+def _solve_or_nan(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``solve(a, b)`` per pose (a (n, m, m), b (n, m)); NaN rows where a is singular."""
+    try:
+        return np.asarray(np.linalg.solve(a, b[..., None])[..., 0])
+    except np.linalg.LinAlgError:
+        out = np.full(b.shape, np.nan)
+        for i in range(a.shape[0]):
+            try:
+                out[i] = np.linalg.solve(a[i], b[i])
+            except np.linalg.LinAlgError:
+                continue
+        return out
+
+
+def solve(freedoms: Freedoms, home: ArrayLike, poses: ArrayLike) -> ChainState:
+    """Joint coordinates closing the chain at ``poses`` (n, 6) (module doc).
+
+    Parameters
+    ----------
+    freedoms : Freedoms
+        The chain at home.
+    home : array_like (6,)
+        The design's home pose [m, rad], where every joint coordinate is zero.
+    poses : array_like (n, 6)
+
+    Returns
+    -------
+    ChainState
+        ``error`` is zero (within :data:`CLOSURE_TOLERANCE`) where the chain closes.
+    """
+    home = np.asarray(home, dtype=float)
+    target = np.asarray(poses, dtype=float).reshape(-1, 6)
+    n = target.shape[0]
+    span = np.max(np.abs((target - home) * _PATH_WEIGHTS), axis=-1, initial=0.0)
+    steps = np.maximum(1, np.ceil(span / CONTINUATION_STEP)).astype(int)
+    q = np.zeros((n, freedoms.count))
+    failed: BoolArray = np.zeros(n, dtype=bool)
+    for k in range(1, int(steps.max(initial=1)) + 1):
+        index = np.flatnonzero((k <= steps) & ~failed)
+        if index.size == 0:
+            break
+        last = steps[index] == k
+        along = home + (target[index] - home) * (k / steps[index])[:, None]
+        tolerance = np.where(last, CLOSURE_TOLERANCE, PATH_TOLERANCE)
+        q_k, ok = _newton(freedoms, home, along, q[index], tolerance)
+        q[index] = q_k
+        failed[index] = ~ok
+    converged = ~failed
+    rot, trans = forward(freedoms, q)
+    error = closure_error(rot[:, -1], trans[:, -1], home, target)
+    return ChainState(q, rot, trans, error, converged)
+
+
+def constraint_basis(jac_balanced: FloatArray, count: int) -> FloatArray:
+    """The ``count`` balanced unit wrenches (n, 6, count) reciprocal to a chain's
+    freedoms (the left singular vectors of its balanced Jacobian (n, 6, f) beyond its
+    rank)."""
+    u, _, _ = np.linalg.svd(jac_balanced, full_matrices=True)
+    return np.asarray(u[..., 6 - count :])
+
+
+def rank(jac: FloatArray) -> int:
+    """Rank of one balanced Jacobian (6, f)."""
+    if jac.shape[-1] == 0:
+        return 0
+    s = np.linalg.svd(jac, compute_uv=False)
+    return int(np.sum(s > RANK_TOLERANCE * s[0]))
+
+
+__all__ = [
+    "CLOSURE_TOLERANCE",
+    "ChainState",
+    "Freedoms",
+    "closure_error",
+    "constraint_basis",
+    "forward",
+    "jacobian",
+    "rank",
+    "solve",
+]

@@ -1,0 +1,635 @@
+"""A leg written as a list of joints and links (``type = "chain"``): any serial leg.
+
+The elements run from the base to the platform and are given at the design's home pose
+(``[workspace]``), in F_b [m]:
+
+- a **joint** (``joint = "R" | "P" | "C" | "U" | "S"``) at ``point``, with its axis
+  ``axis`` (R, P, C; a U's first axis e1, fixed to the body before it) and a U's
+  second axis ``axis2`` (e2, fixed to the body after it, normal to e1 at home); an S
+  has no axis. One joint of the leg is ``actuated = true`` (an R or a P: the actuator's
+  law acts along its freedom), with its ``stroke`` [lo, hi] [m or rad] measured from
+  its home position (``lo <= 0 <= hi``; a revolute's is an angle about its own axis).
+  ``springs`` are its hardware springs in its constrained directions, the part of its
+  kind (:mod:`ppm_stiffness.legs.parts`: a P's ``GuideModel``, a C's ``BearingModel``,
+  an R's ``RevoluteModel``, a U's ``UniversalModel``, an S's ``SphericalModel``), or one
+  number [N/m or N·m/rad] for every constrained direction alike; absent, the joint is
+  rigid in them. A U's or an S's ``max_angle`` limits the angle between its
+  ``mounting_axis`` (default: its link's home direction; fixed to the body on the other
+  side) and its link (the link after it; the link before it for the joint at the
+  platform);
+- a **link** (``link = {section and material}`` or ``link = "rigid"``) between two
+  joints: a beam from the preceding joint's current point (a P or C joint's point is its
+  bushing, on the body before it, so a ram's free length changes with the stroke) to
+  the next joint's point, with the mass-model keys of any link; a rigid link adds no
+  springs (and carries no mass).
+
+The platform is the body after the last element: a joint at a platform point (the
+usual S), or a link fixed to the platform (``end``: the point [m] of F_b at home where
+it is fixed, as a Tricept's central tube). Joints without a link between them are
+joined rigidly.
+
+Spring frames, at every pose. A joint's frame (:mod:`ppm_stiffness.legs.chain`) is its
+current axis e1 (carried by the body before it) and, for a U, its current e2 (carried by
+the cross, after e1's rotation): a U's springs act along e1, e2, e1 x e2 and about
+e1 x e2. An S's frame has e1 along its link (the one before it; the one after it at the
+base), as the strut legs' spherical joints.
+
+Kinematics (:mod:`ppm_stiffness.legs.kinematics`): joint coordinates are zero at home,
+every body moves by the product of exponentials of the joints' screws at home, and the
+inverse kinematics at a pose is Newton's method on the leg's closure from home, by
+continuation (the home pose's assembly mode). A leg with fewer than six independent
+freedoms constrains the platform: its constraint residuals are the closure error along
+the wrenches reciprocal to its freedoms, and the design completes its dependent pose
+coordinates from them (``task_coordinates`` must then be given).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Annotated, Any, ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+from pydantic import Discriminator, Field, PrivateAttr, Tag, ValidationInfo, model_validator
+
+from ppm_stiffness.core import pose as pose6
+from ppm_stiffness.core.conventions import FloatArray, rotation_z
+from ppm_stiffness.legs import kinematics as kin
+from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, check_plausible
+from ppm_stiffness.legs.chain import Element, Joint, Link, unit
+from ppm_stiffness.legs.parts import (
+    BearingModel,
+    Finite,
+    GuideModel,
+    PartModel,
+    Positive,
+    RevoluteModel,
+    SectionModel,
+    SphericalModel,
+    UniversalModel,
+)
+from ppm_stiffness.legs.types._spatial import check_normal, check_unit, joint_angle
+
+Vector3 = tuple[Finite, Finite, Finite]
+
+#: The part that gives each joint kind's hardware springs.
+SPRING_PARTS: dict[str, type[PartModel]] = {
+    "P": GuideModel,
+    "C": BearingModel,
+    "R": RevoluteModel,
+    "U": UniversalModel,
+    "S": SphericalModel,
+}
+#: Number of hardware springs (constrained directions) of each joint kind.
+SPRING_COUNT = {"P": 5, "C": 4, "R": 5, "U": 4, "S": 3}
+#: Kinematic freedoms of each kind: (rotation?, axis source) with the axis source
+#: "axis", "axis2" or a unit vector of F_b (an S: about x, y, z through its centre).
+_FREEDOMS: dict[str, tuple[tuple[bool, str], ...]] = {
+    "R": ((True, "axis"),),
+    "P": ((False, "axis"),),
+    "C": ((True, "axis"), (False, "axis")),
+    "U": ((True, "axis"), (True, "axis2")),
+    "S": ((True, "x"), (True, "y"), (True, "z")),
+}
+_UNIT_AXES = {"x": np.array([1.0, 0.0, 0.0]), "y": np.array([0.0, 1.0, 0.0]), "z": np.eye(3)[2]}
+
+JointSprings = (
+    Positive | GuideModel | BearingModel | RevoluteModel | UniversalModel | SphericalModel | None
+)
+
+
+class JointElement(PartModel):
+    """A joint of a chain leg (module doc); lengths [m], angles [rad]."""
+
+    joint: Literal["R", "P", "C", "U", "S"]
+    name: str = ""
+    point: Vector3
+    axis: Vector3 | None = None
+    axis2: Vector3 | None = None
+    actuated: bool = False
+    stroke: tuple[Finite, Finite] | None = None
+    springs: JointSprings = None
+    mounting_axis: Vector3 | None = None
+
+    @model_validator(mode="after")
+    def _axes(self) -> JointElement:
+        for key in ("point", "stroke") if self.joint == "P" else ("point",):
+            for v in getattr(self, key) or ():
+                check_plausible(key, v, "m")
+        if self.joint == "S":
+            if self.axis is not None or self.axis2 is not None:
+                raise ValueError("a spherical joint has no axis (its springs follow its link)")
+        elif self.axis is None:
+            raise ValueError(f"a joint of kind {self.joint} needs its axis")
+        else:
+            e1 = check_unit("axis", self.axis)
+            if self.joint == "U":
+                if self.axis2 is None:
+                    raise ValueError("a universal joint needs axis2 (e2, normal to axis)")
+                check_normal("axis", e1, "axis2", check_unit("axis2", self.axis2))
+            elif self.axis2 is not None:
+                raise ValueError(f"axis2 is a universal joint's; a {self.joint} joint has one axis")
+        if self.mounting_axis is not None:
+            check_unit("mounting_axis", self.mounting_axis)
+        part = SPRING_PARTS[self.joint]
+        if self.springs is not None and not isinstance(self.springs, (float, int, part)):
+            raise ValueError(
+                f"springs: a {self.joint} joint's springs are a {part.__name__} table "
+                f"({', '.join(part.model_fields)}) or one stiffness"
+            )
+        if self.actuated:
+            if self.joint not in ("R", "P"):
+                raise ValueError(f"an actuated joint is an R or a P, not a {self.joint}")
+            if self.stroke is None:
+                raise ValueError("an actuated joint needs its stroke [lo, hi] from home")
+            lo, hi = self.stroke
+            if not lo <= 0.0 <= hi or not lo < hi:
+                raise ValueError(
+                    f"stroke = [{lo:g}, {hi:g}]: measured from the home position, so "
+                    "lo <= 0 <= hi with lo < hi"
+                )
+            if self.joint == "R":
+                for v in self.stroke:
+                    check_plausible("stroke", v, "rad")
+        elif self.stroke is not None:
+            raise ValueError("stroke is the actuated joint's; this joint is passive")
+        return self
+
+    def stiffnesses(self) -> FloatArray | None:
+        """The hardware springs in the kind's constrained order, or None (rigid)."""
+        if self.springs is None:
+            return None
+        if isinstance(self.springs, (float, int)):
+            return np.full(SPRING_COUNT[self.joint], float(self.springs))
+        return np.asarray(self.springs.stiffnesses(), dtype=float)
+
+    def max_angle(self) -> float | None:
+        return getattr(self.springs, "max_angle", None)
+
+
+class LinkElement(PartModel):
+    """A link of a chain leg: a beam (section and material) or ``"rigid"``; ``end``
+    [m] (F_b, home) only for a last link fixed to the platform."""
+
+    link: SectionModel | Literal["rigid"]
+    name: str = ""
+    end: Vector3 | None = None
+
+
+def _element_kind(value: Any) -> str:
+    if isinstance(value, dict):
+        return "link" if "link" in value else "joint"
+    return "link" if isinstance(value, LinkElement) else "joint"
+
+
+ChainElement = Annotated[
+    Annotated[JointElement, Tag("joint")] | Annotated[LinkElement, Tag("link")],
+    Discriminator(_element_kind),
+]
+
+
+def _turned(raw: dict[str, Any], turn: FloatArray, mirror: bool) -> dict[str, Any]:
+    """A raw chain leg mirrored (y -> -y, when ``mirror``) then turned by ``turn``
+    (3, 3): points and directions turn as vectors; a revolute's axis is an axial
+    vector (its mirror image is -M a, so that the mirrored joint's coordinate equals
+    the original's at mirrored poses and its stroke stays)."""
+    m = np.diag([1.0, -1.0, 1.0]) if mirror else np.eye(3)
+
+    def polar(v: Any) -> Any:
+        return (turn @ m @ np.asarray(v, dtype=float)).tolist() if _is_vector(v) else v
+
+    def axial(v: Any) -> Any:
+        sign = -1.0 if mirror else 1.0
+        return (sign * turn @ m @ np.asarray(v, dtype=float)).tolist() if _is_vector(v) else v
+
+    out = {k: v for k, v in raw.items() if k != "pattern"}
+    elements = []
+    for element in raw.get("elements", []):
+        if not isinstance(element, dict):
+            elements.append(element)
+            continue
+        e = dict(element)
+        rotation = e.get("joint") in ("R", "U", "S")
+        for key in ("point", "end", "mounting_axis"):
+            if key in e:
+                e[key] = polar(e[key])
+        for key in ("axis", "axis2"):
+            if key in e:
+                e[key] = axial(e[key]) if rotation else polar(e[key])
+        elements.append(e)
+    out["elements"] = elements
+    return out
+
+
+def _is_vector(v: Any) -> bool:
+    return (
+        isinstance(v, (list, tuple))
+        and len(v) == 3
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+    )
+
+
+class ChainLeg(LegModel):
+    """A leg written as its joints and links (module doc).
+
+    A leg table may carry ``pattern = {copies = n, mirror = true}``: it then stands for
+    n copies of the leg turned about the z axis of F_b by 2 pi k / n (k = 0 .. n - 1),
+    each preceded, with ``mirror``, by its mirror image in the plane y = 0 of F_b (the
+    legs of a hexapod in pairs: leg, mirror, turned leg, turned mirror, ...).
+    """
+
+    type: Literal["chain"] = "chain"
+    elements: Annotated[list[ChainElement], Field(min_length=1)]
+
+    ACTUATED_COORDINATE: ClassVar[str] = "actuated"
+    DESCRIPTION: ClassVar[str] = "any serial leg, written as its joints and links"
+
+    _home: tuple[float, ...] = PrivateAttr(default=(0.0,) * 6)
+    _constrained: int = PrivateAttr(default=0)
+
+    @model_validator(mode="after")
+    def _structure(self, info: ValidationInfo) -> ChainLeg:
+        home = (info.context or {}).get("home_pose")
+        if home is not None:
+            self._home = tuple(float(v) for v in home)
+        elements = self.elements
+        if not isinstance(elements[0], JointElement):
+            raise ValueError("elements: a leg starts at a joint on the base")
+        for a, b in zip(elements, elements[1:], strict=False):
+            if isinstance(a, LinkElement) and isinstance(b, LinkElement):
+                raise ValueError("elements: two links in a row (join them into one)")
+        for e in elements[:-1]:
+            if isinstance(e, LinkElement) and e.end is not None:
+                raise ValueError("elements: only the last link, fixed to the platform, has end")
+        last = elements[-1]
+        if isinstance(last, LinkElement) and last.end is None:
+            raise ValueError("elements: a last link is fixed to the platform: give its end")
+        actuated = [e for e in self.joints() if e.actuated]
+        if len(actuated) != 1:
+            raise ValueError(f"elements: one actuated joint, got {len(actuated)}")
+        names = [e.name for e in elements if e.name]
+        if len(set(names)) != len(names):
+            raise ValueError("elements: element names must differ")
+        self._constrained = self._count_constraints()
+        return self
+
+    # -- the chain at home -----------------------------------------------------------
+    def joints(self) -> list[JointElement]:
+        return [e for e in self.elements if isinstance(e, JointElement)]
+
+    def home(self) -> FloatArray:
+        """The design's home pose (6,) [m, rad], where every joint coordinate is zero."""
+        return np.array(self._home)
+
+    def element_name(self, index: int) -> str:
+        element = self.elements[index]
+        if element.name:
+            return element.name
+        kind = "link" if isinstance(element, LinkElement) else element.joint
+        return f"{kind}{index + 1}"
+
+    def freedoms(self) -> tuple[kin.Freedoms, list[int]]:
+        """The chain's freedoms at home and, for each element, the index of the body
+        after it (0: the base)."""
+        axes, points, prismatic, bodies = [], [], [], []
+        for element in self.elements:
+            if isinstance(element, JointElement):
+                for rotation, source in _FREEDOMS[element.joint]:
+                    axis = getattr(element, source) if source.startswith("axis") else None
+                    axes.append(_UNIT_AXES[source] if axis is None else unit(axis))
+                    points.append(np.array(element.point, dtype=float))
+                    prismatic.append(not rotation)
+            bodies.append(len(axes))
+        freedoms = kin.Freedoms(
+            np.array(axes).reshape(-1, 3), np.array(points).reshape(-1, 3), np.array(prismatic)
+        )
+        return freedoms, bodies
+
+    def _end_point(self) -> FloatArray:
+        last = self.elements[-1]
+        point = last.end if isinstance(last, LinkElement) else last.point
+        return np.array(point, dtype=float)
+
+    def attachment(self) -> FloatArray:
+        """The platform point of the leg (its last joint's point, or its last link's
+        end) in the platform frame [m]."""
+        home = self.home()
+        return np.asarray(pose6.rotation(home).T @ (self._end_point() - home[:3]))
+
+    def constraint_count(self) -> int:
+        """Number of pose coordinates the leg constrains (6 - the rank of its freedoms
+        at home)."""
+        return self._constrained
+
+    def _count_constraints(self) -> int:
+        freedoms, _ = self.freedoms()
+        state = kin.solve(freedoms, self.home(), self.home()[None])
+        jac = kin.jacobian(freedoms, state.rotations, state.translations, self.home()[None, :3])
+        return 6 - kin.rank(jac[0] * _BALANCED_ROWS[:, None])
+
+    # -- kinematics ----------------------------------------------------------------
+    def _state(self, poses: ArrayLike) -> tuple[kin.ChainState, tuple[int, ...]]:
+        q = np.asarray(poses, dtype=float)
+        freedoms, _ = self.freedoms()
+        return kin.solve(freedoms, self.home(), q.reshape(-1, 6)), q.shape[:-1]
+
+    def solve(self, poses: ArrayLike) -> LegPose:
+        """Inverse kinematics at poses (..., 6) (module doc); the coordinates are the
+        actuated joint's (``actuated``), each limited U's or S's angle
+        (``<name>_angle``) and every freedom's (``q1``, ``q2``, ... from the base)."""
+        pose = np.asarray(poses, dtype=float)
+        state, shape = self._state(pose)
+        _, bodies = self.freedoms()
+        p = pose.reshape(-1, 6)[:, :3]
+        points: dict[str, FloatArray] = {}
+        for i, element in enumerate(self.elements):
+            if isinstance(element, JointElement):
+                before = bodies[i - 1] if i else 0
+                points[self.element_name(i)] = state.carry(before, element.point) - p
+        if isinstance(self.elements[-1], LinkElement):
+            points[self.element_name(len(self.elements) - 1)] = (
+                state.carry(bodies[-1], self._end_point()) - p
+            )
+        coordinates = {f"q{j + 1}": state.q[:, j] for j in range(state.q.shape[1])}
+        coordinates["actuated"] = state.q[:, self._actuated_freedom()]
+        for name, value in self._joint_angles(state, points).items():
+            coordinates[name] = value
+        solvable = state.converged
+        if self.constraint_count() == 0:  # a leg that constrains nothing closes at every pose
+            solvable = solvable & (np.max(np.abs(state.error), axis=-1) <= kin.CLOSED)
+        return LegPose(
+            poses=pose,
+            points={k: v.reshape(shape + (3,)) for k, v in points.items()},
+            coordinates={k: v.reshape(shape) for k, v in coordinates.items()},
+            solvable=np.asarray(solvable).reshape(shape),  # type: ignore[arg-type]  # bool, as every leg's
+        )
+
+    def _actuated_freedom(self) -> int:
+        _, bodies = self.freedoms()
+        for i, element in enumerate(self.elements):
+            if isinstance(element, JointElement) and element.actuated:
+                return bodies[i] - 1
+        raise AssertionError("validated: one actuated joint")
+
+    def _joint_angles(
+        self, state: kin.ChainState, points: dict[str, FloatArray]
+    ) -> dict[str, FloatArray]:
+        """Angle [rad] between each limited U's or S's mounting axis and its link."""
+        out: dict[str, FloatArray] = {}
+        _, bodies = self.freedoms()
+        last = len(self.elements) - 1
+        for i, element in enumerate(self.elements):
+            if not isinstance(element, JointElement) or element.max_angle() is None:
+                continue
+            direction_now, direction_home = self._link_direction(i, state, points)
+            mount = (
+                np.asarray(element.mounting_axis, dtype=float)
+                if element.mounting_axis is not None
+                else direction_home
+            )
+            # the mounting axis is fixed to the body on the side away from the link
+            side = bodies[i] if i == last or self._link_before(i) else (bodies[i - 1] if i else 0)
+            out[f"{self.element_name(i)}_angle"] = joint_angle(
+                direction_now, state.turn(side, mount)
+            )
+        return out
+
+    def _link_before(self, index: int) -> bool:
+        return (
+            index > 0
+            and isinstance(self.elements[index - 1], LinkElement)
+            and not (
+                index + 1 < len(self.elements) and isinstance(self.elements[index + 1], LinkElement)
+            )
+        )
+
+    def _link_direction(
+        self, index: int, state: kin.ChainState, points: dict[str, FloatArray]
+    ) -> tuple[FloatArray, FloatArray]:
+        """The direction (n, 3) from joint ``index`` into its link, now and at home
+        (3,): the link after it, or before it for a joint with no link after it."""
+        names = [self.element_name(i) for i in range(len(self.elements))]
+        home_points = self._home_points()
+        step = -2 if self._link_before(index) else 2
+        other = index + step
+        if not 0 <= other < len(self.elements) or names[other] not in points:
+            raise ValueError(
+                f"{names[index]}: max_angle needs a link at the joint to measure against"
+            )
+        now = unit(points[names[other]] - points[names[index]])
+        home = unit(home_points[other] - home_points[index])
+        return now, home
+
+    def _home_points(self) -> dict[int, FloatArray]:
+        out = {}
+        for i, element in enumerate(self.elements):
+            if isinstance(element, JointElement):
+                out[i] = np.array(element.point, dtype=float)
+            elif element.end is not None:
+                out[i] = np.array(element.end, dtype=float)
+        return out
+
+    def limits(self) -> dict[str, tuple[float, float]]:
+        out = {}
+        for i, element in enumerate(self.elements):
+            if isinstance(element, JointElement):
+                if element.actuated:
+                    assert element.stroke is not None
+                    out["actuated"] = (float(element.stroke[0]), float(element.stroke[1]))
+                limit = element.max_angle()
+                if limit is not None:
+                    out[f"{self.element_name(i)}_angle"] = (0.0, float(limit))
+        return out
+
+    def coordinate(self, name: str) -> Coordinate:
+        if name == "actuated":
+            joint = next(e for e in self.joints() if e.actuated)
+            unit_ = "m" if joint.joint == "P" else "rad"
+            return Coordinate(f"actuated joint {joint.name or joint.joint} travel", unit_)
+        if name.endswith("_angle"):
+            return Coordinate(f"{name[: -len('_angle')]} joint angle", "rad")
+        return Coordinate(f"joint coordinate {name}", "m or rad")
+
+    def coordinate_names(self) -> list[str]:
+        return list(self.limits())
+
+    @classmethod
+    def pattern_copies(cls, raw: dict[str, Any]) -> list[dict[str, Any]]:
+        """The legs of a leg table with a ``pattern`` (class doc), or the table."""
+        pattern = raw.get("pattern")
+        if pattern is None:
+            return [raw]
+        if not isinstance(pattern, dict) or set(pattern) - {"copies", "mirror"}:
+            raise ValueError("a table {copies = n, mirror = true or false}")
+        copies, mirror = pattern.get("copies", 1), pattern.get("mirror", False)
+        if not isinstance(copies, int) or isinstance(copies, bool) or not 1 <= copies <= 12:
+            raise ValueError(f"copies = {copies!r}: a whole number of copies, 1 to 12")
+        if not isinstance(mirror, bool):
+            raise ValueError(f"mirror = {mirror!r}: true or false")
+        out = []
+        for k in range(copies):
+            turn = rotation_z(2.0 * np.pi * k / copies)
+            out.append(_turned(raw, turn, False))
+            if mirror:
+                out.append(_turned(raw, turn, True))
+        return out
+
+    def parameter_items(self) -> list[tuple[str, Any]]:
+        """Each element's fields under its name (``rod.area``, ``base_joint.point``),
+        the actuator first."""
+        items: list[tuple[str, Any]] = [("actuator", self.actuator)]
+        for i, element in enumerate(self.elements):
+            name = self.element_name(i)
+            for key, value in element:
+                if key == "name" or value is None:
+                    continue
+                if key == "springs" and isinstance(value, (int, float)):
+                    items.append((f"{name}.springs", float(value)))
+                elif key == "link" and isinstance(value, str):
+                    items.append((f"{name}.link", value))
+                else:
+                    items.append((f"{name}.{key}", value))
+        return items
+
+    def parameter_unit(self, key: str) -> str:
+        """m for points, rad or m for a stroke, 1 for axes (the element's field)."""
+        field = key.rsplit(".", 1)[-1]
+        if field == "stroke":
+            return "m" if self.actuated_kind() == "P" else "rad"
+        return {"point": "m", "end": "m", "axis": "1", "axis2": "1", "mounting_axis": "1"}.get(
+            field, ""
+        )
+
+    def architecture_name(self) -> str:
+        """The joints' letters from the base (``"RUS"``), the actuated one first
+        marked by its letter only (plain text cannot underline it)."""
+        return "".join(e.joint for e in self.joints())
+
+    def actuated_kind(self) -> str:
+        """The actuated joint's kind ("P" until the leg's own check has refused a leg
+        without one: the base checks run first)."""
+        return next((e.joint for e in self.joints() if e.actuated), "P")
+
+    def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """The closure error along the wrenches reciprocal to the leg's freedoms (module
+        doc): residuals (..., c) [m, balanced] and wrenches (..., 6, c)."""
+        c = self.constraint_count()
+        q = np.asarray(poses, dtype=float)
+        shape = q.shape[:-1]
+        if c == 0:
+            return np.zeros(shape + (0,)), np.zeros(shape + (6, 0))
+        state, _ = self._state(q)
+        freedoms, _ = self.freedoms()
+        reference = q.reshape(-1, 6)[:, :3]
+        jac = kin.jacobian(freedoms, state.rotations, state.translations, reference)
+        basis = kin.constraint_basis(jac * _BALANCED_ROWS[:, None], c)
+        residual = np.einsum("nic,ni->nc", basis, state.error)
+        wrenches = basis * _BALANCED_ROWS[:, None]
+        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c))
+
+    # -- the chain for the stiffness ----------------------------------------------
+    def chain(self, leg_pose: LegPose) -> Sequence[Element]:
+        """Joints and links at the poses of ``leg_pose`` (module doc)."""
+        shape = np.shape(leg_pose.poses)[:-1]
+        freedoms, bodies = self.freedoms()
+        q = np.stack(
+            [np.reshape(leg_pose.coordinates[f"q{j + 1}"], -1) for j in range(freedoms.count)],
+            axis=-1,
+        ).reshape(-1, freedoms.count)
+        rot, trans = kin.forward(freedoms, q)
+        state = kin.ChainState(q, rot, trans, np.zeros((q.shape[0], 6)), np.ones(q.shape[0], bool))
+        p = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)[:, :3]
+
+        def where(body: int, point: ArrayLike) -> FloatArray:
+            return (state.carry(body, point) - p).reshape(shape + (3,))
+
+        def turn(body: int, axis: ArrayLike) -> FloatArray:
+            return state.turn(body, unit(axis)).reshape(shape + (3,))
+
+        out: list[Element] = []
+        previous_point: FloatArray | None = None
+        law = self.actuator
+        for i, element in enumerate(self.elements):
+            before = bodies[i - 1] if i else 0
+            if isinstance(element, LinkElement):
+                assert previous_point is not None
+                if i + 1 < len(self.elements):
+                    nxt = self.elements[i + 1]
+                    assert isinstance(nxt, JointElement)
+                    end = where(bodies[i], nxt.point)
+                else:
+                    end = where(bodies[i], self._end_point())
+                if isinstance(element.link, SectionModel):
+                    out.append(
+                        Link(
+                            previous_point,
+                            end,
+                            element.link.section(),
+                            name=self.element_name(i),
+                            mass=element.link.link_mass(),
+                        )
+                    )
+                continue
+            point = where(before, element.point)
+            name = self.element_name(i)
+            mass = law.moving_parts() if element.actuated else None
+            springs = element.stiffnesses()
+            if element.joint == "S":
+                direction = self._spherical_axis(i, where, bodies)
+                out.append(Joint("S", direction, point, springs, name=name))
+            elif element.joint == "U":
+                assert element.axis is not None and element.axis2 is not None
+                e1 = turn(before, element.axis)
+                e2 = turn(before + 1, element.axis2)
+                out.append(Joint("U", e1, point, springs, name=name, axis2=e2))
+            else:
+                assert element.axis is not None
+                axis = turn(before, element.axis)
+                out.append(
+                    Joint(
+                        element.joint,
+                        axis,
+                        point,
+                        springs,
+                        actuated=element.actuated,
+                        name=name,
+                        mass=mass,
+                    )
+                )
+            previous_point = point
+        return out
+
+    def _spherical_axis(self, index: int, where: Any, bodies: list[int]) -> FloatArray:
+        """An S joint's spring axis: along its link (before it; after it at the base)."""
+        element = self.elements[index]
+        assert isinstance(element, JointElement)
+        here = where(bodies[index], element.point)
+        if index >= 2 and isinstance(self.elements[index - 1], LinkElement):
+            start = self.elements[index - 2]
+            assert isinstance(start, JointElement)
+            there = where(bodies[index - 3] if index >= 3 else 0, start.point)
+            return unit(here - there)
+        if index + 2 < len(self.elements) and isinstance(self.elements[index + 1], LinkElement):
+            far = self.elements[index + 2]
+            far_point = far.point if isinstance(far, JointElement) else far.end
+            there = where(bodies[index + 1], far_point)
+            return unit(there - here)
+        return np.broadcast_to(np.array([0.0, 0.0, 1.0]), np.shape(here)).copy()
+
+    def link_length_ranges(self) -> dict[str, tuple[float, float]]:
+        return {}
+
+    def base_feature(self, leg_pose: LegPose) -> BaseFeature:
+        """The first joint: a rail along a base P (its stroke from its home point) or a
+        pivot."""
+        first = self.joints()[0]
+        if first.joint == "P":
+            assert first.axis is not None
+            stroke = None if first.stroke is None else (first.stroke[0], first.stroke[1])
+            return BaseFeature("rail", np.array(first.point, dtype=float), unit(first.axis), stroke)
+        return BaseFeature("pivot", np.array(first.point, dtype=float), np.zeros(3))
+
+
+_BALANCED_ROWS = np.array([kin.LENGTH_SCALE] * 3 + [1.0] * 3)
+
+__all__ = ["ChainLeg", "JointElement", "LinkElement", "SPRING_PARTS"]
