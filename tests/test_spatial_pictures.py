@@ -28,15 +28,12 @@ from helpers import ROOT, capture_saved_figures, colour_count, design_named, lin
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.legs.chain import Joint, Link  # noqa: E402
+from ppm_stiffness.legs.joint_kinds import joint_kind  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
 from ppm_stiffness.poses import full_pose  # noqa: E402
 from ppm_stiffness.visuals.leg_geometry import mechanism_view  # noqa: E402
 from ppm_stiffness.visuals.mechanism import plot_mechanism  # noqa: E402
-from ppm_stiffness.visuals.mechanism3d import (  # noqa: E402
-    JOINT_LEGEND,
-    JOINT_MARKERS_3D,
-    plot_mechanism_3d,
-)
+from ppm_stiffness.visuals.mechanism3d import plot_mechanism_3d  # noqa: E402
 from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
 SPATIAL = ("hexapod_6ups", "3prs", "3rps")
@@ -102,7 +99,7 @@ def _check_chain_drawn(fig, design, pose: np.ndarray, origin: np.ndarray) -> Non
             at = np.asarray(joint.point) + p - origin
             line = lines[f"joint-{i}-{j}"]
             np.testing.assert_allclose(_data(line)[0], at, rtol=0, atol=1e-12)
-            assert line.get_marker() == JOINT_MARKERS_3D[joint.kind], (i, j, joint.kind)
+            assert line.get_marker() == joint_kind(joint.kind).marker, (i, j, joint.kind)
             axes = {"R": [joint.axis], "P": [joint.axis], "U": [joint.axis, joint.axis2]}
             for k, e in enumerate(axes.get(joint.kind, []), start=1):
                 bar = _data(lines[f"joint-axis-{i}-{j}-{k}"])
@@ -203,7 +200,7 @@ def test_mechanism_command_draws_the_spatial_model(
     kinds = {
         e.kind for leg in design.legs for e in leg.chain(leg.solve(pose)) if isinstance(e, Joint)
     }
-    assert {JOINT_LEGEND[k] for k in kinds} <= legend
+    assert {joint_kind(k).legend for k in kinds} <= legend
     assert "actuated joint" in legend
     plt.close(fig)
 
