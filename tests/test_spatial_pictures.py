@@ -24,7 +24,16 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from helpers import ROOT, capture_saved_figures, colour_count, design_named, lines_by_gid  # noqa: E402
+from helpers import (  # noqa: E402
+    ROOT,
+    capture_saved_figures,
+    check_entries,
+    colour_count,
+    design_named,
+    example_designs,
+    is_spatial,
+    lines_by_gid,
+)
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.legs.chain import Joint, Link  # noqa: E402
@@ -36,7 +45,7 @@ from ppm_stiffness.visuals.mechanism import plot_mechanism  # noqa: E402
 from ppm_stiffness.visuals.mechanism3d import plot_mechanism_3d  # noqa: E402
 from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
-SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+SPATIAL = tuple(example_designs(is_spatial))
 #: An off-home reachable pose of each, as CLI options (mm, deg).
 POSE_OPTIONS = {
     "hexapod_6ups": [
@@ -56,6 +65,10 @@ POSE_OPTIONS = {
     "3prs": ["--z", "420", "--rx", "8", "--ry", "-5"],
     "3rps": ["--z", "360", "--rx", "5", "--ry", "4"],
 }
+
+
+def test_every_spatial_example_has_a_pose() -> None:
+    check_entries(POSE_OPTIONS, SPATIAL, "POSE_OPTIONS")
 
 
 def _task(name: str) -> np.ndarray:
