@@ -137,11 +137,6 @@ def has_reduced_form(design: Design) -> bool:
     return all(leg.reduced_form() is not None for leg in design.legs)
 
 
-def has_required_region(design: Design) -> bool:
-    """The design has a ``[workspace.required]`` region."""
-    return design.workspace.required is not None
-
-
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its
