@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -94,3 +96,89 @@ def half_unit(text: str) -> float:
     mantissa, _, exponent = text.lower().partition("e")
     decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
     return 0.5 * 10.0 ** (int(exponent or 0) - decimals)
+
+
+# --- the examples, discovered ---------------------------------------------------------
+#: The shipped example designs (``examples/*.toml``).
+EXAMPLES_DIR = ROOT / "examples"
+
+
+@functools.cache
+def _load(path: Path) -> Design:
+    return load_design(path)
+
+
+def example_designs(
+    where: Callable[[Design], bool] | None = None, *, paper: bool = False
+) -> list[str]:
+    """Names (file stems, sorted) of the designs in ``examples/*.toml`` that satisfy
+    ``where`` (all if None), for ``pytest.mark.parametrize`` and :func:`design_named`:
+    discovered, so that a new example file is tested by every test that applies to it.
+    ``paper``: the built-in design ("paper") first, when it satisfies ``where``."""
+    paths = {p.stem: p for p in sorted(EXAMPLES_DIR.glob("*.toml"))}
+    names = (["paper"] if paper else []) + list(paths)
+    if where is None:
+        return names
+    return [n for n in names if where(default_design() if n == "paper" else _load(paths[n]))]
+
+
+def is_planar(design: Design) -> bool:
+    """A planar design (task coordinates x, y, rz and planar legs)."""
+    return design.planar
+
+
+def is_spatial(design: Design) -> bool:
+    """A spatial design (not :func:`is_planar`)."""
+    return not design.planar
+
+
+def has_reduced_form(design: Design) -> bool:
+    """Every leg offers an exact reduced form (the maps' reduced path: P-P-R legs)."""
+    return all(leg.reduced_form() is not None for leg in design.legs)
+
+
+def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
+    """Fail naming every discovered example without an entry in a table of per-example
+    reference values (its keys, or the names it lists): a new example must get its
+    values, not be skipped."""
+    missing = sorted(set(names) - set(table))
+    assert not missing, f"{what}: no entry for the example(s) {missing}; add one"
+
+
+def rotational_symmetry(design: Design) -> int:
+    """The largest n >= 2 such that turning the design by 2 pi / n about the z axis
+    through P at its workspace centre maps its legs onto its legs (their joints' kinds,
+    points, axes and springs, their links' ends and sections, their actuators), else 1:
+    an n-fold symmetric design (n >= 3) is decoupled there, with repeated eigenvalues."""
+    from ppm_stiffness.legs.chain import Joint
+    from ppm_stiffness.model import solve_legs, workspace_centre
+    from ppm_stiffness.poses import full_pose
+
+    pose = full_pose(design, workspace_centre(design))
+    legs = list(zip(design.legs, solve_legs(design, pose), strict=True))
+
+    def signature(i: int, turn: float) -> list[Any]:
+        leg, leg_pose = legs[i]
+        c, s = np.cos(turn), np.sin(turn)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        out: list[Any] = [leg.actuator]
+        for e in leg.chain(leg_pose):
+            if isinstance(e, Joint):
+                springs = None if e.springs is None else tuple(np.asarray(e.springs).tolist())
+                out += [e.kind, springs, rot @ np.ravel(e.point), rot @ np.ravel(e.axis)]
+            else:
+                out += [e.section, rot @ np.ravel(e.start), rot @ np.ravel(e.end)]
+        return out
+
+    def same(a: list[Any], b: list[Any]) -> bool:
+        return len(a) == len(b) and all(
+            np.allclose(x, y, rtol=0.0, atol=1e-12) if isinstance(x, np.ndarray) else x == y
+            for x, y in zip(a, b, strict=True)
+        )
+
+    for n in range(len(legs), 1, -1):
+        turned = [signature(i, 2.0 * np.pi / n) for i in range(len(legs))]
+        plain = [signature(i, 0.0) for i in range(len(legs))]
+        if all(any(same(t, p) for p in plain) for t in turned):
+            return n
+    return 1

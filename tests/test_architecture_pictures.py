@@ -24,7 +24,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from helpers import capture_saved_figures, colour_count, half_unit, lines_by_gid  # noqa: E402
+from helpers import (  # noqa: E402
+    capture_saved_figures,
+    colour_count,
+    example_designs,
+    half_unit,
+    is_planar,
+    lines_by_gid,
+)
 from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
@@ -41,7 +48,7 @@ from ppm_stiffness.visuals.report import DEFAULT_WRENCH, build_report, embedded_
 from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ("symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr")
+EXAMPLES = tuple(example_designs(is_planar))
 DESIGNS = ("paper_3ppr",) + EXAMPLES
 
 

@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from helpers import ROOT, design_named
+from helpers import ROOT, design_named, example_designs, is_planar, rotational_symmetry
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
@@ -28,7 +28,8 @@ from ppm_stiffness.core.decoupling import (
 )
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
 
-SYMMETRIC = ["symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
+#: Planar examples with a 3-fold or higher symmetry: decoupled at their centre.
+SYMMETRIC = example_designs(lambda d: is_planar(d) and rotational_symmetry(d) >= 3)
 
 
 def home_stiffness(name: str) -> np.ndarray:

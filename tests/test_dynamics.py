@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from helpers import example_designs
 from ppm_stiffness.core import pose as P
 from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
 from ppm_stiffness.design import Design, design_from_dict, design_to_dict
@@ -165,7 +166,7 @@ def test_ups_leg_against_its_closed_form(pose_index: int) -> None:
 # --- the chain's motion adds up to the platform's --------------------------------------
 
 
-@pytest.mark.parametrize("name", ["paper", "3rpr", "3prr", "3rrr", "hexapod_6ups", "3prs", "3rps"])
+@pytest.mark.parametrize("name", example_designs(paper=True))
 def test_the_last_bodys_twist_is_the_platforms(name: str) -> None:
     """The twists of a leg's coordinates add up to the platform twist (the static
     condensation's bordered system solved exactly). Residual 1.7e-13."""
@@ -363,7 +364,7 @@ def test_loaded_modes_use_the_tangent_k_and_the_tangent_actuators() -> None:
 # --- every example: symmetric positive definite, batched = single ------------------------
 
 
-@pytest.mark.parametrize("name", ["paper", "3rpr", "3prr", "3rrr", "hexapod_6ups", "3prs", "3rps"])
+@pytest.mark.parametrize("name", example_designs(paper=True))
 def test_mass_matrix_is_symmetric_positive_definite_and_batched_equals_single(
     name: str,
 ) -> None:

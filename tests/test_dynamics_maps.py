@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import design_named, example_designs
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.refusals import Refusal
@@ -193,17 +193,7 @@ def test_f1_in_the_files_and_the_json(tmp_path: Path, capsys: pytest.CaptureFixt
 
 # --- the batched mass matrix ----------------------------------------------------------
 
-SHIPPED = (
-    "paper",
-    "symmetric_3ppr",
-    "redundant_4ppr",
-    "3rpr",
-    "3prr",
-    "3rrr",
-    "hexapod_6ups",
-    "3prs",
-    "3rps",
-)
+SHIPPED = tuple(example_designs(paper=True))
 
 
 @pytest.mark.parametrize("name", SHIPPED)

@@ -10,7 +10,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import design_named, example_designs, is_planar
 from ppm_stiffness.core import pose as P
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import BALANCE
@@ -91,7 +91,7 @@ def test_engine_equals_the_definition_on_spatial_legs() -> None:
 
 def test_engine_equals_the_definition_on_planar_legs() -> None:
     rng = np.random.default_rng(4)
-    for name in ("paper", "3rpr", "3prr", "3rrr", "redundant_4ppr"):
+    for name in example_designs(is_planar, paper=True):
         legs = design_named(name).legs
         assert worst_difference(legs, planar_poses(name, rng, 20)) < TOLERANCE
 

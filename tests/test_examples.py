@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import design_named, example_designs, has_reduced_form, rotational_symmetry
 from ppm_stiffness.core.conventions import rotation_z, stiffness_b_from_stiffness_a
 from ppm_stiffness.core.decoupling import decouple
 from ppm_stiffness.core.errors import PPMStiffnessError
@@ -17,10 +18,13 @@ from ppm_stiffness.maps.batch import evaluate_poses
 from ppm_stiffness.model import stiffness_at_pose
 
 ROOT = Path(__file__).parents[1]
-EXAMPLES = {"symmetric_3ppr.toml": 3, "redundant_4ppr.toml": 4}
+#: The examples of P-P-R legs (the reduced form) and their rotational symmetry.
+EXAMPLES = {
+    f"{n}.toml": rotational_symmetry(design_named(n)) for n in example_designs(has_reduced_form)
+}
 
 
-@pytest.mark.parametrize(("name", "n"), EXAMPLES.items())
+@pytest.mark.parametrize(("name", "n"), [(m, n) for m, n in EXAMPLES.items() if n >= 3])
 def test_example_is_n_fold_symmetric(name: str, n: int) -> None:
     design = load_design(ROOT / "examples" / name)
     assert len(design.legs) == n

@@ -19,7 +19,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import design_named, poses_around_workspace, wide_design
+from helpers import (
+    design_named,
+    example_designs,
+    has_reduced_form,
+    is_planar,
+    poses_around_workspace,
+    wide_design,
+)
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import Z_AXIS, length_balanced
 from ppm_stiffness.core.singularity import transmission_index
@@ -31,7 +38,7 @@ from ppm_stiffness.maps import batch
 from ppm_stiffness.maps.workspace import stiffness_map
 
 ROOT = Path(__file__).parents[1]
-DESIGNS = ["paper", "symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
+DESIGNS = example_designs(is_planar, paper=True)
 #: max|dK| / max|K| (length-balanced): measured <= 4e-14 on every shipped design, so
 #: 1e-12 (the issue asks <= 1e-9).
 RTOL = 1e-12
@@ -73,7 +80,7 @@ def test_planar_engine_equals_general_path(name: str) -> None:
     np.testing.assert_allclose(fast.d[v], ref.d[v], rtol=RTOL, atol=RTOL * np.max(np.abs(ref.d)))
     # "auto" takes the reduced form for P-P-R designs, the planar engine otherwise
     auto = batch.evaluate_poses(design, poses[:50], k_act[:50])
-    assert auto.path == ("reduced" if "ppr" in name or name == "paper" else "planar")
+    assert auto.path == ("reduced" if has_reduced_form(design) else "planar")
 
 
 @pytest.mark.parametrize("name", ["3rrr", "3rpr"])

@@ -9,7 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import design_named, poses_around_workspace, wide_design
+from helpers import (
+    design_named,
+    example_designs,
+    has_reduced_form,
+    is_planar,
+    poses_around_workspace,
+    wide_design,
+)
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import length_balanced
 from ppm_stiffness.core.decoupling import decouple
@@ -27,7 +34,7 @@ from ppm_stiffness.statics.actuator import stiffness_from_force
 from ppm_stiffness.statics.loading import loaded_state
 
 ROOT = Path(__file__).parents[1]
-EXAMPLES = ["symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
+EXAMPLES = example_designs(is_planar)
 #: Measured: the general path equals the single-pose path to 6e-15 (length-balanced
 #: K, relative to its largest entry) on these poses; 1e-10 leaves rounding room.
 RTOL = 1e-10
@@ -80,7 +87,7 @@ def test_general_path_equals_single_pose_path(name: str) -> None:
     assert np.all(np.isfinite(res.k_x.compressed()))
 
 
-@pytest.mark.parametrize("name", ["paper", "symmetric_3ppr", "redundant_4ppr"])
+@pytest.mark.parametrize("name", example_designs(has_reduced_form, paper=True))
 def test_reduced_path_equals_general_path(name: str) -> None:
     design = design_named(name)
     assert batch.select_path(design) is not None  # every P-P-R leg offers it
@@ -136,7 +143,9 @@ def test_path_requests() -> None:
 
 
 # ---------------------------------------------------------------------------- maps
-@pytest.mark.parametrize("name", ["3rpr", "3prr", "3rrr"])
+@pytest.mark.parametrize(
+    "name", example_designs(lambda d: is_planar(d) and not has_reduced_form(d))
+)
 def test_general_map_equals_single_pose_with_each_legs_law(name: str) -> None:
     design = design_named(name)
     for acts in ("max", "min"):

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from helpers import design_named, poses_around_workspace
+from helpers import design_named, example_designs, is_planar, poses_around_workspace
 from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError
 from ppm_stiffness.core.refusals import Refusal
 from ppm_stiffness.design import Design
@@ -37,15 +37,8 @@ def rel(a: np.ndarray, b: np.ndarray) -> float:
 
 @pytest.mark.parametrize(
     ("name", "scale"),
-    [
-        ("paper", 0.3),
-        ("symmetric_3ppr", 1.0),
-        ("redundant_4ppr", 1.0),
-        ("redundant_4ppr", 0.2),
-        ("3rpr", 1.0),
-        ("3prr", 1.0),
-        ("3rrr", 1.0),
-    ],
+    [(n, 0.3 if n == "paper" else 1.0) for n in example_designs(is_planar, paper=True)]
+    + [("redundant_4ppr", 0.2)],
 )
 def test_loaded_poses_equal_loaded_state(name: str, scale: float) -> None:
     design = design_named(name)

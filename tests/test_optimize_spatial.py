@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import ppm_stiffness as pps
+from helpers import check_entries, example_designs, is_spatial
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design, design_from_dict
 from ppm_stiffness.design.io import design_to_dict
@@ -30,7 +31,7 @@ from ppm_stiffness.optimize.summary import summarize
 from ppm_stiffness.optimize.variables import parse_variable
 
 ROOT = Path(__file__).parents[1]
-SPATIAL = ["hexapod_6ups", "3prs", "3rps"]
+SPATIAL = example_designs(is_spatial)
 #: Small regions over each spatial example's task coordinates (inside its own region).
 REGIONS = {
     "hexapod_6ups": (
@@ -47,6 +48,12 @@ REGIONS = {
     "3prs": ({"z": (0.36, 0.44), "rx": (-0.3, 0.3), "ry": (-0.2, 0.1)}, (2, 3, 2)),
     "3rps": ({"z": (0.33, 0.37), "rx": (-0.1, 0.15), "ry": (-0.15, 0.1)}, (2, 2, 3)),
 }
+
+
+def test_every_spatial_example_has_a_region() -> None:
+    check_entries(REGIONS, SPATIAL, "REGIONS")
+
+
 #: (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at the tool point.
 WRENCH = np.array([2.0, -1.0, 0.5, 30.0, -20.0, -200.0])
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import design_named, example_designs
 from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.pose import rotation_from_angles
@@ -70,7 +70,7 @@ def test_worst_is_one_over_the_largest_compliance_and_a_pure_moment_check() -> N
         np.testing.assert_allclose(t[:3], d / pc.rotational_values[j], rtol=1e-10)
 
 
-@pytest.mark.parametrize("name", ["paper", "3rrr", "hexapod_6ups", "3prs"])
+@pytest.mark.parametrize("name", example_designs(paper=True))
 def test_batched_values_are_the_single_ones_sorted(name: str) -> None:
     k = stiffness_at_pose(design_named(name))
     rot, tra = principal_compliance_values(np.stack([k, 2 * k]))

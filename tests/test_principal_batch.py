@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import design_named, example_designs
 from ppm_stiffness.core.principal import principal_compliance_values
 from ppm_stiffness.core.singularity import nonsingular, transmission_index
 from ppm_stiffness.maps import batch
@@ -64,7 +64,7 @@ def test_symmetric_3x3_eigenvalues_of_known_matrices(values: list[float]) -> Non
     assert np.max(np.abs(got - ref) / scale) <= 5e-15
 
 
-@pytest.mark.parametrize("name", ["hexapod_6ups", "3prs", "3rps", "3rrr", "paper"])
+@pytest.mark.parametrize("name", example_designs(paper=True))
 def test_principal_values_equal_the_linalg_route(name: str) -> None:
     design = design_named(name)
     idx = list(task_indices(design))

@@ -32,7 +32,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import check_entries, design_named, example_designs, is_planar, is_spatial
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.errors import (
     EquilibriumError,
@@ -65,6 +65,7 @@ CASES: dict[str, tuple[float, list[float], set[Refusal]]] = {
     "3prr": (0.0, [1.0, 1000.0], {Refusal.LARGE_ROTATION}),
     "3rrr": (0.0, [1.0, 300.0], {Refusal.LARGE_ROTATION}),
 }
+PLANAR = example_designs(is_planar, paper=True)
 
 
 def code_of(call: Callable[[np.ndarray], object], pose: np.ndarray) -> int:
@@ -107,7 +108,7 @@ def wide_bounds(
     return box + np.array([-pad[0], pad[0], -pad[1], pad[1]])
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", PLANAR)
 def test_maps_mask_exactly_where_the_single_pose_api_raises(name: str) -> None:
     design = design_named(name)
     deg, scales, wanted = CASES[name]
@@ -179,6 +180,12 @@ SPATIAL_CASES: dict[
         {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
     ),
 }
+
+
+def test_every_example_has_refusal_cases() -> None:
+    check_entries(CASES, PLANAR, "CASES")
+    spatial = [case[0] for case in SPATIAL_CASES.values()]
+    check_entries(spatial, example_designs(is_spatial), "SPATIAL_CASES")
 
 
 @pytest.mark.parametrize("case", list(SPATIAL_CASES))

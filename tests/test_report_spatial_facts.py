@@ -21,7 +21,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from helpers import ROOT, design_named  # noqa: E402
+from helpers import ROOT, design_named, example_designs, is_spatial  # noqa: E402
 from ppm_stiffness.analysis import analyze_design  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.errors import DesignError  # noqa: E402
@@ -35,7 +35,7 @@ from ppm_stiffness.visuals.report_wrench import (  # noqa: E402
     reference_wrench,
 )
 
-SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+SPATIAL = tuple(example_designs(is_spatial))
 PRS_FILE = ROOT / "examples" / "3prs.toml"
 
 

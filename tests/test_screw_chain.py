@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from tests.helpers import design_named
+from tests.helpers import design_named, example_designs
 
 from ppm_stiffness.core.solver import leg_stiffness
 from ppm_stiffness.legs.chain import leg_springs
@@ -23,17 +23,7 @@ from ppm_stiffness.model import solve_legs
 from ppm_stiffness.poses import home_pose
 from ppm_stiffness.statics.moving_core import PlatformChains, linearize, zero_state
 
-DESIGNS = [
-    "paper",
-    "3rpr",
-    "3prr",
-    "3rrr",
-    "symmetric_3ppr",
-    "redundant_4ppr",
-    "hexapod_6ups",
-    "3prs",
-    "3rps",
-]
+DESIGNS = example_designs(paper=True)
 
 
 def _chain(name: str, leg: int = 0, offset: tuple[float, float, float] = (0.01, -0.02, 0.03)):

@@ -22,7 +22,7 @@ import json
 import numpy as np
 import pytest
 
-from helpers import ROOT, design_named
+from helpers import ROOT, design_named, example_designs, is_planar, rotational_symmetry
 from ppm_stiffness.core.conventions import (
     BALANCE,
     GAMMA,
@@ -41,7 +41,9 @@ from ppm_stiffness.core.eigenscrews import (
 )
 from ppm_stiffness.model import stiffness_at_pose, workspace_centre
 
-DESIGNS = ["paper", "symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
+DESIGNS = example_designs(is_planar, paper=True)
+#: Planar examples with a 3-fold or higher symmetry (repeated eigenvalues at home).
+SYMMETRIC = example_designs(lambda d: is_planar(d) and rotational_symmetry(d) >= 3)
 TOL = 1e-14
 
 
@@ -84,7 +86,9 @@ def test_springs_rebuild_K_and_are_reciprocal_at_the_home_pose(name: str) -> Non
         assert np.linalg.norm(res) <= TOL * np.linalg.norm(kb) * np.linalg.norm(zb)
 
 
-@pytest.mark.parametrize(("name", "n"), [("symmetric_3ppr", 3), ("redundant_4ppr", 4)])
+@pytest.mark.parametrize(
+    ("name", "n"), [(m, rotational_symmetry(design_named(m))) for m in SYMMETRIC], ids=SYMMETRIC
+)
 def test_symmetric_designs_report_their_repeated_eigenvalues(name: str, n: int) -> None:
     s = eigenscrews(home_stiffness(name))
     # in-plane rotations about x and y are equivalent under the n-fold symmetry
@@ -157,7 +161,7 @@ def test_the_basis_inside_a_group_does_not_depend_on_round_off() -> None:
 BALANCE_OUTER = np.outer([10.0] * 3 + [1.0] * 3, [10.0] * 3 + [1.0] * 3)
 
 
-@pytest.mark.parametrize("name", ["symmetric_3ppr", "redundant_4ppr"])
+@pytest.mark.parametrize("name", SYMMETRIC)
 def test_relabelled_axes_give_the_same_springs(name: str) -> None:
     # Relabel the coordinates x -> y -> z -> x (a proper rotation: rows and columns of
     # K permuted). The springs of the relabelled K are the relabelled springs, in the
@@ -214,7 +218,7 @@ def test_repeated_tolerance_both_sides() -> None:
         assert rebuild_error(k, s) <= TOL
 
 
-@pytest.mark.parametrize("name", ["symmetric_3ppr", "redundant_4ppr"])
+@pytest.mark.parametrize("name", SYMMETRIC)
 def test_equal_principal_stiffnesses_get_the_axes(name: str) -> None:
     # k_x = k_y (and f_rr[0] = f_rr[1]) at the home pose of a symmetric design: the
     # directions are not unique; the ones along x and y are given, whatever the noise

@@ -21,7 +21,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from helpers import design_named, poses_around_workspace, wide_design
+from helpers import design_named, example_designs, is_planar, poses_around_workspace, wide_design
 from ppm_stiffness.core.errors import SingularConfigurationError, UnreachablePoseError
 from ppm_stiffness.core.singularity import (
     SINGULARITY_TOLERANCE,
@@ -40,7 +40,7 @@ from ppm_stiffness.model import (
     workspace_centre,
 )
 
-DESIGNS = ["paper", "symmetric_3ppr", "redundant_4ppr", "3rpr", "3prr", "3rrr"]
+DESIGNS = example_designs(is_planar, paper=True)
 #: Every joint spring of the parts (legs/parts.py), scaled with the moduli.
 JOINT_SPRINGS = (
     "roll",

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import check_entries, design_named, example_designs, is_spatial
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import BALANCE, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import InputDataError
@@ -29,13 +29,19 @@ from ppm_stiffness.statics.deflection import (
 from ppm_stiffness.statics.equilibrium import equilibrium
 from ppm_stiffness.statics.measurements import read_measurements, rms_differences
 
-SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+SPATIAL = tuple(example_designs(is_spatial))
 #: A reachable pose off home of each spatial example, in its task coordinates [m, rad].
 TASK = {
     "hexapod_6ups": [0.01, -0.005, 0.21, 0.05, -0.03, 0.08],
     "3prs": [0.38, 0.08, -0.05],
     "3rps": [0.36, 0.08, -0.05],
 }
+
+
+def test_every_spatial_example_has_a_task_pose() -> None:
+    check_entries(TASK, SPATIAL, "TASK")
+
+
 #: A nonlinear actuator law (the examples' are linear): locked below G_th = k_a
 #: delta_th^q = 100 N, the power law above.
 POWERED = {"actuator.q": 0.5, "actuator.threshold_displacement": 1e-6, "actuator.k_a": 1e5}

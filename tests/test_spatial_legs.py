@@ -221,13 +221,13 @@ def test_tripod_angles_are_three_fold() -> None:
 def test_reciprocal_basis_stiffness_is_the_bordered_inverse() -> None:
     """core.solver.leg_stiffness (W (G^T C G)^-1 W^T) and eq. (1) as printed (the
     bordered inverse) are one model: equal on every leg type with ordinary springs."""
-    from helpers import design_named
+    from helpers import design_named, example_designs, is_planar
     from ppm_stiffness.core.solver import bordered_stiffness, leg_compliance_at_platform
     from ppm_stiffness.model import workspace_centre
 
     rng = np.random.default_rng(5)
     cases: list[tuple[LegModel, np.ndarray]] = []
-    for name in ("paper", "3rpr", "3prr", "3rrr", "redundant_4ppr"):
+    for name in example_designs(is_planar, paper=True):
         design = design_named(name)
         centre = P.planar_pose(workspace_centre(design))
         cases += [(leg, centre) for leg in design.legs]

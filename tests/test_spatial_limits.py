@@ -9,14 +9,14 @@ from typing import Any
 import numpy as np
 import pytest
 
-from helpers import design_named
+from helpers import design_named, example_designs, is_spatial
 from ppm_stiffness.core.conventions import GAMMA, length_balanced_compliance
 from ppm_stiffness.core.eigenscrews import eigenscrews, stiffness_from_screw_springs
 from ppm_stiffness.design import Design, design_from_dict
 from ppm_stiffness.model import stiffness_at_pose
 from ppm_stiffness.poses import full_poses, home_pose, task_indices
 
-SPATIAL = ["hexapod_6ups", "3prs", "3rps"]
+SPATIAL = example_designs(is_spatial)
 #: Design keys of springs and sections: the structure (the actuator's law excluded).
 SPRING_PARTS = {"guide", "base_joint", "platform_joint", "carriage_revolute", "base_revolute"}
 SECTION_PARTS = {"cylinder", "rod", "link"}

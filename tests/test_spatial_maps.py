@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import design_named, poses_around_workspace
+from helpers import check_entries, design_named, example_designs, is_spatial, poses_around_workspace
 from ppm_stiffness.cli import main
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.conventions import length_balanced
@@ -43,7 +43,7 @@ from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point
 from ppm_stiffness.poses import full_pose, home_pose, task_indices
 
 ROOT = Path(__file__).parents[1]
-SPATIAL = ["hexapod_6ups", "3prs", "3rps"]
+SPATIAL = example_designs(is_spatial)
 #: (design, axes, fixed [m, rad]) of the slices checked point by point.
 SLICES = [
     ("hexapod_6ups", None, {}),
@@ -55,6 +55,10 @@ SLICES = [
     ("3rps", ("ry", "z"), {"rx": -0.1}),
 ]
 RTOL = 1e-12
+
+
+def test_every_spatial_example_has_slices() -> None:
+    check_entries([s[0] for s in SLICES], SPATIAL, "SLICES")
 
 
 def task_pose(design: Design, smap: StiffnessMap, i: int, j: int) -> np.ndarray:
@@ -100,7 +104,7 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 
 
-@pytest.mark.parametrize("name", [*SPATIAL, "paper", "redundant_4ppr", "3rpr", "3prr", "3rrr"])
+@pytest.mark.parametrize("name", example_designs(paper=True))
 def test_general_path_equals_the_dense_definition(name: str) -> None:
     design = design_named(name)
     poses = random_task_poses(design, 120, 4)

@@ -24,22 +24,28 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from helpers import ROOT, capture_saved_figures, colour_count, design_named, lines_by_gid  # noqa: E402
+from helpers import (  # noqa: E402
+    ROOT,
+    capture_saved_figures,
+    check_entries,
+    colour_count,
+    design_named,
+    example_designs,
+    is_spatial,
+    lines_by_gid,
+)
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.eigenscrews import eigenscrews  # noqa: E402
 from ppm_stiffness.legs.chain import Joint, Link  # noqa: E402
+from ppm_stiffness.legs.joint_kinds import joint_kind  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
 from ppm_stiffness.poses import full_pose  # noqa: E402
 from ppm_stiffness.visuals.leg_geometry import mechanism_view  # noqa: E402
 from ppm_stiffness.visuals.mechanism import plot_mechanism  # noqa: E402
-from ppm_stiffness.visuals.mechanism3d import (  # noqa: E402
-    JOINT_LEGEND,
-    JOINT_MARKERS_3D,
-    plot_mechanism_3d,
-)
+from ppm_stiffness.visuals.mechanism3d import plot_mechanism_3d  # noqa: E402
 from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
-SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+SPATIAL = tuple(example_designs(is_spatial))
 #: An off-home reachable pose of each, as CLI options (mm, deg).
 POSE_OPTIONS = {
     "hexapod_6ups": [
@@ -59,6 +65,10 @@ POSE_OPTIONS = {
     "3prs": ["--z", "420", "--rx", "8", "--ry", "-5"],
     "3rps": ["--z", "360", "--rx", "5", "--ry", "4"],
 }
+
+
+def test_every_spatial_example_has_a_pose() -> None:
+    check_entries(POSE_OPTIONS, SPATIAL, "POSE_OPTIONS")
 
 
 def _task(name: str) -> np.ndarray:
@@ -102,7 +112,7 @@ def _check_chain_drawn(fig, design, pose: np.ndarray, origin: np.ndarray) -> Non
             at = np.asarray(joint.point) + p - origin
             line = lines[f"joint-{i}-{j}"]
             np.testing.assert_allclose(_data(line)[0], at, rtol=0, atol=1e-12)
-            assert line.get_marker() == JOINT_MARKERS_3D[joint.kind], (i, j, joint.kind)
+            assert line.get_marker() == joint_kind(joint.kind).marker, (i, j, joint.kind)
             axes = {"R": [joint.axis], "P": [joint.axis], "U": [joint.axis, joint.axis2]}
             for k, e in enumerate(axes.get(joint.kind, []), start=1):
                 bar = _data(lines[f"joint-axis-{i}-{j}-{k}"])
@@ -203,7 +213,7 @@ def test_mechanism_command_draws_the_spatial_model(
     kinds = {
         e.kind for leg in design.legs for e in leg.chain(leg.solve(pose)) if isinstance(e, Joint)
     }
-    assert {JOINT_LEGEND[k] for k in kinds} <= legend
+    assert {joint_kind(k).legend for k in kinds} <= legend
     assert "actuated joint" in legend
     plt.close(fig)
 

@@ -24,7 +24,14 @@ import matplotlib.image as mpimg  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from helpers import ROOT, colour_count, design_named, half_unit  # noqa: E402
+from helpers import (  # noqa: E402
+    ROOT,
+    colour_count,
+    design_named,
+    example_designs,
+    half_unit,
+    is_spatial,
+)
 from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.principal import principal_compliance  # noqa: E402
@@ -37,7 +44,7 @@ from ppm_stiffness.visuals.report_spatial import DEFLECTION_SCALES  # noqa: E402
 from ppm_stiffness.visuals.report_wrench import reference_wrench  # noqa: E402
 from report_cells import check_cells, parse, screenshot  # noqa: E402
 
-SPATIAL = ("hexapod_6ups", "3prs", "3rps")
+SPATIAL = tuple(example_designs(is_spatial))
 PRS_OPTIONS = ["--z", "420", "--rx", "8", "--ry", "-5"]
 PRS_TASK = np.array([0.42, math.radians(8.0), math.radians(-5.0)])
 SECTIONS = (

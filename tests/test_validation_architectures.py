@@ -21,6 +21,7 @@ pytest.importorskip(
     "Pynite", reason="FE validation needs the extra 'validate' (pip install pynitefea)"
 )
 
+from helpers import check_entries, example_designs, is_planar  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.conventions import length_balanced  # noqa: E402
 from ppm_stiffness.core.errors import (  # noqa: E402
@@ -61,13 +62,19 @@ BOUNDS: dict[str, tuple[float, float, float, float]] = {
     "3prr.toml": (2e-4, 2e-4, 8e-5, 8e-5),  # 5.77e-5, 5.11e-5, 2.54e-5; 2.36e-5
     "3rrr.toml": (1.2e-5, 1.2e-4, 6e-5, 6e-5),  # 3.88e-6, 3.83e-5, 1.67e-5; 1.85e-5
 }
+#: The built-in design and every planar example, discovered.
+PLANAR = ["builtin", *(f"{n}.toml" for n in example_designs(is_planar))]
+
+
+def test_every_planar_example_has_bounds() -> None:
+    check_entries(BOUNDS, PLANAR, "BOUNDS")
 
 
 def _design(name: str) -> Design:
     return default_design() if name == "builtin" else load_design(EXAMPLES / name)
 
 
-@pytest.fixture(scope="module", params=list(BOUNDS))
+@pytest.fixture(scope="module", params=PLANAR)
 def case(request: pytest.FixtureRequest) -> tuple[str, Design, list]:
     design = _design(request.param)
     poses = validation_poses(design, 5, seed=0)
@@ -105,7 +112,7 @@ def test_sampled_poses_are_reachable_and_in_the_box(case: tuple[str, Design, lis
         assert np.all(leg.reachable(leg.solve(poses)))
 
 
-@pytest.mark.parametrize("name", [n for n in BOUNDS if n != "builtin"])
+@pytest.mark.parametrize("name", [n for n in PLANAR if n != "builtin"])
 def test_each_leg_alone_equals_the_virtual_joint_leg(name: str) -> None:
     """fe_leg_stiffness (P held, unit twists) equals eq. (1) for leg 1 of each example,
     and it resists no twist of the leg's passive joints (the built-in design's three

@@ -22,7 +22,7 @@ pytest.importorskip(
     "Pynite", reason="FE validation needs the extra 'validate' (pip install pynitefea)"
 )
 
-from helpers import design_named  # noqa: E402
+from helpers import check_entries, design_named, example_designs, is_spatial  # noqa: E402
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.cli import validate as validate_cli  # noqa: E402
 from ppm_stiffness.cli.common import console  # noqa: E402
@@ -64,6 +64,7 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "3prs": (2e-3, 2e-3, 2e-3),  # 6.80e-4, 6.04e-4; 5.94e-4
     "3rps": (8e-4, 8e-4, 8e-4),  # 2.65e-4, 2.67e-4; 2.60e-4
 }
+SPATIAL = example_designs(is_spatial)
 #: The FE matrix extrapolated to rigid stiff members, (10 K(1e12) - K(1e11)) / 9, against
 #: the virtual-joint K ("directions"): measured at most 2.1e-7 over the examples' six
 #: poses and the variants below (round-off of the penalty elements).
@@ -72,11 +73,15 @@ EXTRAPOLATED_BOUND = 6e-7
 ASYMMETRY_BOUND = 2e-8
 
 
-@pytest.fixture(scope="module", params=list(BOUNDS))
+@pytest.fixture(scope="module", params=SPATIAL)
 def case(request: pytest.FixtureRequest) -> tuple[str, Design, list[PoseComparison]]:
     design = design_named(request.param)
     poses = validation_poses(design, 5, seed=0, region=True)
     return request.param, design, [compare_at_pose(design, p) for p in poses]
+
+
+def test_every_spatial_example_has_bounds() -> None:
+    check_entries(BOUNDS, SPATIAL, "BOUNDS")
 
 
 def test_every_spatial_example_agrees_at_six_poses(
@@ -172,7 +177,7 @@ def test_hexapod_fe_is_the_two_force_closed_form() -> None:
         assert direction_difference(closed, (10.0 * k12.stiffness - k11) / 9.0) < 2e-8
 
 
-@pytest.mark.parametrize("name", list(BOUNDS))
+@pytest.mark.parametrize("name", SPATIAL)
 def test_each_spatial_leg_alone_equals_the_virtual_joint_leg(name: str) -> None:
     """One leg alone (P held, unit twists) equals eq. (1), and resists no twist of its
     passive joints (U: two rotations, S: three, R: one; from the chain)."""

@@ -8,13 +8,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import wide_design
+from helpers import example_designs, is_planar, wide_design
 from ppm_stiffness.core.errors import UnreachablePoseError
 from ppm_stiffness.design import Design, default_design, design_from_dict, load_design
 from ppm_stiffness.maps import workspace
 from ppm_stiffness.maps.workspace import reachable_positions, workspace_bounds
 
 ROOT = Path(__file__).parents[1]
+
+
+def half_planes(design: Design) -> bool:
+    """A planar design whose legs' limits are half-planes in (x, y) (exact bounds)."""
+    return design.planar and all(leg.limit_half_planes(0.0) is not None for leg in design.legs)
+
+
 #: Brute-force sweep points per axis, and the stride of the coarse pass.
 N_SWEEP = 1201
 COARSE = 8
@@ -79,7 +86,7 @@ def assert_matches_sweep(design: Design, phi: float, box: np.ndarray, steps: flo
     assert np.all(outward <= steps * step), outward / step
 
 
-@pytest.mark.parametrize("name", ["3rpr", "3prr", "3rrr"])
+@pytest.mark.parametrize("name", example_designs(lambda d: is_planar(d) and not half_planes(d)))
 @pytest.mark.parametrize("phi", [0.0, 0.3])
 def test_sampled_bounds_match_a_brute_force_sweep(name: str, phi: float) -> None:
     """Measured: 0.12-1.0 sweep steps outward; 1.5 steps allowed."""
@@ -97,7 +104,7 @@ def test_sampled_bounds_match_a_brute_force_sweep(name: str, phi: float) -> None
         assert reachable_positions(design, xx, yy, phi).any()
 
 
-@pytest.mark.parametrize("name", ["paper", "symmetric_3ppr", "redundant_4ppr"])
+@pytest.mark.parametrize("name", example_designs(half_planes, paper=True))
 def test_exact_half_plane_bounds_match_a_brute_force_sweep(name: str) -> None:
     design = (
         default_design() if name == "paper" else load_design(ROOT / "examples" / f"{name}.toml")

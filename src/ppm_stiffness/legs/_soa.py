@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.chain import Element, Link
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.planar import Scalar, add, mul, sub
 
 Vec = list[Scalar]
@@ -260,11 +261,12 @@ class Geometry:
             return Frame(end, e1), length
         point = self.vector(element.point)
         e1, norm = self.unit(element.axis)
+        second_axis = joint_kind(element.kind).second_axis
         if element.axis2 is None:
-            if element.kind == "U":
+            if second_axis:
                 element.frame()  # the error naming the joint
             return Frame(point, e1), norm
-        if element.kind != "U":  # e2 along the part of axis2 normal to e1
+        if not second_axis:  # e2 along the part of axis2 normal to e1
             given = self.vector(element.axis2)
             e2, _ = unit(axpy(given, dot(given, e1), e1))
             return Frame(point, e1, (e2, cross(e1, e2)), orthonormal=True), norm

@@ -40,6 +40,7 @@ from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import ImplausibleDesignWarning, UnreachablePoseError
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.parts import (
     MAX_CARRIAGE_RATIO,
     MAX_LINK_DENSITY,
@@ -217,7 +218,8 @@ class LegModel(PartModel):
     #: Fields that choose among discrete options (working modes), not continuous
     #: parameters: left out of the parameter names that calibration and sweeps vary.
     DISCRETE_FIELDS: ClassVar[frozenset[str]] = frozenset()
-    #: Kind of the actuated joint ("P": linear actuator, "R": rotary).
+    #: Kind of the actuated joint ("P": linear actuator, "R": rotary); its record
+    #: (:func:`~ppm_stiffness.legs.joint_kinds.joint_kind`) gives its units.
     ACTUATED_KIND: ClassVar[str] = "P"
     #: One line for listings: what the letters mean, which joint is actuated.
     DESCRIPTION: ClassVar[str] = ""
@@ -242,7 +244,8 @@ class LegModel(PartModel):
         """A linear actuator's rotor needs its gear ratio [rad/m] (no default: 1 rad/m
         is no drive)."""
         law = self.actuator
-        if self.actuated_kind() == "P" and law.rotor_inertia is not None and law.gear_ratio is None:
+        linear = joint_kind(self.actuated_kind()).linear
+        if linear and law.rotor_inertia is not None and law.gear_ratio is None:
             raise ValueError(
                 "actuator.rotor_inertia of a linear actuator needs actuator.gear_ratio "
                 "[rad/m], the motor's rotation per metre of travel (2 pi / lead of a "
@@ -259,7 +262,7 @@ class LegModel(PartModel):
         stroke, threshold = hi - lo, self.actuator.threshold_displacement
         if not math.isfinite(stroke) or threshold <= stroke:
             return self
-        unit = "rad" if self.actuated_kind() == "R" else "m"
+        unit = joint_kind(self.actuated_kind()).actuator_units()[1]
         slip = (
             f"did you mean {math.radians(threshold):.6g} (deg)?"
             if unit == "rad"
@@ -299,7 +302,7 @@ class LegModel(PartModel):
             return self
         reflected = law.rotor_inertia * law.gear_ratio**2
         if reflected > MAX_REFLECTED:
-            unit = "kg·m^2" if self.actuated_kind() == "R" else "kg"
+            unit = "kg" if joint_kind(self.actuated_kind()).linear else "kg·m^2"
             cm2 = law.rotor_inertia * 1e-4
             ratio = (
                 "2 pi / lead [rad/m] (1257 for a 5 mm lead)"
@@ -348,7 +351,7 @@ class LegModel(PartModel):
 
     def drive_units(self) -> dict[str, str]:
         """SI units of the actuator's mass fields (carriage, rotor, gear ratio)."""
-        ratio = "rad/m" if self.actuated_kind() == "P" else "rad/rad"
+        ratio = "rad/m" if joint_kind(self.actuated_kind()).linear else "rad/rad"
         return {"carriage_mass": "kg", "rotor_inertia": "kg·m^2", "gear_ratio": ratio}
 
     @classmethod
@@ -462,14 +465,15 @@ class LegModel(PartModel):
         """What the leg is fixed to on the base (:class:`BaseFeature`), for pictures.
 
         The default reads the first joint of the chain at the first pose of
-        ``leg_pose``: a prismatic joint gives a rail through its point along its axis,
-        any other a pivot at its point, without a stroke. Leg types override it to
-        give the rail's origin and the actuator's stroke.
+        ``leg_pose``: a linear joint (every freedom a translation: a prismatic one) gives
+        a rail through its point along its axis, any other a pivot at its point, without
+        a stroke. Leg types override it to give the rail's origin and the actuator's
+        stroke.
         """
         first = next(e for e in self.chain(leg_pose) if isinstance(e, Joint))
         pose = as_poses(leg_pose.poses).reshape(-1, 6)[0]
         point = np.asarray(first.point, dtype=float).reshape(-1, 3)[0] + pose6.position(pose)
-        if first.kind == "P":
+        if joint_kind(first.kind).linear:
             axis = np.asarray(first.axis, dtype=float).reshape(-1, 3)[0]
             return BaseFeature("rail", point, axis / np.linalg.norm(axis))
         return BaseFeature("pivot", point, np.zeros(3))
@@ -497,9 +501,7 @@ class LegModel(PartModel):
 
     def actuator_units(self) -> tuple[str, str, str]:
         """Units of the actuator's force, displacement and stiffness."""
-        if self.actuated_kind() == "R":
-            return "N·m", "rad", "N·m/rad"
-        return "N", "m", "N/m"
+        return joint_kind(self.actuated_kind()).actuator_units()
 
 
 def _check_centre(

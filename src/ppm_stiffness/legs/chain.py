@@ -19,17 +19,9 @@ when the axis is along z), ``e3 = e1 x e2``; a U joint's frame is its two axes a
 its springs (the adjacent link, typically). A link's tip frame has its local x along
 the link (start -> end) and local y, z built the same way.
 
-Freedoms and constrained directions (hardware springs, in this order):
-
-==== =============================== =============================================
-kind freedoms                        constrained directions
-==== =============================== =============================================
-P    translation e1                  rotation e1, e2, e3; translation e2, e3
-R    rotation e1                     rotation e2, e3; translation e1, e2, e3
-C    rotation e1, translation e1     rotation e2, e3; translation e2, e3
-U    rotation e1, rotation e2        translation e1, e2, e3; rotation e3
-S    rotation e1, e2, e3             translation e1, e2, e3
-==== =============================== =============================================
+The freedoms and constrained directions of each kind (its hardware springs, in that
+order) are in its record (:mod:`ppm_stiffness.legs.joint_kinds`, with their table); the
+tables below are views of the records, kept for their importers.
 
 The builder (:func:`leg_springs`) turns a chain at one or many poses (every point and
 axis has the batch shape plus a trailing 3) into the arrays of
@@ -56,7 +48,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -71,33 +62,20 @@ from ppm_stiffness.core.conventions import (
 )
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.solver import LegSprings
+from ppm_stiffness.legs.joint_kinds import JOINT_KINDS, Direction, JointKind, joint_kind
 
-JointKind = Literal["R", "P", "C", "U", "S"]
-
-#: A direction of a joint frame: ("r", k) a rotation about e_k, ("t", k) a translation
-#: along e_k (k = 0, 1, 2 for e1, e2, e3).
-Direction = tuple[Literal["r", "t"], int]
-
-#: Freedoms of each joint kind, in order (the module doc's table).
+#: Freedoms of each joint kind, in order (:mod:`ppm_stiffness.legs.joint_kinds`).
 FREEDOM_DIRECTIONS: dict[str, tuple[Direction, ...]] = {
-    "P": (("t", 0),),
-    "R": (("r", 0),),
-    "C": (("r", 0), ("t", 0)),
-    "U": (("r", 0), ("r", 1)),
-    "S": (("r", 0), ("r", 1), ("r", 2)),
+    letter: record.freedoms for letter, record in JOINT_KINDS.items()
 }
 #: Constrained directions of each joint kind, in the order of its hardware springs.
 CONSTRAINED_DIRECTIONS: dict[str, tuple[Direction, ...]] = {
-    "P": (("r", 0), ("r", 1), ("r", 2), ("t", 1), ("t", 2)),
-    "R": (("r", 1), ("r", 2), ("t", 0), ("t", 1), ("t", 2)),
-    "C": (("r", 1), ("r", 2), ("t", 1), ("t", 2)),
-    "U": (("t", 0), ("t", 1), ("t", 2), ("r", 2)),
-    "S": (("t", 0), ("t", 1), ("t", 2)),
+    letter: record.constrained for letter, record in JOINT_KINDS.items()
 }
 #: Number of constrained directions (hardware springs) of each joint kind.
-CONSTRAINED = {kind: len(d) for kind, d in CONSTRAINED_DIRECTIONS.items()}
+CONSTRAINED = {letter: record.constrained_count for letter, record in JOINT_KINDS.items()}
 #: Number of freedoms of each joint kind.
-FREEDOMS = {kind: len(d) for kind, d in FREEDOM_DIRECTIONS.items()}
+FREEDOMS = {letter: record.freedom_count for letter, record in JOINT_KINDS.items()}
 
 
 @dataclass(frozen=True)
@@ -183,12 +161,13 @@ class Joint:
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
+        second_axis = joint_kind(self.kind).second_axis
         if self.axis2 is None:
-            if self.kind == "U":
+            if second_axis:
                 raise DesignError(f"universal joint {self.name or ''}: its second axis is missing")
             return frame_from_axis(self.axis)
         e1, e2 = np.broadcast_arrays(unit(self.axis), np.asarray(self.axis2, dtype=float))
-        if self.kind == "U":  # the two axes as given
+        if second_axis:  # the two axes as given
             e2 = unit(e2)
         else:  # e2 along the part of axis2 normal to e1
             e2 = unit(e2 - np.einsum("...i,...i->...", e2, e1)[..., None] * e1)
@@ -244,12 +223,12 @@ def _screws(joint: Joint, directions: tuple[Direction, ...]) -> FloatArray:
 
 def constrained_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's constrained directions, shape (..., 6, n)."""
-    return _screws(joint, CONSTRAINED_DIRECTIONS[joint.kind])
+    return _screws(joint, joint_kind(joint.kind).constrained)
 
 
 def freedom_screws(joint: Joint) -> FloatArray:
     """Unit twists of a joint's freedoms, shape (..., 6, f)."""
-    return _screws(joint, FREEDOM_DIRECTIONS[joint.kind])
+    return _screws(joint, joint_kind(joint.kind).freedoms)
 
 
 def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:
@@ -275,10 +254,10 @@ def check_chain(chain: Sequence[Element]) -> None:
     actuated = [e for e in chain if isinstance(e, Joint) and e.actuated]
     if len(actuated) != 1:
         raise DesignError(f"a leg needs exactly one actuated joint, got {len(actuated)}")
-    if FREEDOMS[actuated[0].kind] != 1:
+    count = joint_kind(actuated[0].kind).freedom_count
+    if count != 1:
         raise DesignError(
-            f"a joint of kind {actuated[0].kind} ({FREEDOMS[actuated[0].kind]} freedoms) "
-            "cannot be the actuated joint"
+            f"a joint of kind {actuated[0].kind} ({count} freedoms) cannot be the actuated joint"
         )
 
 
@@ -330,7 +309,7 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
             passive.append(free)
         if element.springs is not None:
             k = np.asarray(element.springs, dtype=float)
-            n = CONSTRAINED[element.kind]
+            n = joint_kind(element.kind).constrained_count
             if k.shape != (n,) or np.any(~(k > 0)):
                 raise DesignError(
                     f"joint {element.name or element.kind}: {n} positive spring "
@@ -355,5 +334,5 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
 
 
 def freedom_count(joint: Joint) -> int:
-    """Number of freedoms of a joint (:data:`FREEDOMS`)."""
-    return FREEDOMS[joint.kind]
+    """Number of freedoms of a joint (its kind's record)."""
+    return joint_kind(joint.kind).freedom_count

@@ -53,15 +53,8 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs import _forms as forms
 from ppm_stiffness.legs import _soa as soa
 from ppm_stiffness.legs._soa import Scalar, Vec
-from ppm_stiffness.legs.chain import (
-    CONSTRAINED_DIRECTIONS,
-    FREEDOM_DIRECTIONS,
-    FREEDOMS,
-    Element,
-    Joint,
-    Link,
-    check_chain,
-)
+from ppm_stiffness.legs.chain import Element, Joint, Link, check_chain, freedom_count
+from ppm_stiffness.legs.joint_kinds import joint_kind
 
 #: Smallest norm of a passive twist's remainder (length-balanced, at the reference
 #: point, after removing the twists before it) relative to its norm, for the passive
@@ -132,7 +125,7 @@ def _reference(chain: Sequence[Element]) -> int | None:
     best, ref = 0, None
     for i, element in enumerate(chain):
         if isinstance(element, Joint) and not element.actuated:
-            count = sum(kind == "r" for kind, _ in FREEDOM_DIRECTIONS[element.kind])
+            count = joint_kind(element.kind).rotations
             if count and count >= best:
                 best, ref = count, i
     return ref
@@ -185,8 +178,9 @@ def _wrenches(
     for i, (element, (frame, norm)) in enumerate(zip(chain, placed, strict=True)):
         if not isinstance(element, Joint):
             continue
-        directions = FREEDOM_DIRECTIONS[element.kind]
-        if i == index and [kind for kind, _ in directions] == ["r", "r", "r"]:
+        record = joint_kind(element.kind)
+        directions = record.freedoms
+        if i == index and record.spherical:
             all_rotations = norm > 0.0  # every rotation about c where its frame exists
             continue
         axes = frame.axes() if any(k for _, k in directions) else [frame.e1]
@@ -229,7 +223,7 @@ def _reduce(
             )
         elif element.springs is not None:
             springs = np.asarray(element.springs, dtype=float).tolist()
-            terms = forms.spring_terms(springs, CONSTRAINED_DIRECTIONS[element.kind])
+            terms = forms.spring_terms(springs, joint_kind(element.kind).constrained)
         else:
             continue
         key = id(frame.point)
@@ -257,7 +251,7 @@ def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:
         Number of poses.
     """
     check_chain(chain)
-    p = sum(FREEDOMS[e.kind] for e in chain if isinstance(e, Joint) and not e.actuated)
+    p = sum(freedom_count(e) for e in chain if isinstance(e, Joint) and not e.actuated)
     if p > 6:
         raise DesignError(f"a leg with {p} passive freedoms (at most 6)")
     r = 6 - p

@@ -37,14 +37,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.legs.chain import (
-    CONSTRAINED_DIRECTIONS,
-    FREEDOM_DIRECTIONS,
-    Element,
-    Joint,
-    Link,
-    check_chain,
-)
+from ppm_stiffness.legs.chain import Element, Joint, Link, check_chain
+from ppm_stiffness.legs.joint_kinds import joint_kind
 
 #: A scalar entry: an array (n,) or a Python float that holds at every pose.
 Scalar = FloatArray | float
@@ -336,8 +330,10 @@ def _link(element: Link, blocks: dict[bool, Block]) -> bool:
 
 def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
     """Add a joint's springs, its actuator twist or its passive twists; False if not
-    planar (a U or S joint is never planar: its freedoms leave the plane)."""
-    if element.kind not in ("R", "P", "C") or element.axis2 is not None:
+    planar (a kind with two or three rotations, a U or an S, is never planar: its
+    freedoms leave the plane)."""
+    record = joint_kind(element.kind)
+    if not record.planar or element.axis2 is not None:
         return False  # the plane model's frames come from the axis alone
     e1 = _direction(element.axis)
     cx, cy, cz = _components(element.point)
@@ -349,7 +345,7 @@ def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
     def screw(kind: str, axis: int) -> tuple[bool, Vec3]:
         return rotation(frame[axis], c) if kind == "r" else translation(frame[axis])
 
-    free = [screw(k, i) for k, i in FREEDOM_DIRECTIONS[element.kind]]
+    free = [screw(k, i) for k, i in record.freedoms]
     if element.actuated:
         inplane, vec = free[0]
         blocks[inplane].actuator = vec
@@ -358,7 +354,7 @@ def _joint(element: Joint, blocks: dict[bool, Block]) -> bool:
             blocks[inplane].passive.append(vec)
     if element.springs is not None:
         k = np.asarray(element.springs, dtype=float).tolist()
-        directions = CONSTRAINED_DIRECTIONS[element.kind]
+        directions = record.constrained
         for stiffness, (kind, axis) in zip(k, directions, strict=True):
             if math.isinf(stiffness):
                 continue

@@ -48,15 +48,16 @@ from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.legs.chain import (
-    CONSTRAINED,
     Element,
     Joint,
     Link,
     check_chain,
     constrained_screws,
+    freedom_count,
     freedom_screws,
     link_screws,
 )
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.parts import ActuatorModel
 
 
@@ -150,7 +151,7 @@ def screw_chain(
             )
             passive += [False] * 6
             continue
-        free = np.broadcast_to(freedom_screws(element), (k, 6, FREEDOM_COUNT[element.kind]))
+        free = np.broadcast_to(freedom_screws(element), (k, 6, freedom_count(element)))
         springs = _joint_springs(element, k)
         if element.actuated:
             actuator = sum(c.shape[-1] for c in columns)
@@ -180,17 +181,13 @@ def screw_chain(
     return chain_out.shifted(reference)
 
 
-#: Number of freedoms of each joint kind (:data:`ppm_stiffness.legs.chain.FREEDOMS`).
-FREEDOM_COUNT = {"P": 1, "R": 1, "C": 2, "U": 2, "S": 3}
-
-
 def _joint_springs(joint: Joint, k: int) -> tuple[FloatArray, FloatArray] | None:
     """A joint's hardware springs: unit twists (k, 6, c) and compliance (k, c, c)
     (``1/k``; 0 for an ``inf`` spring), or None for a joint without springs."""
     if joint.springs is None:
         return None
     stiff = np.asarray(joint.springs, dtype=float)
-    c = CONSTRAINED[joint.kind]
+    c = joint_kind(joint.kind).constrained_count
     screws = np.broadcast_to(constrained_screws(joint), (k, 6, c))
     return screws, np.broadcast_to(np.diag(1.0 / stiff), (k, c, c))
 

@@ -35,24 +35,20 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs.chain import Joint
+from ppm_stiffness.legs.joint_kinds import JOINT_KINDS, joint_kind
 from ppm_stiffness.validation.frame import FrameBuilder, unit_vector
 
 #: Relative motions of a joint in its frame: 0-2 rotations about e1, e2, e3, 3-5
-#: translations along e1, e2, e3. Constrained ones, in the order of the hardware
-#: springs (:mod:`ppm_stiffness.legs.chain`), and freedoms (the actuated one first).
+#: translations along e1, e2, e3 (:data:`MOTION`). Constrained ones, in the order of
+#: the hardware springs, and freedoms (the actuated one first: the kind's FE releases),
+#: from each kind's record (:mod:`ppm_stiffness.legs.joint_kinds`).
+MOTION = {"r": 0, "t": 3}
 CONSTRAINED_MOTIONS: dict[str, tuple[int, ...]] = {
-    "P": (0, 1, 2, 4, 5),
-    "C": (1, 2, 4, 5),
-    "R": (1, 2, 3, 4, 5),
-    "U": (3, 4, 5, 2),
-    "S": (3, 4, 5),
+    letter: tuple(MOTION[d] + k for d, k in record.constrained)
+    for letter, record in JOINT_KINDS.items()
 }
 FREE_MOTIONS: dict[str, tuple[int, ...]] = {
-    "P": (3,),
-    "C": (0, 3),
-    "R": (0,),
-    "U": (0, 1),
-    "S": (0, 1, 2),
+    letter: record.fe_releases for letter, record in JOINT_KINDS.items()
 }
 #: Two points closer than this are the same point [m].
 SAME_POINT = 1e-9
@@ -79,10 +75,9 @@ def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
     DesignError
         An unknown joint kind, springs of the wrong number or not positive.
     """
-    if joint.kind not in CONSTRAINED_MOTIONS:
-        raise DesignError(f"FE model, joint {joint.name or joint.kind}: unknown kind {joint.kind}")
+    record = joint_kind(joint.kind)
     k = np.zeros(6)
-    constrained = CONSTRAINED_MOTIONS[joint.kind]
+    constrained = CONSTRAINED_MOTIONS[record.letter]
     if joint.springs is None:
         k[list(constrained)] = np.inf
     else:
@@ -94,7 +89,7 @@ def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
             )
         k[list(constrained)] = springs
     if joint.actuated:
-        k[FREE_MOTIONS[joint.kind][0]] = actuator_stiffness
+        k[record.fe_releases[0]] = actuator_stiffness
     return k
 
 

@@ -53,6 +53,7 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, platform_mass_matrix
 from ppm_stiffness.dynamics.modes import natural_frequencies
 from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, stiffness_at_pose
 from ppm_stiffness.poses import full_pose
 from ppm_stiffness.validation.fe_model import FESettings, build_model
@@ -249,7 +250,8 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
                     )
                 axis = np.asarray(element.axis, dtype=float).reshape(3)
                 axis = axis / np.linalg.norm(axis)
-                block = slice(d + 3, d + 6) if element.kind == "R" else slice(d, d + 3)
+                rotary = joint_kind(element.kind).first_rotates
+                block = slice(d + 3, d + 6) if rotary else slice(d, d + 3)
                 out[block, block] += element.mass.rotor * np.outer(axis, axis)
     return 0.5 * (out + out.T)
 

@@ -31,17 +31,10 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.base import BaseFeature, LegModel, LegPose, within_limits
 from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.poses import dependent_indices, full_pose, task_indices
 
 MM = 1e3
-#: How a joint kind is named in legends.
-JOINT_NAMES = {
-    "R": "revolute joint R",
-    "P": "prismatic joint P",
-    "C": "cylindrical joint C",
-    "U": "universal joint U",
-    "S": "spherical joint S",
-}
 
 
 @dataclass(frozen=True)
@@ -55,7 +48,7 @@ class JointView:
     axis : ndarray (3,), unit
         e1 (an S joint: the direction that orients its springs).
     axis2 : ndarray (3,) or None
-        A U joint's second axis e2 (unit); None for the other kinds.
+        The second axis e2 (unit) of a kind that has one (a U); None for the others.
     actuated : bool
     name : str
         The part's name in the design (``guide``, ``base_joint``, ...).
@@ -196,7 +189,8 @@ def limit_violations(leg: LegModel, leg_pose: LegPose) -> list[str]:
 
 
 def _joint_view(joint: Joint, origin: FloatArray) -> JointView:
-    e1, e2, _ = joint.frame() if joint.kind == "U" else (np.asarray(joint.axis), None, None)
+    two_axes = joint_kind(joint.kind).second_axis
+    e1, e2, _ = joint.frame() if two_axes else (np.asarray(joint.axis), None, None)
     return JointView(
         kind=joint.kind,
         point=np.asarray(joint.point, dtype=float).reshape(3) + origin,
@@ -347,7 +341,6 @@ def title_text(view: MechanismView, head: str | None = None, width: int = 110) -
 
 
 __all__ = [
-    "JOINT_NAMES",
     "JointView",
     "LegView",
     "LinkView",

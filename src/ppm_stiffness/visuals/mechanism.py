@@ -46,8 +46,8 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.design import Design
 from ppm_stiffness.legs.base import BaseFeature
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.visuals.leg_geometry import (
-    JOINT_NAMES,
     JointView,
     LegView,
     LinkView,
@@ -63,8 +63,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
 MM = 1e3
 LEG_COLOURS = ("tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan")
-#: Marker of each joint kind: revolute, prismatic, cylindrical.
-JOINT_MARKERS = {"R": "o", "P": "s", "C": "D"}
 #: Styles of the links, by the order in which their names first appear.
 LINK_STYLES: tuple[dict[str, Any], ...] = (
     {"lw": 6.0, "alpha": 0.55, "solid_capstyle": "round"},
@@ -398,32 +396,33 @@ def _draw_base(
 def _draw_joint(
     ax: Any, joint: JointView, i: int, j: int, col: str, unit: float, once: Any
 ) -> None:
-    """A joint's symbol at its point [mm]: slider/sleeve along the axis, ring if actuated."""
+    """A joint's symbol at its point [mm] (its kind's record): slider/sleeve along the
+    axis, ring if actuated."""
+    kind = joint_kind(joint.kind)
     q = joint.point[:2] * MM
     e = joint.axis[:2]
-    if joint.kind in ("P", "C") and float(np.linalg.norm(e)) > 1e-9:
+    if kind.slides and kind.bar is not None and float(np.linalg.norm(e)) > 1e-9:
         e = e / np.linalg.norm(e)
-        bar = np.stack([q - 0.45 * unit * e, q + 0.45 * unit * e])
+        half = kind.bar.half * unit
+        bar = np.stack([q - half * e, q + half * e])
         ax.plot(
             *bar.T,
-            color="k" if joint.kind == "C" else col,
-            lw=7.0,
+            color=kind.bar.colour or col,
+            lw=kind.bar.width,
             alpha=0.8,
             solid_capstyle="butt",
             zorder=5,
         )
-    size = {"R": 45, "P": 70, "C": 55}[joint.kind]
-    face = "w" if joint.kind == "R" else col
     ax.scatter(
         *q,
-        marker=JOINT_MARKERS[joint.kind],
-        s=size,
-        color=face,
+        marker=kind.marker,
+        s=kind.size_2d,
+        color=col if kind.filled else "w",
         edgecolor="k",
         linewidth=1.0,
-        zorder=7 if joint.kind == "R" else 6,
+        zorder=6 if kind.filled else 7,
         gid=f"joint-{i}-{j}",
-        label=once(JOINT_NAMES[joint.kind]),
+        label=once(kind.label),
     )
     if joint.actuated:
         ax.scatter(

@@ -48,8 +48,8 @@ import numpy as np
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.chain import frame_from_axis
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.visuals.leg_geometry import (
-    JOINT_NAMES,
     JointView,
     LegView,
     MechanismView,
@@ -62,25 +62,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 MM = 1e3
-#: Marker of each joint kind in the 3-D view.
-JOINT_MARKERS_3D = {"R": "o", "P": "s", "C": "D", "U": "P", "S": "o"}
-#: Marker size [pt] of each joint kind.
-JOINT_SIZES_3D = {"R": 5.5, "P": 8.0, "C": 7.5, "U": 7.0, "S": 10.0}
-#: Joint kinds drawn with bars along their axes: kind -> (colour, width), None: the leg's.
-AXIS_BARS: dict[str, tuple[str | None, float]] = {
-    "R": ("k", 2.5),
-    "U": ("k", 2.5),
-    "P": (None, 7.0),
-    "C": ("k", 7.0),
-}
-#: What the legend says of each joint kind's symbol.
-JOINT_LEGEND = {
-    "R": JOINT_NAMES["R"] + " (bar: its axis)",
-    "U": JOINT_NAMES["U"] + " (bars: its two axes)",
-    "S": JOINT_NAMES["S"],
-    "P": "prismatic joint (type letter P; bar: its slider)",
-    "C": JOINT_NAMES["C"] + " (sleeve: its axis)",
-}
 
 Once = Callable[[str], "str | None"]
 
@@ -379,13 +360,14 @@ def _draw_joint(
     at: Callable[[Any], FloatArray],
     once: Once,
 ) -> None:
-    """A joint's symbol at its point: bars along its axes, ring if actuated [mm]."""
+    """A joint's symbol at its point (its kind's record): bars along its axes, ring if
+    actuated [mm]."""
+    kind = joint_kind(joint.kind)
     q = at(joint.point)
-    bar = AXIS_BARS.get(joint.kind)
-    if bar is not None:
-        colour, width = bar
+    if kind.bar is not None:
+        colour, width = kind.bar.colour, kind.bar.width
         axes = [joint.axis] + ([joint.axis2] if joint.axis2 is not None else [])
-        half = (0.45 if joint.kind in ("P", "C") else 0.8) * unit
+        half = kind.bar.half * unit
         for k, e in enumerate(axes, start=1):
             seg = np.stack([q - half * e, q + half * e])
             ax.plot(
@@ -396,17 +378,17 @@ def _draw_joint(
                 solid_capstyle="butt",
                 gid=f"joint-axis-{i}-{j}-{k}",
             )
-    face = col if joint.kind in ("P", "C", "S") else "w"
+    face = col if kind.filled else "w"
     ax.plot(
         *q[:, None],
-        marker=JOINT_MARKERS_3D[joint.kind],
-        ms=JOINT_SIZES_3D[joint.kind],
+        marker=kind.marker,
+        ms=kind.size_3d,
         mfc=face,
         mec="k",
         mew=1.0,
         ls="",
         gid=f"joint-{i}-{j}",
-        label=once(JOINT_LEGEND[joint.kind]),
+        label=once(kind.legend),
     )
     if joint.actuated:
         ax.plot(

@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.design import Design
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.visuals.html import cell, esc, table, vector_cells
 
 #: Scales of the loaded case's wrench along the deflection curve of a spatial design:
@@ -43,30 +44,21 @@ POSE_DISPLAY = {
 }
 
 
-#: How the 3-D view draws each joint kind (the caption's words).
-_JOINT_WORDS = {
-    "U": "universal joints U: a cross with bars along their two axes",
-    "S": "spherical joints S: a ball",
-    "R": "revolute joints R: a circle with a bar along the axis",
-    "P": "prismatic joints (type letter P): a square with the slider",
-    "C": "cylindrical joints C: a diamond with the sleeve",
-}
-
-
 def mechanism_caption(design: Design, pose: ArrayLike) -> str:
     """The 3-D view's caption (HTML), naming only what this design has: its joint
-    kinds, rails, tool point."""
+    kinds (their records' words, in the order the legs meet them), rails, tool point."""
     from ppm_stiffness.visuals.leg_geometry import mechanism_view
 
     view = mechanism_view(design, pose)
-    kinds = [k for k in _JOINT_WORDS if any(j.kind == k for v in view.legs for j in v.joints)]
+    # each kind once, in the order the legs meet them from the base
+    kinds = [joint_kind(k) for k in dict.fromkeys(j.kind for v in view.legs for j in v.joints)]
     rails = any(v.base.kind == "rail" for v in view.legs)
     return (
         f"3-D view of the {esc(design.architecture)} in F<sub>b</sub> [mm, equal scale]: "
         "the base polygon"
         + (", each leg's rail over the actuator stroke" if rails else "")
         + ", the legs' links and joints ("
-        + ", ".join(_JOINT_WORDS[k] for k in kinds)
+        + ", ".join(record.caption for record in kinds)
         + "; the actuated joint ringed), the platform, its point P"
         + (", the tool point T" if view.has_tool else "")
         + " and the frames of F<sub>b</sub> and of the platform."

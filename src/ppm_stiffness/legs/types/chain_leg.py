@@ -56,7 +56,8 @@ from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray, rotation_z
 from ppm_stiffness.legs import kinematics as kin
 from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, check_plausible
-from ppm_stiffness.legs.chain import Element, Joint, Link, unit
+from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis, unit
+from ppm_stiffness.legs.joint_kinds import JointKind, JointKindRecord, joint_kind
 from ppm_stiffness.legs.parts import (
     BearingModel,
     Finite,
@@ -72,26 +73,17 @@ from ppm_stiffness.legs.types._spatial import check_normal, check_unit, joint_an
 
 Vector3 = tuple[Finite, Finite, Finite]
 
-#: The part that gives each joint kind's hardware springs.
-SPRING_PARTS: dict[str, type[PartModel]] = {
-    "P": GuideModel,
-    "C": BearingModel,
-    "R": RevoluteModel,
-    "U": UniversalModel,
-    "S": SphericalModel,
-}
-#: Number of hardware springs (constrained directions) of each joint kind.
-SPRING_COUNT = {"P": 5, "C": 4, "R": 5, "U": 4, "S": 3}
-#: Kinematic freedoms of each kind: (rotation?, axis source) with the axis source
-#: "axis", "axis2" or a unit vector of F_b (an S: about x, y, z through its centre).
-_FREEDOMS: dict[str, tuple[tuple[bool, str], ...]] = {
-    "R": ((True, "axis"),),
-    "P": ((False, "axis"),),
-    "C": ((True, "axis"), (False, "axis")),
-    "U": ((True, "axis"), (True, "axis2")),
-    "S": ((True, "x"), (True, "y"), (True, "z")),
-}
-_UNIT_AXES = {"x": np.array([1.0, 0.0, 0.0]), "y": np.array([0.0, 1.0, 0.0]), "z": np.eye(3)[2]}
+
+def _home_frame(element: JointElement) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """A joint's frame at home: its axes (a second axis as given), or F_b's axes for a
+    joint without an axis (an S, whose rotations are parametrised about x, y, z)."""
+    if element.axis is None:
+        return np.eye(3)[0], np.eye(3)[1], np.eye(3)[2]
+    if element.axis2 is None:
+        return frame_from_axis(np.asarray(element.axis, dtype=float))
+    e1, e2 = unit(element.axis), unit(element.axis2)
+    return e1, e2, np.cross(e1, e2)
+
 
 JointSprings = (
     Positive | GuideModel | BearingModel | RevoluteModel | UniversalModel | SphericalModel | None
@@ -101,7 +93,7 @@ JointSprings = (
 class JointElement(PartModel):
     """A joint of a chain leg (module doc); lengths [m], angles [rad]."""
 
-    joint: Literal["R", "P", "C", "U", "S"]
+    joint: JointKind
     name: str = ""
     point: Vector3
     axis: Vector3 | None = None
@@ -113,54 +105,59 @@ class JointElement(PartModel):
 
     @model_validator(mode="after")
     def _axes(self) -> JointElement:
-        for key in ("point", "stroke") if self.joint == "P" else ("point",):
-            for v in getattr(self, key) or ():
-                check_plausible(key, v, "m")
-        if self.joint == "S":
+        record = joint_kind(self.joint)
+        for v in self.point:
+            check_plausible("point", v, "m")
+        if record.spherical:
             if self.axis is not None or self.axis2 is not None:
-                raise ValueError("a spherical joint has no axis (its springs follow its link)")
+                raise ValueError(f"a {record.name} joint has no axis (its springs follow its link)")
         elif self.axis is None:
-            raise ValueError(f"a joint of kind {self.joint} needs its axis")
+            raise ValueError(f"a {record.name} joint needs its axis")
         else:
             e1 = check_unit("axis", self.axis)
-            if self.joint == "U":
+            if record.second_axis:
                 if self.axis2 is None:
-                    raise ValueError("a universal joint needs axis2 (e2, normal to axis)")
+                    raise ValueError(f"a {record.name} joint needs axis2 (e2, normal to axis)")
                 check_normal("axis", e1, "axis2", check_unit("axis2", self.axis2))
             elif self.axis2 is not None:
-                raise ValueError(f"axis2 is a universal joint's; a {self.joint} joint has one axis")
+                raise ValueError(f"axis2 is a second axis; a {record.name} joint has one axis")
         if self.mounting_axis is not None:
             check_unit("mounting_axis", self.mounting_axis)
-        part = SPRING_PARTS[self.joint]
+        part = record.springs_model()
         if self.springs is not None and not isinstance(self.springs, (float, int, part)):
             raise ValueError(
-                f"springs: a {self.joint} joint's springs are a {part.__name__} table "
+                f"springs: a {record.name} joint's springs are a {part.__name__} table "
                 f"({', '.join(part.model_fields)}) or one stiffness"
             )
         if self.actuated:
-            if self.joint not in ("R", "P"):
-                raise ValueError(f"an actuated joint is an R or a P, not a {self.joint}")
-            if self.stroke is None:
-                raise ValueError("an actuated joint needs its stroke [lo, hi] from home")
-            lo, hi = self.stroke
-            if not lo <= 0.0 <= hi or not lo < hi:
-                raise ValueError(
-                    f"stroke = [{lo:g}, {hi:g}]: measured from the home position, so "
-                    "lo <= 0 <= hi with lo < hi"
-                )
-            if self.joint == "R":
-                for v in self.stroke:
-                    check_plausible("stroke", v, "rad")
+            self._check_stroke(record)
         elif self.stroke is not None:
             raise ValueError("stroke is the actuated joint's; this joint is passive")
         return self
+
+    def _check_stroke(self, record: JointKindRecord) -> None:
+        if record.freedom_count != 1:
+            raise ValueError(
+                f"an actuated joint has one freedom; a {record.name} joint has "
+                f"{record.freedom_count}"
+            )
+        if self.stroke is None:
+            raise ValueError("an actuated joint needs its stroke [lo, hi] from home")
+        lo, hi = self.stroke
+        for v in self.stroke:
+            check_plausible("stroke", v, record.actuator_units()[1])
+        if not lo <= 0.0 <= hi or not lo < hi:
+            raise ValueError(
+                f"stroke = [{lo:g}, {hi:g}]: measured from the home position, so "
+                "lo <= 0 <= hi with lo < hi"
+            )
 
     def stiffnesses(self) -> FloatArray | None:
         """The hardware springs in the kind's constrained order, or None (rigid)."""
         if self.springs is None:
             return None
         if isinstance(self.springs, (float, int)):
-            return np.full(SPRING_COUNT[self.joint], float(self.springs))
+            return np.full(joint_kind(self.joint).constrained_count, float(self.springs))
         return np.asarray(self.springs.stiffnesses(), dtype=float)
 
     def max_angle(self) -> float | None:
@@ -209,7 +206,8 @@ def _turned(raw: dict[str, Any], turn: FloatArray, mirror: bool) -> dict[str, An
             elements.append(element)
             continue
         e = dict(element)
-        rotation = e.get("joint") in ("R", "U", "S")
+        letter = e.get("joint")
+        rotation = isinstance(letter, str) and joint_kind(letter).first_rotates
         for key in ("point", "end", "mounting_axis"):
             if key in e:
                 e[key] = polar(e[key])
@@ -294,11 +292,11 @@ class ChainLeg(LegModel):
         axes, points, prismatic, bodies = [], [], [], []
         for element in self.elements:
             if isinstance(element, JointElement):
-                for rotation, source in _FREEDOMS[element.joint]:
-                    axis = getattr(element, source) if source.startswith("axis") else None
-                    axes.append(_UNIT_AXES[source] if axis is None else unit(axis))
+                frame = _home_frame(element)
+                for motion, k in joint_kind(element.joint).freedoms:
+                    axes.append(frame[k])
                     points.append(np.array(element.point, dtype=float))
-                    prismatic.append(not rotation)
+                    prismatic.append(motion == "t")
             bodies.append(len(axes))
         freedoms = kin.Freedoms(
             np.array(axes).reshape(-1, 3), np.array(points).reshape(-1, 3), np.array(prismatic)
@@ -444,7 +442,7 @@ class ChainLeg(LegModel):
     def coordinate(self, name: str) -> Coordinate:
         if name == "actuated":
             joint = next(e for e in self.joints() if e.actuated)
-            unit_ = "m" if joint.joint == "P" else "rad"
+            unit_ = joint_kind(joint.joint).actuator_units()[1]
             return Coordinate(f"actuated joint {joint.name or joint.joint} travel", unit_)
         if name.endswith("_angle"):
             return Coordinate(f"{name[: -len('_angle')]} joint angle", "rad")
@@ -495,7 +493,7 @@ class ChainLeg(LegModel):
         """m for points, rad or m for a stroke, 1 for axes (the element's field)."""
         field = key.rsplit(".", 1)[-1]
         if field == "stroke":
-            return "m" if self.actuated_kind() == "P" else "rad"
+            return joint_kind(self.actuated_kind()).actuator_units()[1]
         return {"point": "m", "end": "m", "axis": "1", "axis2": "1", "mounting_axis": "1"}.get(
             field, ""
         )
@@ -574,14 +572,15 @@ class ChainLeg(LegModel):
             name = self.element_name(i)
             mass = law.moving_parts() if element.actuated else None
             springs = element.stiffnesses()
-            if element.joint == "S":
+            record = joint_kind(element.joint)
+            if record.spherical:
                 direction = self._spherical_axis(i, where, bodies)
-                out.append(Joint("S", direction, point, springs, name=name))
-            elif element.joint == "U":
+                out.append(Joint(element.joint, direction, point, springs, name=name))
+            elif record.second_axis:
                 assert element.axis is not None and element.axis2 is not None
                 e1 = turn(before, element.axis)
                 e2 = turn(before + 1, element.axis2)
-                out.append(Joint("U", e1, point, springs, name=name, axis2=e2))
+                out.append(Joint(element.joint, e1, point, springs, name=name, axis2=e2))
             else:
                 assert element.axis is not None
                 axis = turn(before, element.axis)
@@ -623,7 +622,7 @@ class ChainLeg(LegModel):
         """The first joint: a rail along a base P (its stroke from its home point) or a
         pivot."""
         first = self.joints()[0]
-        if first.joint == "P":
+        if joint_kind(first.joint).linear:
             assert first.axis is not None
             stroke = None if first.stroke is None else (first.stroke[0], first.stroke[1])
             return BaseFeature("rail", np.array(first.point, dtype=float), unit(first.axis), stroke)
@@ -632,4 +631,4 @@ class ChainLeg(LegModel):
 
 _BALANCED_ROWS = np.array([kin.LENGTH_SCALE] * 3 + [1.0] * 3)
 
-__all__ = ["ChainLeg", "JointElement", "LinkElement", "SPRING_PARTS"]
+__all__ = ["ChainLeg", "JointElement", "LinkElement"]
