@@ -23,6 +23,7 @@ from ppm_stiffness.core.conventions import length_balanced, rotation_z, twist_b_
 from ppm_stiffness.core.pose import pose_from_rotation, rotation
 from ppm_stiffness.core.solver import cartesian_stiffness
 from ppm_stiffness.design import Design, default_design, design_from_dict, load_design
+from ppm_stiffness.legs.types.chain_leg import turned_leg
 from ppm_stiffness.model import (
     leg_springs_at_pose,
     stiffness_at_pose,
@@ -190,10 +191,15 @@ def rotated(design: Design, angle: float) -> Design:
     """The whole design turned by ``angle`` about the z axis of F_b through its origin:
     base points and base directions rotate; every angle measured from the x axis of F_b
     (rails and a rotary actuator's stroke) grows by ``angle``; platform attachments
-    (psi, platform points and axes) are in the platform frame and turn with the pose."""
+    (psi, platform points and axes) are in the platform frame and turn with the pose;
+    a chain leg's elements, given in F_b at the home pose, turn with it (their strokes
+    are from home)."""
     r = rotation_z(angle)
     data = design.model_dump()
     for leg_data, leg in zip(data["legs"], design.legs, strict=True):
+        if leg.type == "chain":  # every point and axis of its elements is in F_b at home
+            leg_data.update(turned_leg(leg_data, r))
+            continue
         for key in BASE_VECTORS:
             if key in leg_data:
                 v = np.zeros(3)
@@ -201,7 +207,7 @@ def rotated(design: Design, angle: float) -> Design:
                 leg_data[key] = tuple((r @ v)[: len(leg_data[key])])
         if "alpha" in leg_data:
             leg_data["alpha"] = math.remainder(leg_data["alpha"] + angle, 2 * math.pi)
-        if leg.COORDINATES[leg.ACTUATED_COORDINATE].unit == "rad":
+        if leg.coordinate(leg.ACTUATED_COORDINATE).unit == "rad":
             lo, hi = leg_data["stroke"]
             leg_data["stroke"] = (lo + angle, hi + angle)
     ws = data["workspace"]

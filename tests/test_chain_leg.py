@@ -232,6 +232,23 @@ def test_rus_hexapod_is_a_sum_of_two_force_legs(rigid: bool) -> None:
         assert _relative(expected, stiffness_at_pose(design, pose)) < 1e-10
 
 
+def test_a_chain_legs_parts_are_design_parameters() -> None:
+    """``leg*.rod.area`` (an element's part, by its name) is a design parameter: every
+    leg's rod takes the new area and K is the two-force closed form with it (1e-10)."""
+    design = design_from_dict(_data("6rus.toml")).with_parameters({"leg*.rod.area": 4e-5})
+    assert design.parameter("leg*.rod.area") == 4e-5
+    assert design.parameter_unit("leg1.rod.area") == "m^2"
+    assert design.parameter_unit("leg2.crank_drive.springs.tilt") == "N·m/rad"
+    pose = np.array(design.workspace.start()) + np.array([0.004, -0.003, 0.002, 0.02, 0.0, -0.03])
+    expected = np.zeros((6, 6))
+    for leg, g in zip(design.legs, _rus_geometry(design, pose), strict=True):
+        assert leg.elements[3].link.area == 4e-5
+        n = (g["b"] - g["u"]) / np.linalg.norm(g["b"] - g["u"])
+        s = np.concatenate([np.cross(g["b"] - pose[:3], n), n])
+        expected += np.outer(s, s) / _rus_leg_compliance(leg, g, n)
+    assert _relative(expected, stiffness_at_pose(design, pose)) < 1e-10
+
+
 def test_spherical_wrist_at_home_is_isotropic() -> None:
     """Spherical 3-RRR at home (axes e_i, e_(i+1), e_(i+2) through O = P) with rigid
     links, near-rigid tilt and translational joint springs k_t: K_rr = k_a I, K_rt = 0,

@@ -183,7 +183,11 @@ def _poses(design: pps.Design) -> np.ndarray:
     )
     near = home + np.random.default_rng(27).uniform(-1.0, 1.0, (5, home.size)) * scale
     far = home.copy()
-    far[[c in ("x", "y", "z") for c in design.task_coordinates].index(True)] += 10.0
+    lengths = [c in ("x", "y", "z") for c in design.task_coordinates]
+    if any(lengths):
+        far[lengths.index(True)] += 10.0
+    else:  # a wrist: a turn beyond its drives' strokes
+        far[0] += 2.0
     return np.vstack([near, far])
 
 

@@ -179,6 +179,17 @@ SPATIAL_CASES: dict[
         [3e7],
         {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
     ),
+    "6-RUS x-y": (
+        "6rus",
+        None,
+        {"rz": 0.03},
+        [1.0, 1e3],
+        [1e6],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
+    # a wrist's drives turn as its platform: it rotates beyond the model long before a
+    # drive passes its 2.4 rad stroke (no BEYOND_STROKE)
+    "wrist rx-ry": ("spherical_3rrr", None, {"rz": 0.1}, [1.0, 1e3], [], {Refusal.LARGE_ROTATION}),
 }
 
 

@@ -64,6 +64,8 @@ POSE_OPTIONS = {
     ],
     "3prs": ["--z", "420", "--rx", "8", "--ry", "-5"],
     "3rps": ["--z", "360", "--rx", "5", "--ry", "4"],
+    "6rus": ["--x", "3", "--y", "-2", "--z", "215", "--rx", "2", "--ry", "-1.5", "--rz", "3"],
+    "spherical_3rrr": ["--rx", "15", "--ry", "-10", "--rz", "20"],
 }
 
 
@@ -158,7 +160,7 @@ def test_mechanism_command_draws_the_spatial_model(
     # the platform: a closed ring through each platform point once
     ring = _data(lines["platform"])
     np.testing.assert_allclose(ring[0], ring[-1], rtol=0, atol=0)
-    b = np.array([p + r @ np.asarray(leg.platform_point) for leg in design.legs])
+    b = np.array([p + r @ leg.attachment() for leg in design.legs])
     match = [int(np.argmin(np.linalg.norm(b - v, axis=1))) for v in ring[:-1]]
     assert sorted(match) == list(range(len(design.legs)))
     np.testing.assert_allclose(ring[:-1], b[match], rtol=0, atol=1e-12)
@@ -168,7 +170,7 @@ def test_mechanism_command_draws_the_spatial_model(
         np.testing.assert_allclose(_data(lines[f"link-{i}-{last}"])[-1], b[i - 1], atol=1e-12)
     # the base polygon through the base points
     base = _data(lines["base-polygon"])[:-1]
-    a = np.array([leg.base_point for leg in design.legs], dtype=float)
+    a = np.array([leg.base_feature(leg.solve(pose)).point for leg in design.legs], dtype=float)
     assert sorted(int(np.argmin(np.linalg.norm(a - v, axis=1))) for v in base) == list(
         range(len(design.legs))
     )
@@ -323,7 +325,8 @@ def test_springs_command_on_spatial_designs(tmp_path: Path, name: str, monkeypat
         assert np.linalg.norm(np.cross(d, springs.axes[i])) < 1e-12
     _check_chain_drawn(fig, design, pose, pose[:3])
     legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
-    assert legend[0].startswith("platform B1-")
+    last = list(design.legs[0].solve(pose).points)[-1]  # the legs' platform point (B, C, ...)
+    assert legend[0].startswith(f"platform {last}1-")
     assert "base" in legend
     plt.close(fig)
 

@@ -36,6 +36,7 @@ from ppm_stiffness.analysis import ENVELOPE_KEYS, analyze_design, dump_json  # n
 from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.principal import principal_compliance  # noqa: E402
 from ppm_stiffness.leading import leading_keys  # noqa: E402
+from ppm_stiffness.maps.slices import map_slice  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
 from ppm_stiffness.poses import full_pose, home_pose  # noqa: E402
 from ppm_stiffness.statics.deflection import deflection_path  # noqa: E402
@@ -101,8 +102,8 @@ def test_sections_figures_and_maps(pages: dict[str, str], name: str) -> None:
     of the paper's planar k_phi, k_x, k_y."""
     page = pages[name]
     cells = parse(page)
-    axes = "x-y" if name == "hexapod_6ups" else "z-rx"
-    maps = (f"fig-map-{axes}-max",)  # linear actuators: min = max, one map and a note
+    axes = "-".join(map_slice(design_named(name)).axes)  # x-y, or the first two
+    maps = (f"fig-map-{axes}-max",)  # linear actuator laws: min = max, one map and a note
     for sid in (
         SECTIONS
         + FIGURES

@@ -63,14 +63,18 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "hexapod_6ups": (4e-4, 4e-4, 4e-4),  # 1.20e-4, 1.20e-4; 1.20e-4
     "3prs": (2e-3, 2e-3, 2e-3),  # 6.80e-4, 6.04e-4; 5.94e-4
     "3rps": (8e-4, 8e-4, 8e-4),  # 2.65e-4, 2.67e-4; 2.60e-4
+    "6rus": (1e-4, 4e-5, 4e-5),  # 3.87e-5, 1.32e-5; 1.19e-5
+    "spherical_3rrr": (6e-5, 6e-5, 1.5e-5),  # 1.92e-5, 1.86e-5; 3.98e-6
 }
 SPATIAL = example_designs(is_spatial)
 #: The FE matrix extrapolated to rigid stiff members, (10 K(1e12) - K(1e11)) / 9, against
 #: the virtual-joint K ("directions"): measured at most 2.1e-7 over the examples' six
 #: poses and the variants below (round-off of the penalty elements).
 EXTRAPOLATED_BOUND = 6e-7
-#: The Maxwell-Betti check of the FE solution: measured at most 5.0e-9.
+#: The Maxwell-Betti check of the FE solution: measured at most 5.0e-9 (the 6-RUS:
+#: 2.3e-7, its soft rod spin and stiff members ten orders apart).
 ASYMMETRY_BOUND = 2e-8
+ASYMMETRY_BOUNDS = {"6rus": 8e-7}
 
 
 @pytest.fixture(scope="module", params=SPATIAL)
@@ -95,7 +99,7 @@ def test_every_spatial_example_agrees_at_six_poses(
         assert c.within_tolerances()  # 2 % whole matrix, 5 % any direction
         assert c.differences["full"] < full, (name, c.pose)
         assert c.differences["directions"] < directions, (name, c.pose)
-        assert c.fe_asymmetry < ASYMMETRY_BOUND
+        assert c.fe_asymmetry < ASYMMETRY_BOUNDS.get(name, ASYMMETRY_BOUND)
 
 
 def test_sampled_poses_are_completed_reachable_and_in_the_region(
@@ -116,13 +120,29 @@ def test_sampled_poses_are_completed_reachable_and_in_the_region(
         assert np.all(leg.reachable(leg.solve(poses)))
 
 
-def _stiff_members(design: Design, pose: FloatArray, k_fe: FloatArray) -> tuple[float, float]:
-    """The FE difference at 1e11 over that at 1e12 N/m, and the extrapolation of K to
-    rigid stiff members (its difference to the virtual-joint K, all directions)."""
+#: The stiff members' scale [N/m] of the pair compared below where it is not (1e11,
+#: 1e12): PyNite's solve fails its equilibrium check (1e-6) on the 6-RUS at 1e12.
+STIFF_PAIRS = {"6rus": (1e10, 1e11)}
+#: The ratio's tolerance where it is not 2 %: the wrist's platform members bend round
+#: the other legs' joints on the lines to P (measured 9.86 and 10.43).
+RATIO_TOLERANCES = {"spherical_3rrr": 0.05}
+
+
+def _stiff_members(
+    design: Design, pose: FloatArray, k_fe: FloatArray, pair: tuple[float, float]
+) -> tuple[float, float]:
+    """The FE difference at pair[0] over that at pair[1] (10x stiffer) N/m, and the
+    extrapolation of K to rigid stiff members (its difference to the virtual-joint K,
+    all directions); ``k_fe`` is the FE K at the default 1e11."""
     k_vj = stiffness_at_pose(design, pose)
-    k12 = fe_stiffness_at_pose(design, pose, settings=FESettings(rigid_stiffness=1e12)).stiffness
-    ratio = direction_difference(k_vj, k_fe) / direction_difference(k_vj, k12)
-    return ratio, direction_difference(k_vj, (10.0 * k12 - k_fe) / 9.0)
+    soft, stiff = (
+        k_fe
+        if r == FESettings().rigid_stiffness
+        else fe_stiffness_at_pose(design, pose, settings=FESettings(rigid_stiffness=r)).stiffness
+        for r in pair
+    )
+    ratio = direction_difference(k_vj, soft) / direction_difference(k_vj, stiff)
+    return ratio, direction_difference(k_vj, (10.0 * stiff - soft) / 9.0)
 
 
 def test_the_difference_is_the_stiff_members(
@@ -132,10 +152,11 @@ def test_the_difference_is_the_stiff_members(
     directions give a 10x smaller difference, and the FE matrix extrapolated to rigid
     members equals the virtual-joint K to 2e-7 (measured: hexapod 5.8e-9, 3-PRS
     1.3e-7, 3-RPS 2.1e-7 over the six poses; here the home pose and the first)."""
-    _, design, comparisons = case
+    name, design, comparisons = case
     for c in comparisons[:2]:
-        ratio, extrapolated = _stiff_members(design, c.pose, c.k_fe)
-        assert ratio == pytest.approx(10.0, rel=0.02)
+        pair = STIFF_PAIRS.get(name, (1e11, 1e12))
+        ratio, extrapolated = _stiff_members(design, c.pose, c.k_fe, pair)
+        assert ratio == pytest.approx(10.0, rel=RATIO_TOLERANCES.get(name, 0.02))
         assert extrapolated < EXTRAPOLATED_BOUND
 
 
@@ -234,7 +255,7 @@ def test_generic_tripod_agrees_and_its_section_axes_matter() -> None:
         for pose in (home_pose(d), tilted):
             c = compare_at_pose(d, pose)
             assert c.differences["full"] < 2e-3
-            assert _stiff_members(d, c.pose, c.k_fe)[1] < EXTRAPOLATED_BOUND
+            assert _stiff_members(d, c.pose, c.k_fe, (1e11, 1e12))[1] < EXTRAPOLATED_BOUND
     pose = home_pose(design)
     change = block_difference(
         stiffness_at_pose(design, pose), stiffness_at_pose(swapped, pose), range(6)
@@ -280,7 +301,7 @@ def test_any_platform_geometry(kind: str) -> None:
     pose = home_pose(design)
     c = compare_at_pose(design, pose)
     assert c.differences["directions"] < VARIANT_BOUNDS[kind]
-    assert _stiff_members(design, pose, c.k_fe)[1] < EXTRAPOLATED_BOUND
+    assert _stiff_members(design, pose, c.k_fe, (1e11, 1e12))[1] < EXTRAPOLATED_BOUND
 
 
 def test_fe_does_not_use_the_engine(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -452,9 +452,9 @@ class Design(PartModel):
         if parts[0] == "platform":
             return PLATFORM_UNITS.get(parts[-1], "")
         leg = self.legs[int(parts[0][3:]) - 1]
-        if len(parts) == 2:
-            return type(leg).UNITS.get(parts[1], "")
-        part = getattr(leg, parts[1])
+        part, key = _resolve(self, first)
+        if part is leg:
+            return leg.parameter_unit(key)
         if parts[1] == "actuator":
             force, disp, stiff = leg.actuator_units()
             return {
@@ -464,7 +464,7 @@ class Design(PartModel):
                 "threshold_displacement": disp,
                 **leg.drive_units(),
             }[parts[2]]
-        return part_units(type(part)).get(parts[2], "")
+        return part_units(type(part)).get(key, "")
 
     def with_parameters(self, values: dict[str, float]) -> Design:
         """A copy with the named (or globbed) scalar parameters replaced, validated again.
@@ -486,9 +486,10 @@ class Design(PartModel):
             for name in self.expand(pattern):
                 parts = _split(name)
                 target: Any = data
-                for part in parts[:-1]:
+                path = _field_path(self, name)
+                for part in path[:-1]:
                     target = target[part]
-                target[parts[-1]] = float(value)
+                target[path[-1]] = float(value)
                 if _actuator_key(parts, (*ACTUATOR_STIFFNESSES, "q")):
                     stiffnesses.setdefault(parts[1], {})[parts[-1]] = float(value)
         _tie_linear_actuators(data, stiffnesses)
@@ -562,7 +563,7 @@ class Design(PartModel):
         if self.platform is not None:
             names += [f"platform.{k}" for k, v in self.platform if _is_scalar(v)]
         for i, leg in enumerate(self.legs, start=1):
-            names += _scalar_names(leg, f"leg{i}")
+            names += _leg_scalar_names(leg, f"leg{i}")
         return names
 
 
@@ -574,10 +575,24 @@ def _home_pose(workspace: Any) -> tuple[float, ...]:
     return tuple(float(v) if _is_scalar(v := table.get(k, 0.0)) else 0.0 for k in keys)
 
 
+def _leg_scalar_names(leg: LegModel, prefix: str) -> list[str]:
+    """A leg's scalar parameters (:meth:`~ppm_stiffness.legs.base.LegModel.
+    parameter_items`, its working modes left out), dotted under ``prefix``."""
+    names: list[str] = []
+    for key, value in leg.parameter_items():
+        if key in type(leg).DISCRETE_FIELDS:
+            continue
+        if _is_scalar(value):
+            names.append(f"{prefix}.{key}")
+        elif isinstance(value, BaseModel):
+            names += _scalar_names(value, f"{prefix}.{key}")
+    return names
+
+
 def _leg_mass_keys(leg: LegModel) -> list[str]:
     """Dotted keys (within a leg) of the masses a leg's parts carry."""
     keys = []
-    for key, value in leg:
+    for key, value in leg.parameter_items():
         if isinstance(value, BaseModel):
             keys += [
                 f"{key}.{sub}"
@@ -676,8 +691,17 @@ def _split(name: str) -> list[Any]:
     return parts
 
 
-def _resolve(design: Design, name: str) -> tuple[Any, str]:
+def _field_path(design: Design, name: str) -> list[Any]:
+    """The path of parameter ``name`` through the design's fields (and list indices):
+    a leg's keys as its :meth:`~ppm_stiffness.legs.base.LegModel.field_path` says."""
     parts = _split(name)
+    if len(parts) > 2 and parts[0] == "legs" and 0 <= parts[1] < len(design.legs):
+        return [*parts[:2], *design.legs[parts[1]].field_path(parts[2:])]
+    return parts
+
+
+def _resolve(design: Design, name: str) -> tuple[Any, str]:
+    parts = _field_path(design, name)
     obj: Any = design
     try:
         for part in parts[:-1]:

@@ -375,6 +375,12 @@ class LegModel(PartModel):
         model, whose fields the table spreads) or a value; its ``type`` left out."""
         return [(key, value) for key, value in self if key != "type"]
 
+    def field_path(self, keys: list[str]) -> list[str | int]:
+        """The path through the leg's fields (and list indices) of a parameter's dotted
+        keys within the leg (``["guide", "yaw"]``): the keys themselves, unless the leg
+        names its parameters otherwise (a chain leg's by element name)."""
+        return list(keys)
+
     def parameter_unit(self, key: str) -> str:
         """SI unit of a geometry value of :meth:`parameter_items` ("" if none)."""
         return self.UNITS.get(key, "")

@@ -71,7 +71,14 @@ from ppm_stiffness.validation.frame import (
     require_pynite,
     unit_scales,
 )
-from ppm_stiffness.validation.joints import SAME_POINT, Placement, add_joint, joint_stiffness
+from ppm_stiffness.validation.joints import (
+    SAME_POINT,
+    Placement,
+    add_joint,
+    distance_to_segment,
+    joint_stiffness,
+    normal_pair,
+)
 
 __all__ = [
     "FEResult",
@@ -142,6 +149,35 @@ def _platform_parents(points: list[FloatArray]) -> list[int]:
                 best, best_d = j, t
         parents.append(best)
     return parents
+
+
+def _bend(plan: Placement, a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """None when the platform's stiff member a-b passes clear of every planned node
+    (those at its ends aside); else a corner point off the line, clear of members and
+    nodes, through which it goes instead (two stiff members: PyNite would otherwise
+    split the member at a node lying on it, another leg's joint on the line from a
+    platform point to P)."""
+    if not plan.points:
+        return None
+    pts = np.array(plan.points)
+    others = pts[
+        (np.linalg.norm(pts - a, axis=1) > SAME_POINT)
+        & (np.linalg.norm(pts - b, axis=1) > SAME_POINT)
+    ]
+    if len(others) == 0 or np.min(distance_to_segment(others, a, b)) > plan.margin:
+        return None
+    length = float(np.linalg.norm(b - a))
+    u, v = normal_pair(b - a)
+    directions = [d for w in (u, v) for d in (w, -w)]
+    mid = 0.5 * (a + b)
+    for step in range(1, 40):
+        for d in directions:
+            q = mid + (0.05 * step * length) * d
+            if plan.point_clear(q) and all(
+                np.min(distance_to_segment(others, *seg)) > plan.margin for seg in ((a, q), (q, b))
+            ):
+                return q
+    raise DesignError("FE model: no room to join a platform point to P clear of the legs")
 
 
 def _plan_structure(chains: Sequence[Sequence[Element]], plan: Placement) -> None:
@@ -269,14 +305,23 @@ def build_model(
     parents = _platform_parents(ends[1:])
     plan = Placement(st.connector_length)
     _plan_structure(list(chains.values()), plan)
-    for j, parent in enumerate(parents):
-        plan.add_segment(ends[j + 1], ends[parent + 1])
-        plan.add_point(0.5 * (ends[j + 1] + ends[parent + 1]))
     plan.add_point(np.zeros(3))
+    bends = {j: _bend(plan, ends[j + 1], ends[parent + 1]) for j, parent in enumerate(parents)}
+    for j, parent in enumerate(parents):
+        a, b, bend = ends[j + 1], ends[parent + 1], bends[j]
+        for u, v in ((a, b),) if bend is None else ((a, bend), (bend, b)):
+            plan.add_segment(u, v)
+            plan.add_point(0.5 * (u + v))
     fb = FrameBuilder(st)
     nodes = [fb.node(np.zeros(3), "P")] + [fb.node(q, "B") for q in ends[1:]]
     for j, parent in enumerate(parents):
-        fb.rigid(nodes[j + 1], nodes[parent + 1])
+        bend = bends[j]
+        if bend is None:
+            fb.rigid(nodes[j + 1], nodes[parent + 1])
+        else:  # around another leg's joint on the straight line
+            corner = fb.node(bend, "B")
+            fb.rigid(nodes[j + 1], corner)
+            fb.rigid(corner, nodes[parent + 1])
     for i, chain in chains.items():
         _add_leg(fb, plan, chain, float(k_act[i]), nodes[end_of[i]], leg_label(i))
     return fb, nodes[0]

@@ -144,7 +144,7 @@ class Placement:
         others = pts[np.linalg.norm(pts - a, axis=1) > SAME_POINT]
         if len(others) == 0:
             return True
-        d = _distance_to_segments_many(others, a, b)
+        d = distance_to_segment(others, a, b)
         return bool(np.min(d) > self.margin)
 
     def find(
@@ -182,7 +182,7 @@ def _distance_to_segments(q: FloatArray, a: FloatArray, b: FloatArray) -> FloatA
     return np.asarray(np.linalg.norm(q - (a + t[:, None] * ab), axis=1))
 
 
-def _distance_to_segments_many(q: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:
+def distance_to_segment(q: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:
     """Distance (n,) of points ``q`` (n, 3) to one segment ``a``-``b``."""
     ab = b - a
     t = np.clip((q - a) @ ab / float(ab @ ab), 0.0, 1.0)

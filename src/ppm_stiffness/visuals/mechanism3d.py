@@ -229,7 +229,10 @@ def _draw(
     ring = np.vstack([poly, poly[:1]])
     ax.add_collection3d(Poly3DCollection([poly], facecolor="0.75", alpha=0.3, edgecolor="none"))
     names = [view.legs[k].platform_name for k in order]
-    ax.plot(*ring.T, color="0.15", lw=2.0, gid="platform", label="platform " + "-".join(names))
+    label = "platform " + "-".join(names)
+    if len(label) > PLATFORM_LABEL_LENGTH:  # long point names (a chain leg's elements)
+        label = f"platform {names[0]}-...-{names[-1]}"
+    ax.plot(*ring.T, color="0.15", lw=2.0, gid="platform", label=label)
     if bases and not view.design.planar and len(view.legs) >= 3:
         pts = np.array([v.base.point for v in view.legs], dtype=float)
         border = platform_order(pts - pts.mean(axis=0), np.zeros(3))
@@ -505,6 +508,8 @@ def plot_mechanism_3d(
     return fig
 
 
+#: Longest legend entry of the platform polygon listing its points by name [characters].
+PLATFORM_LABEL_LENGTH = 40
 #: The legend's name of the platform point P (not a joint: the prismatic joint's
 #: legend says "type letter P").
 POINT_LEGEND = "P: platform point (origin of F_p)"

@@ -185,7 +185,7 @@ ChainElement = Annotated[
 ]
 
 
-def _turned(raw: dict[str, Any], turn: FloatArray, mirror: bool) -> dict[str, Any]:
+def turned_leg(raw: dict[str, Any], turn: FloatArray, mirror: bool = False) -> dict[str, Any]:
     """A raw chain leg mirrored (y -> -y, when ``mirror``) then turned by ``turn``
     (3, 3): points and directions turn as vectors; a revolute's axis is an axial
     vector (its mirror image is -M a, so that the mirrored joint's coordinate equals
@@ -279,6 +279,16 @@ class ChainLeg(LegModel):
         """The design's home pose (6,) [m, rad], where every joint coordinate is zero."""
         return np.array(self._home)
 
+    def _point_name(self, index: int) -> str:
+        """The name of the point of element ``index`` (a joint, or a last link's end) in
+        a :class:`LegPose`: A, B, C, ... from the base, as the coded legs' points."""
+        points = [
+            i
+            for i, e in enumerate(self.elements)
+            if isinstance(e, JointElement) or i == len(self.elements) - 1
+        ]
+        return chr(ord("A") + points.index(index))
+
     def element_name(self, index: int) -> str:
         element = self.elements[index]
         if element.name:
@@ -343,9 +353,9 @@ class ChainLeg(LegModel):
         for i, element in enumerate(self.elements):
             if isinstance(element, JointElement):
                 before = bodies[i - 1] if i else 0
-                points[self.element_name(i)] = state.carry(before, element.point) - p
+                points[self._point_name(i)] = state.carry(before, element.point) - p
         if isinstance(self.elements[-1], LinkElement):
-            points[self.element_name(len(self.elements) - 1)] = (
+            points[self._point_name(len(self.elements) - 1)] = (
                 state.carry(bodies[-1], self._end_point()) - p
             )
         coordinates = {f"q{j + 1}": state.q[:, j] for j in range(state.q.shape[1])}
@@ -406,13 +416,17 @@ class ChainLeg(LegModel):
     ) -> tuple[FloatArray, FloatArray]:
         """The direction (n, 3) from joint ``index`` into its link, now and at home
         (3,): the link after it, or before it for a joint with no link after it."""
-        names = [self.element_name(i) for i in range(len(self.elements))]
+        names = [
+            self._point_name(i) if i in self._home_points() else ""
+            for i in range(len(self.elements))
+        ]
         home_points = self._home_points()
         step = -2 if self._link_before(index) else 2
         other = index + step
         if not 0 <= other < len(self.elements) or names[other] not in points:
             raise ValueError(
-                f"{names[index]}: max_angle needs a link at the joint to measure against"
+                f"{self.element_name(index)}: max_angle needs a link at the joint to "
+                "measure against"
             )
         now = unit(points[names[other]] - points[names[index]])
         home = unit(home_points[other] - home_points[index])
@@ -467,27 +481,39 @@ class ChainLeg(LegModel):
         out = []
         for k in range(copies):
             turn = rotation_z(2.0 * np.pi * k / copies)
-            out.append(_turned(raw, turn, False))
+            out.append(turned_leg(raw, turn, False))
             if mirror:
-                out.append(_turned(raw, turn, True))
+                out.append(turned_leg(raw, turn, True))
         return out
 
     def parameter_items(self) -> list[tuple[str, Any]]:
-        """Each element's fields under its name (``rod.area``, ``base_joint.point``),
-        the actuator first."""
+        """The actuator, then each element's fields under its name: a beam link's
+        section as the element (``rod.area``), a joint's keys (``crank_drive.springs.tilt``,
+        ``crank_joint.point``)."""
         items: list[tuple[str, Any]] = [("actuator", self.actuator)]
         for i, element in enumerate(self.elements):
             name = self.element_name(i)
+            if isinstance(element, LinkElement):
+                items.append((name, element.link))
+                if element.end is not None:
+                    items.append((f"{name}.end", element.end))
+                continue
             for key, value in element:
-                if key == "name" or value is None:
-                    continue
-                if key == "springs" and isinstance(value, (int, float)):
-                    items.append((f"{name}.springs", float(value)))
-                elif key == "link" and isinstance(value, str):
-                    items.append((f"{name}.link", value))
-                else:
+                if key != "name" and value is not None:
                     items.append((f"{name}.{key}", value))
         return items
+
+    def field_path(self, keys: list[str]) -> list[str | int]:
+        """An element's parameter by its name (:meth:`parameter_items`): its index in
+        ``elements``, then ``link`` for a beam link's section."""
+        names = [self.element_name(i) for i in range(len(self.elements))]
+        if not keys or keys[0] not in names:
+            return list(keys)
+        index = names.index(keys[0])
+        element = self.elements[index]
+        if isinstance(element, LinkElement) and keys[1:2] != ["end"]:
+            return ["elements", index, "link", *keys[1:]]
+        return ["elements", index, *keys[1:]]
 
     def parameter_unit(self, key: str) -> str:
         """m for points, rad or m for a stroke, 1 for axes (the element's field)."""
@@ -631,4 +657,4 @@ class ChainLeg(LegModel):
 
 _BALANCED_ROWS = np.array([kin.LENGTH_SCALE] * 3 + [1.0] * 3)
 
-__all__ = ["ChainLeg", "JointElement", "LinkElement"]
+__all__ = ["ChainLeg", "JointElement", "LinkElement", "turned_leg"]
