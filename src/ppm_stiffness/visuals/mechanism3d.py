@@ -407,18 +407,20 @@ def _draw_joint(
 
 
 def _draw_frames(ax: Any, view: MechanismView, length: float) -> None:
-    """Base axes at O (grey) and platform axes (R's columns) at P (black) [mm]."""
-    for name, origin, axes, col in (
-        ("b", np.zeros(3), np.eye(3), "0.45"),
-        ("p", view.centre * MM, view.rotation, "k"),
+    """Base axes at O (grey) and platform axes (R's columns) at P (black) [mm]; the base
+    axes' labels beyond the platform's when P is within an axis' length of O (a wrist),
+    so that they stay clear of the platform's; P at O is labelled "P = O" alone."""
+    close = float(np.linalg.norm(view.centre * MM)) < length
+    for name, origin, axes, col, at in (
+        ("b", np.zeros(3), np.eye(3), "0.45", 1.7 if close else 1.15),
+        ("p", view.centre * MM, view.rotation, "k", 1.15),
     ):
         for k, lab in enumerate("xyz"):
             tip = origin + length * axes[:, k]
             ax.plot(*np.stack([origin, tip]).T, color=col, lw=1.6, gid=f"frame-{name}-{lab}")
-            ax.text(
-                *(origin + 1.15 * length * axes[:, k]), f"${lab}_{name}$", color=col, fontsize=9
-            )
-    ax.text(0.0, 0.0, 0.0, "O ", color="0.45", fontsize=9, ha="right", va="top")
+            ax.text(*(origin + at * length * axes[:, k]), f"${lab}_{name}$", color=col, fontsize=9)
+    if float(np.linalg.norm(view.centre)) >= AT_ORIGIN:  # else P's label says "P = O"
+        ax.text(0.0, 0.0, 0.0, "O ", color="0.45", fontsize=9, ha="right", va="top")
 
 
 def plot_mechanism_3d(
@@ -471,7 +473,8 @@ def plot_mechanism_3d(
         gid="P",
         label=POINT_LEGEND,
     )
-    ax.text(*p, "  P", fontsize=9)
+    at_o = float(np.linalg.norm(view.centre)) < AT_ORIGIN
+    ax.text(*p, "  P = O" if at_o else "  P", fontsize=9)
     if view.has_tool:
         t = view.tool * MM
         ax.plot(*np.stack([p, t]).T, color="goldenrod", lw=1.2, ls="--", gid="tool-offset")
@@ -508,6 +511,8 @@ def plot_mechanism_3d(
     return fig
 
 
+#: Distance [m] of P from O below which the picture labels them as one point.
+AT_ORIGIN = 1e-9
 #: Longest legend entry of the platform polygon listing its points by name [characters].
 PLATFORM_LABEL_LENGTH = 40
 #: The legend's name of the platform point P (not a joint: the prismatic joint's
