@@ -10,8 +10,25 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).parent))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+from typing import TYPE_CHECKING  # noqa: E402
+
+import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402
+
+if TYPE_CHECKING:
+    from helpers import DocRun
 
 # Property tests are seeded: the same examples on every run and in CI.
 settings.register_profile("seeded", derandomize=True, print_blob=True)
 settings.load_profile("seeded")
+
+
+@pytest.fixture(scope="session")
+def doc_runs() -> dict[str, DocRun]:
+    """The Python blocks of docs/api.md and the README, run once per session (each block
+    in a fresh namespace, from the top folder, a package DeprecationWarning an error):
+    tests/test_examples.py reads what they print, tests/test_public_api.py that they
+    use no deprecated name."""
+    from helpers import DOC_PAGES, run_doc_blocks
+
+    return {page: run_doc_blocks(page) for page in DOC_PAGES}
