@@ -10,6 +10,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).parent))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+from collections.abc import Callable  # noqa: E402
 from typing import TYPE_CHECKING  # noqa: E402
 
 import pytest  # noqa: E402
@@ -32,3 +33,22 @@ def doc_runs() -> dict[str, DocRun]:
     from helpers import DOC_PAGES, run_doc_blocks
 
     return {page: run_doc_blocks(page) for page in DOC_PAGES}
+
+
+@pytest.fixture(scope="session")
+def example_report() -> Callable[[str], str]:
+    """The report page of an example (``helpers.design_named``) at its home pose with 6 x
+    6 maps, built once per session: tests/test_spatial_report.py reads the spatial
+    examples', tests/test_report_loaded.py the 3-RPS's (no wrench: no loaded section),
+    tests/test_architecture_pictures.py the 3-RRR's."""
+    from helpers import design_named
+    from ppm_stiffness.visuals.report import build_report
+
+    pages: dict[str, str] = {}
+
+    def report(name: str) -> str:
+        if name not in pages:
+            pages[name] = build_report(design_named(name), grid=6)
+        return pages[name]
+
+    return report
