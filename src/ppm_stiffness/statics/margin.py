@@ -12,7 +12,8 @@ load point) its smallest eigenvalue, and it reaches 0 where det K_F does.
 
 Search. Continuation in lambda, the first step :data:`FIRST_STEP` (of the load), doubled
 after each stable step and shortened to reach the zero of the index predicted from the
-last two steps, and to the step that moves the platform :data:`MOTION_AIM` of
+last two steps, and to the step that moves the platform
+:data:`~ppm_stiffness.statics.moving_core.MOTION_AIM` of
 :data:`~ppm_stiffness.statics.moving_core.MAX_STEP_MOTION` (the last step's motion
 scaled linearly); a step whose Newton's method fails is quartered, one that converges
 but moves the platform by more than that is shortened to that aim. A step
@@ -45,12 +46,14 @@ from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.poses import full_poses
 from ppm_stiffness.statics.moving_core import (
     MAX_STEP_MOTION,
+    MOTION_AIM,
     ChainState,
     PlatformChains,
     linearize,
     motion,
     newton,
     stability_index,
+    step_per_motion,
     zero_state,
 )
 from ppm_stiffness.statics.moving_path import load_point, platform_chains
@@ -67,10 +70,6 @@ RELATIVE_TOLERANCE = 1e-9
 ZERO_INDEX = 1e-13
 #: The step past the margin that tells a bifurcation from a limit point.
 BEYOND = 1e-6
-#: A continuation step is at most the one that moves the platform this fraction of
-#: :data:`~ppm_stiffness.statics.moving_core.MAX_STEP_MOTION`, from the motion of the
-#: last step (linear in the step): longer ones would be taken again shorter.
-MOTION_AIM = 0.8
 #: Continuation and refinement steps at most.
 MAX_STEPS = 400
 
@@ -166,7 +165,7 @@ def chains_margin(
         mu = stability_index(res.stiffness)
         moved = motion(before, res.state)
         # the step's length against the motion it gave: the next step's motion cap
-        per_motion = (trial - lo[idx]) / np.where(moved > 0, moved, np.inf)
+        per_motion = step_per_motion(trial - lo[idx], moved)
         converged = res.converged & (moved <= MAX_STEP_MOTION)
         stable = converged & (mu > 0)
         beyond = _beyond_stroke(system.take(idx), res.state) & stable
@@ -457,6 +456,7 @@ def margin_of(batch: MarginBatch, i: int, max_factor: float = MAX_FACTOR) -> Loa
 __all__ = [
     "DIRECTION_NAMES",
     "MAX_FACTOR",
+    "MOTION_AIM",
     "LoadMargin",
     "MarginBatch",
     "MarginKind",

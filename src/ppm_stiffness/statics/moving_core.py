@@ -88,6 +88,13 @@ SLOW_AFTER = 8
 #: that moves more is taken again shorter, so that Newton's method cannot jump to a
 #: distant equilibrium (past a limit point, to another branch) unnoticed.
 MAX_STEP_MOTION = 0.05
+#: A continuation step of the load margin's search is at most the one that moves the
+#: platform this fraction of :data:`MAX_STEP_MOTION`, from the motion of the last step
+#: scaled linearly: longer ones would mostly be taken again shorter. (The load path of
+#: statics/moving_path.py keeps its halving: with this cap, the 3-RPS under 50 kN at
+#: +-0.05 rad tilts, past a limit point, lands on unstable states beyond it and is
+#: refused as UNSTABLE instead of NO_EQUILIBRIUM.)
+MOTION_AIM = 0.8
 
 
 @dataclass(frozen=True)
@@ -551,6 +558,14 @@ def motion(a: ChainState, b: ChainState) -> FloatArray:
     rot = rotation_log(b.rotation @ np.swapaxes(a.rotation, 1, 2))
     disp = (b.translation - a.translation) / LENGTH_SCALE
     return np.asarray(np.max(np.abs(np.concatenate([rot, disp], axis=1)), axis=1))
+
+
+def step_per_motion(step: FloatArray, moved: FloatArray) -> FloatArray:
+    """Load steps (k,) over the platform motion (:func:`motion`) they gave: inf where the
+    platform did not move (no cap on the next step), NaN where the motion is NaN."""
+    out = np.full(np.shape(step), np.inf)
+    np.divide(step, moved, out=out, where=moved > 0)
+    return np.where(np.isnan(moved), np.nan, out)
 
 
 def stability_index(stiffness: FloatArray) -> FloatArray:
