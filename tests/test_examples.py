@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -57,6 +58,14 @@ def test_fast_batched_path_serves_other_designs(name: str) -> None:
         np.testing.assert_allclose(got, expected, rtol=1e-10)
         checked += 1
     assert checked >= 20
+
+
+def _python_blocks(path: Path) -> list[str]:
+    """The ``python`` code blocks of a page (tests/test_mass_model_input.py runs
+    docs/dynamics.md's)."""
+    blocks = re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), re.S)
+    assert blocks, f"{path.name} has python blocks"
+    return blocks
 
 
 def test_readme_python_snippet_runs(doc_runs: dict[str, DocRun]) -> None:
