@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -182,3 +183,45 @@ def rotational_symmetry(design: Design) -> int:
         if all(any(same(t, p) for p in plain) for t in turned):
             return n
     return 1
+
+
+#: Pages whose ``python`` code blocks are run as written (tests/conftest.py's doc_runs).
+DOC_PAGES = ("docs/api.md", "README.md")
+
+
+@dataclass(frozen=True)
+class DocRun:
+    """A page's Python blocks run in order: how many, what they printed, and the error
+    that stopped them (``"Type: message"``; None if every block ran)."""
+
+    blocks: int
+    out: str
+    error: str | None
+
+
+def run_doc_blocks(page: str) -> DocRun:
+    """Run the ``python`` blocks of ``page`` (relative to the top folder) from the top
+    folder, each in a fresh namespace, with a DeprecationWarning of the package
+    (deprecated since 0.3) an error."""
+    import contextlib
+    import io
+    import os
+    import re
+    import warnings
+
+    text = (ROOT / page).read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    out = io.StringIO()
+    error = None
+    cwd = os.getcwd()
+    try:
+        os.chdir(ROOT)
+        with warnings.catch_warnings(), contextlib.redirect_stdout(out):
+            warnings.filterwarnings("error", message=".*deprecated since 0.3")
+            for block in blocks:
+                exec(compile(block, page, "exec"), {})
+    except Exception as exc:  # reported by the tests that read the run
+        error = f"{type(exc).__name__}: {exc}"
+    finally:
+        os.chdir(cwd)
+    return DocRun(len(blocks), out.getvalue(), error)

@@ -13,6 +13,7 @@ import io
 import json
 import math
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import matplotlib
@@ -44,7 +45,7 @@ from ppm_stiffness.visuals.mechanism import (  # noqa: E402
     mechanism_legs,
     plot_mechanism,
 )
-from ppm_stiffness.visuals.report import DEFAULT_WRENCH, build_report, embedded_json  # noqa: E402
+from ppm_stiffness.visuals.report import DEFAULT_WRENCH, embedded_json  # noqa: E402
 from ppm_stiffness.visuals.springs import AXIS_GID, plot_screw_springs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -289,8 +290,8 @@ def test_springs_plane_draws_every_link(name: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def rrr_report() -> str:
-    return build_report(_design("3rrr"), grid=6)
+def rrr_report(example_report: Callable[[str], str]) -> str:
+    return example_report("3rrr")  # build_report(_design("3rrr"), grid=6), conftest
 
 
 def test_report_of_a_3rrr_has_sections_and_rotary_units(rrr_report: str) -> None:

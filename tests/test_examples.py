@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
@@ -16,6 +17,9 @@ from ppm_stiffness.core.errors import PPMStiffnessError
 from ppm_stiffness.design import load_design
 from ppm_stiffness.maps.batch import evaluate_poses
 from ppm_stiffness.model import stiffness_at_pose
+
+if TYPE_CHECKING:
+    from helpers import DocRun
 
 ROOT = Path(__file__).parents[1]
 #: The examples of P-P-R legs (the reduced form) and their rotational symmetry.
@@ -61,29 +65,27 @@ def test_fast_batched_path_serves_other_designs(name: str) -> None:
 
 
 def _python_blocks(path: Path) -> list[str]:
+    """The ``python`` code blocks of a page (tests/test_mass_model_input.py runs
+    docs/dynamics.md's)."""
     blocks = re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), re.S)
     assert blocks, f"{path.name} has python blocks"
     return blocks
 
 
-def test_readme_python_snippet_runs(
-    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_readme_python_snippet_runs(doc_runs: dict[str, DocRun]) -> None:
     """The README's example runs as written from the top folder, and prints K_phiphi
     and (k_x, k_y, k_z) of the 3-RRR at its pose."""
-    monkeypatch.chdir(ROOT)
-    for block in _python_blocks(ROOT / "README.md"):
-        exec(compile(block, "README.md", "exec"), {})
-    lines = capsys.readouterr().out.splitlines()
+    run = doc_runs["README.md"]
+    assert run.blocks >= 1 and run.error is None, run.error
+    lines = run.out.splitlines()
     design = load_design(ROOT / "examples" / "3rrr.toml")
     k = stiffness_at_pose(design, [0.01, 0.0, 0.1])
     assert lines[0] == f"{k[2, 2]} N·m/rad"
     assert len(json.loads(lines[1])) == 3
 
 
-def test_api_page_runs(capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.chdir(ROOT)
-    for block in _python_blocks(ROOT / "docs" / "api.md"):
-        exec(compile(block, "docs/api.md", "exec"), {})
-    out = capsys.readouterr().out
+def test_api_page_runs(doc_runs: dict[str, DocRun]) -> None:
+    run = doc_runs["docs/api.md"]
+    assert run.blocks >= 1 and run.error is None, run.error
+    out = run.out
     assert "3-RRR" in out and "refused:" in out

@@ -9,6 +9,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import matplotlib
@@ -76,9 +77,6 @@ def test_the_pictures_decode(page: str) -> None:
     assert np.ptp(img[..., :3]) > 0.5
 
 
-def test_no_section_without_a_wrench(tmp_path: Path) -> None:
-    from ppm_stiffness.design import load_design
-    from ppm_stiffness.visuals.report import build_report
-
-    html = build_report(load_design(DESIGN))
+def test_no_section_without_a_wrench(example_report: Callable[[str], str]) -> None:
+    html = example_report("3rps")  # build_report of DESIGN, no wrench (shared: conftest)
     assert f'id="{SECTION_ID}"' not in html and BLOCK_ID not in html

@@ -14,6 +14,7 @@ import io
 import json
 import math
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import matplotlib
@@ -40,7 +41,7 @@ from ppm_stiffness.maps.slices import map_slice  # noqa: E402
 from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
 from ppm_stiffness.poses import full_pose, home_pose  # noqa: E402
 from ppm_stiffness.statics.deflection import deflection_path  # noqa: E402
-from ppm_stiffness.visuals.report import build_report, embedded_json  # noqa: E402
+from ppm_stiffness.visuals.report import embedded_json  # noqa: E402
 from ppm_stiffness.visuals.report_spatial import DEFLECTION_SCALES  # noqa: E402
 from ppm_stiffness.visuals.report_wrench import reference_wrench  # noqa: E402
 from report_cells import check_cells, parse, screenshot  # noqa: E402
@@ -80,7 +81,9 @@ def _reference(name: str) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
+def pages(
+    tmp_path_factory: pytest.TempPathFactory, example_report: Callable[[str], str]
+) -> dict[str, str]:
     out: dict[str, str] = {}
     for name in SPATIAL:
         if name == "3prs":
@@ -90,7 +93,7 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
             assert main([*argv, "--out", str(where)]) == 0
             out[name] = (where / "report.html").read_text(encoding="utf-8")
         else:
-            out[name] = build_report(design_named(name), grid=6)  # small maps: fast
+            out[name] = example_report(name)  # build_report, small maps: fast
     return out
 
 

@@ -12,8 +12,11 @@ load point) its smallest eigenvalue, and it reaches 0 where det K_F does.
 
 Search. Continuation in lambda, the first step :data:`FIRST_STEP` (of the load), doubled
 after each stable step and shortened to reach the zero of the index predicted from the
-last two steps; a step whose Newton's method fails, or that moves the platform by more
-than :data:`~ppm_stiffness.statics.moving_core.MAX_STEP_MOTION`, is quartered. A step
+last two steps, and to the step that moves the platform
+:data:`~ppm_stiffness.statics.moving_core.MOTION_AIM` of
+:data:`~ppm_stiffness.statics.moving_core.MAX_STEP_MOTION` (the last step's motion
+scaled linearly); a step whose Newton's method fails is quartered, one that converges
+but moves the platform by more than that is shortened to that aim. A step
 that reaches an unstable state brackets a bifurcation, refined by regula falsi
 (Illinois) on the index to a relative width :data:`RELATIVE_TOLERANCE`; a step that
 fails while already shorter than :data:`RELATIVE_TOLERANCE` of lambda is a limit point.
@@ -43,12 +46,14 @@ from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.poses import full_poses
 from ppm_stiffness.statics.moving_core import (
     MAX_STEP_MOTION,
+    MOTION_AIM,
     ChainState,
     PlatformChains,
     linearize,
     motion,
     newton,
     stability_index,
+    step_per_motion,
     zero_state,
 )
 from ppm_stiffness.statics.moving_path import load_point, platform_chains
@@ -158,7 +163,10 @@ def chains_margin(
         res = newton(system.take(idx), before, trial[:, None] * wrench[idx])
         steps[idx] += 1
         mu = stability_index(res.stiffness)
-        converged = res.converged & (motion(before, res.state) <= MAX_STEP_MOTION)
+        moved = motion(before, res.state)
+        # the step's length against the motion it gave: the next step's motion cap
+        per_motion = step_per_motion(trial - lo[idx], moved)
+        converged = res.converged & (moved <= MAX_STEP_MOTION)
         stable = converged & (mu > 0)
         beyond = _beyond_stroke(system.take(idx), res.state) & stable
         for j in np.flatnonzero(beyond):
@@ -175,7 +183,10 @@ def chains_margin(
                     mu_hi[i] *= 0.5
                 side[i] = -1
             else:
-                h[i] = _grow(h[i], lo[i], prev[i], mu_lo[i], max_factor)
+                h[i] = min(
+                    _grow(h[i], lo[i], prev[i], mu_lo[i], max_factor),
+                    MOTION_AIM * MAX_STEP_MOTION * per_motion[j],
+                )
                 if lo[i] >= max_factor:
                     kind[i] = MarginKind.NONE
         state.put(idx[stable], res.state.take(np.flatnonzero(stable)))
@@ -200,7 +211,10 @@ def chains_margin(
                 hi[i], mu_hi[i] = trial[j], np.nan
                 side[i] = 1
             else:
-                h[i] /= 4
+                # Newton failed: a quarter; converged but moved too much: the step that
+                # moves MOTION_AIM of the most (motion linear in the step)
+                aimed = MOTION_AIM * MAX_STEP_MOTION * per_motion[j]
+                h[i] = aimed if res.converged[j] else h[i] / 4
                 if h[i] <= RELATIVE_TOLERANCE * max(lo[i], FIRST_STEP):
                     kind[i] = MarginKind.LIMIT_POINT
         for i in idx[kind[idx] < 0]:
@@ -442,6 +456,7 @@ def margin_of(batch: MarginBatch, i: int, max_factor: float = MAX_FACTOR) -> Loa
 __all__ = [
     "DIRECTION_NAMES",
     "MAX_FACTOR",
+    "MOTION_AIM",
     "LoadMargin",
     "MarginBatch",
     "MarginKind",

@@ -88,6 +88,13 @@ SLOW_AFTER = 8
 #: that moves more is taken again shorter, so that Newton's method cannot jump to a
 #: distant equilibrium (past a limit point, to another branch) unnoticed.
 MAX_STEP_MOTION = 0.05
+#: A continuation step of the load margin's search is at most the one that moves the
+#: platform this fraction of :data:`MAX_STEP_MOTION`, from the motion of the last step
+#: scaled linearly: longer ones would mostly be taken again shorter. (The load path of
+#: statics/moving_path.py keeps its halving: with this cap, the 3-RPS under 50 kN at
+#: +-0.05 rad tilts, past a limit point, lands on unstable states beyond it and is
+#: refused as UNSTABLE instead of NO_EQUILIBRIUM.)
+MOTION_AIM = 0.8
 
 
 @dataclass(frozen=True)
@@ -234,25 +241,53 @@ def _solve_equilibrated(a: FloatArray, rhs: FloatArray) -> tuple[FloatArray, Boo
         a2 = a1 / col
         b = rhs / row
     ok = np.all(np.isfinite(a2), axis=(1, 2)) & np.all(np.isfinite(b), axis=(1, 2))
-    out = np.full(rhs.shape, np.nan)
-    idx = np.flatnonzero(ok)
-    if idx.size:
-        try:
-            out[idx] = np.linalg.solve(a2[idx], b[idx])
-        except np.linalg.LinAlgError:
-            for i in idx:
-                try:
-                    out[i] = np.linalg.solve(a2[i], b[i])
-                except np.linalg.LinAlgError:
-                    ok[i] = False
+    out = _solve_all(a2, b) if ok.all() else None  # the usual case: one batched solve
+    if out is None:
+        out = np.full(rhs.shape, np.nan)
+        idx = np.flatnonzero(ok)
+        if idx.size:
+            try:
+                out[idx] = np.linalg.solve(a2[idx], b[idx])
+            except np.linalg.LinAlgError:
+                for i in idx:
+                    try:
+                        out[i] = np.linalg.solve(a2[i], b[i])
+                    except np.linalg.LinAlgError:
+                        ok[i] = False
     out = out / np.swapaxes(col, 1, 2)
     ok &= np.all(np.isfinite(out), axis=(1, 2))
     return out, ok
 
 
+def _solve_all(a: FloatArray, rhs: FloatArray) -> FloatArray | None:
+    """``np.linalg.solve`` of every problem at once (each is solved on its own: the same
+    numbers as one problem at a time), None if one of them is singular."""
+    try:
+        return np.asarray(np.linalg.solve(a, rhs), dtype=float)
+    except np.linalg.LinAlgError:
+        return None
+
+
 def _balanced_norm(w: FloatArray) -> FloatArray:
     """``max |(m / L, f)|`` of wrenches (..., 6) [N]."""
     return np.asarray(np.max(np.abs(w * BALANCE), axis=-1))
+
+
+#: ``BALANCE ** -1`` (L, L, L, 1, 1, 1): a twist (rotation, displacement) in metres.
+_TWIST_SCALE = BALANCE[None, :] ** -1
+
+
+def _displacement_size(rotation: FloatArray, translation: FloatArray) -> FloatArray:
+    """The platform's displacement (k,) [m] against which a leg's closure error is
+    measured: ``max |(log(R_t) L, p_t)|``, at least 1e-6 L."""
+    return np.asarray(
+        np.maximum(
+            np.max(
+                np.abs(np.concatenate([rotation_log(rotation) * LENGTH_SCALE, translation], 1)), 1
+            ),
+            1e-6 * LENGTH_SCALE,
+        )
+    )
 
 
 def linearize_leg(
@@ -262,6 +297,7 @@ def linearize_leg(
     rotation: FloatArray,
     translation: FloatArray,
     geometric: bool = True,
+    displacement_size: FloatArray | None = None,
 ) -> LegLinearization:
     """One leg's Newton step at a state (module doc).
 
@@ -276,6 +312,9 @@ def linearize_leg(
     geometric : bool
         False: without the second-derivative terms (H = 0, P = 0): the tangent of the
         springs alone at the displaced geometry (K_F's elastic part).
+    displacement_size : (k,), optional
+        :func:`_displacement_size` of (rotation, translation), the same for every leg
+        (:func:`linearize` computes it once); computed here if None.
     """
     k, n = coordinates.shape
     kin = forward(chain.screws, coordinates)
@@ -318,13 +357,11 @@ def linearize_leg(
     # 1e-6 L), spring deflections against the largest deflection, passive forces
     # against the leg's load (generalised forces of rotations divided by L).
     scale = np.where(chain.rotational, LENGTH_SCALE, 1.0)
-    disp = np.maximum(
-        np.max(np.abs(np.concatenate([rotation_log(rotation) * LENGTH_SCALE, translation], 1)), 1),
-        1e-6 * LENGTH_SCALE,
-    )
-    r_closure = np.max(np.abs(closure * BALANCE[None, :] ** -1), axis=1) / disp
-    x_scaled = coordinates * np.where(chain.rotational, LENGTH_SCALE, 1.0)
-    r_spring = np.abs((coordinates - defl) * np.where(chain.rotational, LENGTH_SCALE, 1.0))
+    if displacement_size is None:
+        displacement_size = _displacement_size(rotation, translation)
+    r_closure = np.max(np.abs(closure * _TWIST_SCALE), axis=1) / displacement_size
+    x_scaled = coordinates * scale
+    r_spring = np.abs((coordinates - defl) * scale)
     r_spring = np.where(chain.passive, 0.0, r_spring)
     x_size = np.max(np.abs(np.where(chain.passive, 0.0, x_scaled)), axis=1)
     r_springs = np.max(r_spring, axis=1) / np.where(x_size > 0, x_size, 1.0)
@@ -362,6 +399,7 @@ def linearize(
 ) -> Linearization:
     """Every leg's step and the platform's row at a state, under ``wrench`` (k, 6) at
     the load point."""
+    disp = _displacement_size(state.rotation, state.translation)
     legs = tuple(
         linearize_leg(
             c,
@@ -370,6 +408,7 @@ def linearize(
             state.rotation,
             state.translation,
             geometric,
+            disp,
         )
         for i, c in enumerate(system.chains)
     )
@@ -459,7 +498,7 @@ def newton(
         idx = np.flatnonzero(~converged & ~failed)
         if idx.size == 0:
             break
-        sub_sys = system.take(idx)
+        sub_sys = system if idx.size == k else system.take(idx)  # take copies: skipped
         sub = state.take(idx)
         lin = linearize(sub_sys, sub, wrench[idx])
         residual = lin.leg_residual if fixed else lin.residual
@@ -479,30 +518,35 @@ def newton(
             continue
         rows = idx[go]
         sel = np.flatnonzero(go)
-        sub_lin = Linearization(
-            tuple(
-                replace(
-                    leg,
-                    dx0=leg.dx0[sel],
-                    dx_t=leg.dx_t[sel],
-                    dw0=leg.dw0[sel],
-                    dw_t=leg.dw_t[sel],
-                    residual=leg.residual[sel],
-                    forces=leg.forces[sel],
-                    ok=leg.ok[sel],
-                )
-                for leg in lin.legs
-            ),
-            lin.stiffness[sel],
-            lin.unbalance[sel],
-            lin.residual[sel],
-            lin.leg_residual[sel],
-            lin.ok[sel],
+        every = sel.size == go.size
+        sub_lin = (
+            lin
+            if every
+            else Linearization(
+                tuple(
+                    replace(
+                        leg,
+                        dx0=leg.dx0[sel],
+                        dx_t=leg.dx_t[sel],
+                        dw0=leg.dw0[sel],
+                        dw_t=leg.dw_t[sel],
+                        residual=leg.residual[sel],
+                        forces=leg.forces[sel],
+                        ok=leg.ok[sel],
+                    )
+                    for leg in lin.legs
+                ),
+                lin.stiffness[sel],
+                lin.unbalance[sel],
+                lin.residual[sel],
+                lin.leg_residual[sel],
+                lin.ok[sel],
+            )
         )
         dt = platform_step(sub_lin, fixed)
-        stepped = apply_step(sub.take(sel), sub_lin, dt)
+        stepped = apply_step(sub if every else sub.take(sel), sub_lin, dt)
         finite = np.isfinite(stepped.wrenches).all(axis=(1, 2)) & np.isfinite(dt).all(axis=1)
-        state.put(rows[finite], stepped.take(np.flatnonzero(finite)))
+        state.put(rows[finite], stepped if finite.all() else stepped.take(np.flatnonzero(finite)))
         failed[rows[~finite]] = True
         iterations[rows] += 1
     return NewtonResult(state, converged, stiffness, forces, np.where(converged, iterations, -1))
@@ -514,6 +558,14 @@ def motion(a: ChainState, b: ChainState) -> FloatArray:
     rot = rotation_log(b.rotation @ np.swapaxes(a.rotation, 1, 2))
     disp = (b.translation - a.translation) / LENGTH_SCALE
     return np.asarray(np.max(np.abs(np.concatenate([rot, disp], axis=1)), axis=1))
+
+
+def step_per_motion(step: FloatArray, moved: FloatArray) -> FloatArray:
+    """Load steps (k,) over the platform motion (:func:`motion`) they gave: inf where the
+    platform did not move (no cap on the next step), NaN where the motion is NaN."""
+    out = np.full(np.shape(step), np.inf)
+    np.divide(step, moved, out=out, where=moved > 0)
+    return np.where(np.isnan(moved), np.nan, out)
 
 
 def stability_index(stiffness: FloatArray) -> FloatArray:
