@@ -563,7 +563,7 @@ class Design(PartModel):
         if self.platform is not None:
             names += [f"platform.{k}" for k, v in self.platform if _is_scalar(v)]
         for i, leg in enumerate(self.legs, start=1):
-            names += _leg_scalar_names(leg, f"leg{i}")
+            names += _scalar_names(leg, f"leg{i}", leg.parameter_items())
         return names
 
 
@@ -573,20 +573,6 @@ def _home_pose(workspace: Any) -> tuple[float, ...]:
     table = workspace if isinstance(workspace, dict) else {}
     keys = ("centre_x", "centre_y", "centre_z", "rx", "ry", "phi")
     return tuple(float(v) if _is_scalar(v := table.get(k, 0.0)) else 0.0 for k in keys)
-
-
-def _leg_scalar_names(leg: LegModel, prefix: str) -> list[str]:
-    """A leg's scalar parameters (:meth:`~ppm_stiffness.legs.base.LegModel.
-    parameter_items`, its working modes left out), dotted under ``prefix``."""
-    names: list[str] = []
-    for key, value in leg.parameter_items():
-        if key in type(leg).DISCRETE_FIELDS:
-            continue
-        if _is_scalar(value):
-            names.append(f"{prefix}.{key}")
-        elif isinstance(value, BaseModel):
-            names += _scalar_names(value, f"{prefix}.{key}")
-    return names
 
 
 def _leg_mass_keys(leg: LegModel) -> list[str]:
@@ -612,10 +598,15 @@ def _is_scalar(value: Any) -> bool:
     return isinstance(value, float) or (isinstance(value, int) and not isinstance(value, bool))
 
 
-def _scalar_names(model: BaseModel, prefix: str) -> list[str]:
+def _scalar_names(
+    model: BaseModel, prefix: str, items: Iterable[tuple[str, Any]] | None = None
+) -> list[str]:
+    """The scalar parameters of ``model`` dotted under ``prefix``, from ``items`` (a
+    leg's :meth:`~ppm_stiffness.legs.base.LegModel.parameter_items`) or its fields,
+    its working modes (``DISCRETE_FIELDS``) left out."""
     names: list[str] = []
     discrete: frozenset[str] = getattr(type(model), "DISCRETE_FIELDS", frozenset())
-    for key, value in model:
+    for key, value in model if items is None else items:
         if key in discrete:  # a working mode, not a continuous parameter
             continue
         if _is_scalar(value):
