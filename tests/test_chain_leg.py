@@ -306,6 +306,7 @@ def _one_leg(**changes: Any) -> dict[str, Any]:
         ({"e2": None}, "two links in a row"),
         ({"e4": {"axis": [1.0, 0.0, 0.0]}}, "a spherical joint has no axis"),
         ({"e0": {"stroke": [-90.0, 90.0]}}, "angles in design files are in radians"),
+        ({"e3": None}, "platform_joint: max_angle needs a link at the joint"),
     ],
 )
 def test_malformed_chain_legs_are_refused(changes: dict[str, Any], message: str) -> None:

@@ -244,6 +244,7 @@ class ChainLeg(LegModel):
 
     _home: tuple[float, ...] = PrivateAttr(default=(0.0,) * 6)
     _constrained: int = PrivateAttr(default=0)
+    _freedoms: tuple[kin.Freedoms, list[int]] | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _structure(self, info: ValidationInfo) -> ChainLeg:
@@ -268,6 +269,14 @@ class ChainLeg(LegModel):
         names = [e.name for e in elements if e.name]
         if len(set(names)) != len(names):
             raise ValueError("elements: element names must differ")
+        for i, element in enumerate(elements):
+            limited = isinstance(element, JointElement) and element.max_angle() is not None
+            if limited and self._adjacent_link(i, prefer_before=False) is None:
+                raise ValueError(
+                    f"elements: {self.element_name(i)}: max_angle needs a link at the "
+                    "joint to measure against"
+                )
+        self._freedoms = self._build_freedoms()
         self._constrained = self._count_constraints()
         return self
 
@@ -298,7 +307,12 @@ class ChainLeg(LegModel):
 
     def freedoms(self) -> tuple[kin.Freedoms, list[int]]:
         """The chain's freedoms at home and, for each element, the index of the body
-        after it (0: the base)."""
+        after it (0: the base); built once, when the leg is validated."""
+        if self._freedoms is None:
+            self._freedoms = self._build_freedoms()
+        return self._freedoms
+
+    def _build_freedoms(self) -> tuple[kin.Freedoms, list[int]]:
         axes, points, prismatic, bodies = [], [], [], []
         for element in self.elements:
             if isinstance(element, JointElement):
@@ -382,55 +396,48 @@ class ChainLeg(LegModel):
     def _joint_angles(
         self, state: kin.ChainState, points: dict[str, FloatArray]
     ) -> dict[str, FloatArray]:
-        """Angle [rad] between each limited U's or S's mounting axis and its link."""
+        """Angle [rad] between each limited U's or S's mounting axis and its link (the
+        link after it; before it for a joint with none after it)."""
         out: dict[str, FloatArray] = {}
         _, bodies = self.freedoms()
-        last = len(self.elements) - 1
+        home_points = self._home_points()
         for i, element in enumerate(self.elements):
             if not isinstance(element, JointElement) or element.max_angle() is None:
                 continue
-            direction_now, direction_home = self._link_direction(i, state, points)
+            found = self._adjacent_link(i, prefer_before=False)
+            assert found is not None  # validated (_structure)
+            far, before = found
+            here, there = self._point_name(i), self._point_name(far)
+            direction_now = unit(points[there] - points[here])
             mount = (
                 np.asarray(element.mounting_axis, dtype=float)
                 if element.mounting_axis is not None
-                else direction_home
+                else unit(home_points[far] - home_points[i])
             )
             # the mounting axis is fixed to the body on the side away from the link
-            side = bodies[i] if i == last or self._link_before(i) else (bodies[i - 1] if i else 0)
+            side = bodies[i] if before else self._carrier(i, bodies)
             out[f"{self.element_name(i)}_angle"] = joint_angle(
                 direction_now, state.turn(side, mount)
             )
         return out
 
-    def _link_before(self, index: int) -> bool:
-        return (
-            index > 0
-            and isinstance(self.elements[index - 1], LinkElement)
-            and not (
-                index + 1 < len(self.elements) and isinstance(self.elements[index + 1], LinkElement)
-            )
-        )
+    def _adjacent_link(self, index: int, prefer_before: bool) -> tuple[int, bool] | None:
+        """The link beside joint ``index``, on the preferred side if it has one there:
+        (the element whose point ends it: the joint past it, or a last link itself, for
+        its ``end``; whether it is before the joint), or None without a link beside."""
+        sides = (True, False) if prefer_before else (False, True)
+        for before in sides:
+            step = -1 if before else 1
+            link = index + step
+            if 0 <= link < len(self.elements) and isinstance(self.elements[link], LinkElement):
+                return (link if link == len(self.elements) - 1 else link + step), before
+        return None
 
-    def _link_direction(
-        self, index: int, state: kin.ChainState, points: dict[str, FloatArray]
-    ) -> tuple[FloatArray, FloatArray]:
-        """The direction (n, 3) from joint ``index`` into its link, now and at home
-        (3,): the link after it, or before it for a joint with no link after it."""
-        names = [
-            self._point_name(i) if i in self._home_points() else ""
-            for i in range(len(self.elements))
-        ]
-        home_points = self._home_points()
-        step = -2 if self._link_before(index) else 2
-        other = index + step
-        if not 0 <= other < len(self.elements) or names[other] not in points:
-            raise ValueError(
-                f"{self.element_name(index)}: max_angle needs a link at the joint to "
-                "measure against"
-            )
-        now = unit(points[names[other]] - points[names[index]])
-        home = unit(home_points[other] - home_points[index])
-        return now, home
+    @staticmethod
+    def _carrier(index: int, bodies: list[int]) -> int:
+        """The body that carries element ``index``'s point: the one before it (a P or C
+        joint's bushing; any other joint's point is on its axes; a link adds no body)."""
+        return bodies[index - 1] if index else 0
 
     def _home_points(self) -> dict[int, FloatArray]:
         out = {}
@@ -625,21 +632,17 @@ class ChainLeg(LegModel):
         return out
 
     def _spherical_axis(self, index: int, where: Any, bodies: list[int]) -> FloatArray:
-        """An S joint's spring axis: along its link (before it; after it at the base)."""
+        """An S joint's spring axis: along its link (before it; after it at the base),
+        from the joint into the link's far end."""
         element = self.elements[index]
         assert isinstance(element, JointElement)
-        here = where(bodies[index], element.point)
-        if index >= 2 and isinstance(self.elements[index - 1], LinkElement):
-            start = self.elements[index - 2]
-            assert isinstance(start, JointElement)
-            there = where(bodies[index - 3] if index >= 3 else 0, start.point)
-            return unit(here - there)
-        if index + 2 < len(self.elements) and isinstance(self.elements[index + 1], LinkElement):
-            far = self.elements[index + 2]
-            far_point = far.point if isinstance(far, JointElement) else far.end
-            there = where(bodies[index + 1], far_point)
-            return unit(there - here)
-        return np.broadcast_to(np.array([0.0, 0.0, 1.0]), np.shape(here)).copy()
+        here = where(self._carrier(index, bodies), element.point)
+        found = self._adjacent_link(index, prefer_before=True)
+        if found is None:
+            return np.broadcast_to(np.array([0.0, 0.0, 1.0]), np.shape(here)).copy()
+        far, before = found
+        there = where(self._carrier(far, bodies), self._home_points()[far])
+        return unit(here - there) if before else unit(there - here)
 
     def link_length_ranges(self) -> dict[str, tuple[float, float]]:
         return {}
