@@ -57,7 +57,7 @@ MAX_STEP = 0.3
 RANK_TOLERANCE = 1e-9
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Freedoms:
     """A chain's freedoms at home (module doc), in order from the base.
 
@@ -77,6 +77,21 @@ class Freedoms:
     @property
     def count(self) -> int:
         return int(self.axes.shape[0])
+
+    def __eq__(self, other: object) -> bool:
+        """Equal arrays (a leg caches its freedoms: two equal legs compare equal)."""
+        if not isinstance(other, Freedoms):
+            return NotImplemented
+        return all(
+            np.array_equal(a, b)
+            for a, b in (
+                (self.axes, other.axes),
+                (self.points, other.points),
+                (self.prismatic, other.prismatic),
+            )
+        )
+
+    __hash__ = None  # type: ignore[assignment]
 
 
 @dataclass(frozen=True)
