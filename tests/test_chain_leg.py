@@ -299,7 +299,11 @@ def _one_leg(**changes: Any) -> dict[str, Any]:
 @pytest.mark.parametrize(
     ("changes", "message"),
     [
-        ({"e0": {"actuated": False, "stroke": None}}, "one actuated joint, got 0"),
+        (
+            {"e0": {"actuated": False, "stroke": None}},
+            r"leg1\.actuator': this leg has no actuated joint \(a passive constraining leg\)",
+        ),
+        ({"e2": {"actuated": True, "stroke": [-0.1, 0.1]}}, "an actuated joint has one freedom"),
         ({"e2": {"axis2": None}}, "a universal joint needs axis2"),
         ({"e0": {"stroke": [0.1, 0.5]}}, "lo <= 0 <= hi"),
         ({"e2": {"axis2": [0.0, 0.0, 1.0]}}, "must be normal to axis"),

@@ -190,6 +190,14 @@ SPATIAL_CASES: dict[
     # a wrist's drives turn as its platform: it rotates beyond the model long before a
     # drive passes its 2.4 rad stroke (no BEYOND_STROKE)
     "wrist rx-ry": ("spherical_3rrr", None, {"rz": 0.1}, [1.0, 1e3], [], {Refusal.LARGE_ROTATION}),
+    "Tricept z-rx": (
+        "tricept",
+        None,
+        {"ry": 0.05},
+        [1.0, 1e4],
+        [1e8],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
 }
 
 

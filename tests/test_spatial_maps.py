@@ -57,6 +57,8 @@ SLICES = [
     ("6rus", ("rx", "rz"), {"y": 0.005}),
     ("spherical_3rrr", None, {}),
     ("spherical_3rrr", ("ry", "rz"), {"rx": 0.2}),
+    ("tricept", None, {"ry": 0.05}),
+    ("tricept", ("rx", "ry"), {"z": 0.56}),
 ]
 RTOL = 1e-12
 

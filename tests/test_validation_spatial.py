@@ -65,6 +65,7 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "3rps": (8e-4, 8e-4, 8e-4),  # 2.65e-4, 2.67e-4; 2.60e-4
     "6rus": (1e-4, 4e-5, 4e-5),  # 3.87e-5, 1.32e-5; 1.19e-5
     "spherical_3rrr": (6e-5, 6e-5, 1.5e-5),  # 1.92e-5, 1.86e-5; 3.98e-6
+    "tricept": (2.5e-3, 6e-4, 6e-4),  # 7.90e-4, 1.85e-4; 1.82e-4
 }
 SPATIAL = example_designs(is_spatial)
 #: The FE matrix extrapolated to rigid stiff members, (10 K(1e12) - K(1e11)) / 9, against

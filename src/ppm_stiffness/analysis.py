@@ -441,7 +441,7 @@ def _analyze_moving(
             state.actuator_displacements != 0,
             state.actuator_forces
             / np.where(state.actuator_displacements != 0, state.actuator_displacements, 1.0),
-            [leg.actuator.locked_stiffness for leg in design.legs],
+            [leg.locked_stiffness() for leg in design.legs],
         )
     return Analysis(
         **_matrix_fields(analyze_matrix(0.5 * (k_f + k_f.T), method)),

@@ -61,8 +61,10 @@ def workspace_centre(design: Design) -> FloatArray:
 
 
 def locked_actuator_stiffness(design: Design) -> FloatArray:
-    """Each leg's locked actuator stiffness (n_legs,) [N/m or N·m/rad]."""
-    return np.array([leg.actuator.locked_stiffness for leg in design.legs])
+    """Each leg's locked actuator stiffness (n_legs,) [N/m or N·m/rad]; ``inf`` for a
+    passive constraining leg (:meth:`~ppm_stiffness.legs.base.LegModel.locked_stiffness`:
+    it has no actuator column, so the value enters nothing)."""
+    return np.array([leg.locked_stiffness() for leg in design.legs])
 
 
 def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | None) -> FloatArray:
@@ -75,9 +77,28 @@ def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | No
         k = np.full(n, float(k))
     if k.shape[-1] != n:
         raise DesignError(f"expected {n} actuator stiffnesses, got {k.shape[-1]}")
-    if not np.all(np.isfinite(k)) or np.any(k <= 0):
+    return checked_actuator_stiffness(design, k)
+
+
+def checked_actuator_stiffness(design: Design, k_act: FloatArray) -> FloatArray:
+    """Actuator stiffnesses (..., n_legs) [N/m or N·m/rad], finite and > 0 for every
+    actuated leg; a passive constraining leg's entry is ``inf`` whatever was given (it
+    has no actuator column: its value enters nothing).
+
+    Raises
+    ------
+    DesignError
+        An actuated leg's stiffness not finite or not > 0.
+    """
+    actuated = np.array([leg.actuator is not None for leg in design.legs])
+    given = k_act[..., actuated]
+    if not np.all(np.isfinite(given)) or np.any(given <= 0):
         raise DesignError("actuator stiffness must be finite and > 0")
-    return k
+    if actuated.all():
+        return k_act
+    out = np.array(k_act, dtype=float, copy=True)
+    out[..., ~actuated] = np.inf
+    return out
 
 
 def validate_pose(design: Design, pose: ArrayLike | None) -> FloatArray:

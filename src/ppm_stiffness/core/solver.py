@@ -48,14 +48,15 @@ class LegSprings:
     screws : ndarray, shape (..., 6, m)
     compliance : ndarray, shape (..., m, m)
     passive : ndarray, shape (..., 6, p)
-    actuator_index : int
-        Column of ``screws`` that is the actuator spring.
+    actuator_index : int or None
+        Column of ``screws`` that is the actuator spring; None for a passive
+        constraining leg (no actuated joint).
     """
 
     screws: FloatArray
     compliance: FloatArray
     passive: FloatArray
-    actuator_index: int = 0
+    actuator_index: int | None = 0
 
 
 def leg_compliance_at_platform(screws: FloatArray, compliance: FloatArray) -> FloatArray:

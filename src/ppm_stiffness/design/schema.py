@@ -395,8 +395,9 @@ class Design(PartModel):
         DesignError
             If the legs have different laws.
         """
-        law = self.legs[0].actuator
-        if any(leg.actuator != law for leg in self.legs[1:]):
+        laws = [leg.actuator for leg in self.legs if leg.actuator is not None]
+        law = laws[0]  # a design has an actuated leg (passive legs: no law)
+        if any(other != law for other in laws[1:]):
             raise DesignError("the legs have different actuator laws; use each leg's own")
         return law
 
@@ -511,7 +512,7 @@ class Design(PartModel):
             parts = _split(name)
             out.append(name)
             linear = _actuator_key(parts, ACTUATOR_STIFFNESSES) and (
-                self.legs[parts[1]].actuator.q == 1
+                self.legs[parts[1]].law().q == 1
             )
             if linear:
                 other = next(k for k in ACTUATOR_STIFFNESSES if k != parts[-1])

@@ -188,7 +188,7 @@ def moving_mass(design: Design) -> dict[str, float]:
             mass = getattr(part, "mass", None)
             if isinstance(mass, float) and hasattr(part, "young_modulus"):
                 links += mass
-        carriages += leg.actuator.carriage_mass or 0.0
+        carriages += (leg.actuator and leg.actuator.carriage_mass) or 0.0
     platform = design.platform.mass
     return {
         "platform": platform,

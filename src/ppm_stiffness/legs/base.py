@@ -38,7 +38,11 @@ from pydantic import ValidationInfo, field_validator, model_validator
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.core.errors import ImplausibleDesignWarning, UnreachablePoseError
+from ppm_stiffness.core.errors import (
+    DesignError,
+    ImplausibleDesignWarning,
+    UnreachablePoseError,
+)
 from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
 from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.parts import (
@@ -202,12 +206,14 @@ def cross_z(a: FloatArray, b: FloatArray) -> FloatArray:
 class LegModel(PartModel):
     """Base of every leg type (module doc). Field shared by all legs:
 
-    actuator : ActuatorModel
-        The law of the leg's actuated joint (linear or rotary, by the joint).
+    actuator : ActuatorModel or None
+        The law of the leg's actuated joint (linear or rotary, by the joint); required
+        for a leg with an actuated joint, refused for a passive constraining leg (a
+        chain leg without one, :meth:`is_actuated`).
     """
 
     type: str
-    actuator: ActuatorModel
+    actuator: ActuatorModel | None = None
 
     #: Joint coordinates that have limits: name -> Coordinate.
     COORDINATES: ClassVar[dict[str, Coordinate]] = {}
@@ -240,10 +246,60 @@ class LegModel(PartModel):
         return value
 
     @model_validator(mode="after")
+    def _actuator_given(self) -> LegModel:
+        """An actuated leg has its actuator's law; a passive constraining leg has none."""
+        if self.actuator is None and self.is_actuated():
+            raise ValueError(
+                "actuator: the law of the leg's actuated joint is required (a table: "
+                "locked_stiffness, q, threshold_displacement, ...)"
+            )
+        if self.actuator is not None and not self.is_actuated():
+            raise ValueError(
+                "actuator: this leg has no actuated joint (a passive constraining leg), "
+                "so it has no actuator table; remove it, or mark its driven R or P joint "
+                "actuated = true"
+            )
+        return self
+
+    def is_actuated(self) -> bool:
+        """Whether the leg has an actuated joint (every coded leg type; a chain leg
+        without one is a passive constraining leg, as a Tricept's central leg)."""
+        return True
+
+    def law(self, what: str = "this") -> ActuatorModel:
+        """The leg's actuator law.
+
+        Parameters
+        ----------
+        what : str
+            What needs it, for the message (``"the loaded mode"``).
+
+        Raises
+        ------
+        DesignError
+            For a passive constraining leg (no actuated joint): ``"<what> needs an
+            actuator on every leg; a passive leg has none"``.
+        """
+        if self.actuator is None:
+            raise DesignError(
+                f"{what} needs an actuator on every leg; a passive constraining leg "
+                f"({self.architecture_name()}, no actuated joint) has none"
+            )
+        return self.actuator
+
+    def locked_stiffness(self) -> float:
+        """The actuator's locked stiffness [N/m or N·m/rad]; ``inf`` for a passive leg
+        (no actuator column: the value enters nothing, and 1/inf = 0 keeps every
+        compliance finite)."""
+        return math.inf if self.actuator is None else self.actuator.locked_stiffness
+
+    @model_validator(mode="after")
     def _drive_ratio(self) -> LegModel:
         """A linear actuator's rotor needs its gear ratio [rad/m] (no default: 1 rad/m
         is no drive)."""
         law = self.actuator
+        if law is None:
+            return self
         linear = joint_kind(self.actuated_kind()).linear
         if linear and law.rotor_inertia is not None and law.gear_ratio is None:
             raise ValueError(
@@ -258,6 +314,8 @@ class LegModel(PartModel):
         """An actuator's ``threshold_displacement`` at most its stroke (the range of its
         coordinate): no deflection exceeds it, so a larger value is a unit slip (mm, µm
         typed as m)."""
+        if self.actuator is None:
+            return self
         lo, hi = self.limits().get(self.ACTUATED_COORDINATE, (-math.inf, math.inf))
         stroke, threshold = hi - lo, self.actuator.threshold_displacement
         if not math.isfinite(stroke) or threshold <= stroke:
@@ -281,7 +339,7 @@ class LegModel(PartModel):
         """A carriage at most :data:`~ppm_stiffness.legs.parts.MAX_CARRIAGE_RATIO` times
         the platform's mass (validation context ``platform_mass`` [kg], when the design
         gives one)."""
-        carriage = self.actuator.carriage_mass
+        carriage = None if self.actuator is None else self.actuator.carriage_mass
         platform = (info.context or {}).get("platform_mass")
         if carriage is not None and isinstance(platform, float):
             check_mass_ratio(
@@ -298,7 +356,7 @@ class LegModel(PartModel):
         """A rotor may not reflect more than :data:`~ppm_stiffness.legs.parts.
         MAX_REFLECTED` (kg, or kg·m^2 for a rotary actuator) onto its coordinate."""
         law = self.actuator
-        if law.rotor_inertia is None or law.gear_ratio is None:
+        if law is None or law.rotor_inertia is None or law.gear_ratio is None:
             return self
         reflected = law.rotor_inertia * law.gear_ratio**2
         if reflected > MAX_REFLECTED:

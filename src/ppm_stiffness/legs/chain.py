@@ -249,11 +249,14 @@ def link_screws(link: Link) -> tuple[FloatArray, FloatArray]:
 
 
 def check_chain(chain: Sequence[Element]) -> None:
-    """Refuse a chain without exactly one actuated joint, or with an actuated joint of
-    more than one freedom (C, U, S)."""
+    """Refuse a chain with more than one actuated joint, or with an actuated joint of
+    more than one freedom (C, U, S). A chain without one is a passive constraining leg
+    (a Tricept's central leg): it has no actuator spring."""
     actuated = [e for e in chain if isinstance(e, Joint) and e.actuated]
-    if len(actuated) != 1:
-        raise DesignError(f"a leg needs exactly one actuated joint, got {len(actuated)}")
+    if len(actuated) > 1:
+        raise DesignError(f"a leg has at most one actuated joint, got {len(actuated)}")
+    if not actuated:
+        return
     count = joint_kind(actuated[0].kind).freedom_count
     if count != 1:
         raise DesignError(
@@ -262,9 +265,21 @@ def check_chain(chain: Sequence[Element]) -> None:
 
 
 def actuator_screw(chain: Sequence[Element]) -> FloatArray:
-    """Unit twist of the actuated joint's freedom, shape (..., 6)."""
+    """Unit twist of the actuated joint's freedom, shape (..., 6).
+
+    Raises
+    ------
+    DesignError
+        For a passive constraining leg (no actuated joint): it transmits no actuator
+        force.
+    """
     check_chain(chain)
-    joint = next(e for e in chain if isinstance(e, Joint) and e.actuated)
+    joint = next((e for e in chain if isinstance(e, Joint) and e.actuated), None)
+    if joint is None:
+        raise DesignError(
+            "a passive constraining leg (no actuated joint) has no actuator screw: its "
+            "load is carried by its constraint wrenches, not by an actuator force"
+        )
     return np.asarray(freedom_screws(joint)[..., 0])
 
 
@@ -281,7 +296,9 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     Returns
     -------
     LegSprings
-        screws (..., 6, m), compliance (..., m, m), passive (..., 6, p).
+        screws (..., 6, m), compliance (..., m, m), passive (..., 6, p); its
+        ``actuator_index`` None for a passive constraining leg (no actuator column, and
+        ``actuator_stiffness`` unused).
     """
     check_chain(chain)
     batch = np.broadcast_shapes(
@@ -290,7 +307,7 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     columns: list[FloatArray] = []
     blocks: list[FloatArray] = []  # (..., n, n) compliance blocks, in column order
     passive: list[FloatArray] = []
-    actuator_index = 0
+    actuator_index: int | None = None
     k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch)
     for element in chain:
         if isinstance(element, Link):

@@ -78,7 +78,7 @@ from ppm_stiffness.maps.transmission import (
     nonsingular_from_matrices,
     nonsingular_projector,
 )
-from ppm_stiffness.model import actuator_stiffness_vector
+from ppm_stiffness.model import actuator_stiffness_vector, checked_actuator_stiffness
 from ppm_stiffness.poses import full_poses
 
 __all__ = [
@@ -227,9 +227,7 @@ def actuator_stiffness_per_pose(
         raise DesignError(
             f"actuator stiffness of shape {k_in.shape} does not fit {n} poses of {n_legs} legs"
         ) from None
-    if not np.all(np.isfinite(k_act)) or np.any(k_act <= 0):
-        raise DesignError("actuator stiffness must be finite and > 0")
-    return k_act
+    return checked_actuator_stiffness(design, k_act)
 
 
 def check_poses(design: Design, poses: ArrayLike) -> FloatArray:

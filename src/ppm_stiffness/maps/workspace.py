@@ -105,11 +105,17 @@ def workspace_grid(
 
 def minimum_actuator_stiffness(design: Design, reference_force: float) -> FloatArray:
     """The "min" actuator stiffness of each leg (n_legs,) [N/m or N·m/rad]: eq.
-    (20)-(21) of the leg's own law under ``reference_force`` [N or N·m]."""
+    (20)-(21) of the leg's own law under ``reference_force`` [N or N·m]; ``inf`` for a
+    passive constraining leg (no actuator: the value enters nothing)."""
     if not np.isfinite(reference_force) or reference_force <= 0:
         raise InputDataError(f"reference force must be finite and > 0 N, got {reference_force}")
     return np.array(
-        [float(act.stiffness_from_force(leg.actuator, reference_force)) for leg in design.legs]
+        [
+            np.inf
+            if leg.actuator is None
+            else float(act.stiffness_from_force(leg.actuator, reference_force))
+            for leg in design.legs
+        ]
     )
 
 

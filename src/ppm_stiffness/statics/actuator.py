@@ -10,11 +10,17 @@ displacement makes the actuator constant (locked).
 
 from __future__ import annotations
 
+import math
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.parts import ActuatorModel
+
+if TYPE_CHECKING:
+    from ppm_stiffness.legs.base import LegModel
 
 
 def displacement_from_force(law: ActuatorModel, force: ArrayLike) -> FloatArray:
@@ -81,3 +87,37 @@ def powered_stiffness(law: ActuatorModel, force: ArrayLike) -> FloatArray:
     safe = np.where(delta > 0, delta, 1.0)
     at_zero = np.inf if law.q < 1 else law.k_a  # the tangent of delta^q at 0
     return np.asarray(np.where(delta > 0, law.q * law.k_a * safe ** (law.q - 1.0), at_zero))
+
+
+# -- each leg's law, a passive constraining leg included -------------------------------
+# A passive leg (no actuated joint, LegModel.actuator None) has no actuator column: its
+# actuator twist is zero, so its "force" is exactly 0, its displacement 0 and its
+# stiffness inf (1/inf = 0: it enters no compliance). These keep every loaded path's
+# per-leg arrays (n_legs,) without a special case.
+
+
+def leg_displacement(leg: LegModel, force: ArrayLike) -> FloatArray:
+    """:func:`actuator_displacement` of the leg's law; 0 for a passive leg [m or rad]."""
+    if leg.actuator is None:
+        return np.zeros(np.shape(force))
+    return actuator_displacement(leg.actuator, force)
+
+
+def leg_tangent_stiffness(leg: LegModel, force: ArrayLike) -> FloatArray:
+    """:func:`stiffness_from_force` of the leg's law; inf for a passive leg."""
+    if leg.actuator is None:
+        return np.full(np.shape(force), np.inf)
+    return stiffness_from_force(leg.actuator, force)
+
+
+def leg_powered_stiffness(leg: LegModel, force: ArrayLike) -> FloatArray:
+    """:func:`powered_stiffness` of the leg's law; inf for a passive leg."""
+    if leg.actuator is None:
+        return np.full(np.shape(force), np.inf)
+    return powered_stiffness(leg.actuator, force)
+
+
+def leg_threshold_force(leg: LegModel) -> float:
+    """:func:`threshold_force` of the leg's law; inf for a passive leg (its zero force
+    never leaves the locked branch)."""
+    return math.inf if leg.actuator is None else threshold_force(leg.actuator)

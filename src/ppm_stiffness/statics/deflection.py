@@ -47,7 +47,9 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.statics.actuator import (
     actuator_displacement,
-    powered_stiffness,
+    leg_displacement,
+    leg_powered_stiffness,
+    leg_threshold_force,
     threshold_force,
 )
 from ppm_stiffness.statics.equilibrium import (
@@ -289,7 +291,7 @@ def _integrate(
 ) -> tuple[FloatArray, FloatArray]:
     """t(L) (n_loads, 6) and G(L) (n_loads, n_legs) by integrating the tangent model."""
     n = structures.n_legs
-    g_th = np.array([threshold_force(leg.actuator) for leg in design.legs])
+    g_th = np.array([leg_threshold_force(leg) for leg in design.legs])
 
     def rates(state: FloatArray, branch: FloatArray) -> FloatArray:
         g = state[6:]
@@ -297,9 +299,7 @@ def _integrate(
         # side is smooth there; it is chosen at the start of each piece
         k = np.array(
             [
-                powered_stiffness(leg.actuator, g[i])
-                if branch[i]
-                else leg.actuator.locked_stiffness
+                leg_powered_stiffness(leg, g[i]) if branch[i] else leg.locked_stiffness()
                 for i, leg in enumerate(design.legs)
             ]
         )
@@ -414,7 +414,7 @@ def deflection_path(
     w_hat = wrench_b_from_wrench_a(np.eye(3), offset) @ w_tool  # the same load, at P
     to_tool = twist_b_from_twist_a(np.eye(3), -offset)
     structures = LegStructures(design, p)
-    locked = np.array([leg.actuator.locked_stiffness for leg in design.legs])
+    locked = np.array([leg.locked_stiffness() for leg in design.legs])
     if method == "linear":
         legs_k = structures.leg_stiffnesses(locked)
         c0 = np.linalg.inv(legs_k.sum(axis=0))
@@ -445,10 +445,7 @@ def deflection_path(
             forces = np.array([e.actuator_forces for e in states])
         k_act = tangent_stiffnesses(design, forces)
         disp = np.stack(
-            [
-                actuator_displacement(leg.actuator, forces[:, i])
-                for i, leg in enumerate(design.legs)
-            ],
+            [leg_displacement(leg, forces[:, i]) for i, leg in enumerate(design.legs)],
             axis=-1,
         )
     check_actuator_travel(design, disp)

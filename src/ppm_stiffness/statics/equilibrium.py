@@ -118,7 +118,7 @@ def displacements(design: Design, forces: ArrayLike) -> FloatArray:
     """``delta_i(G_i)`` of every leg's law (..., n) [m or rad]."""
     g = np.asarray(forces, dtype=float)
     return np.stack(
-        [act.actuator_displacement(leg.actuator, g[..., i]) for i, leg in enumerate(design.legs)],
+        [act.leg_displacement(leg, g[..., i]) for i, leg in enumerate(design.legs)],
         axis=-1,
     )
 
@@ -127,7 +127,7 @@ def tangent_stiffnesses(design: Design, forces: ArrayLike) -> FloatArray:
     """Tangent actuator stiffness (eq. 21) of every leg (..., n) [N/m or N·m/rad]."""
     g = np.asarray(forces, dtype=float)
     return np.stack(
-        [act.stiffness_from_force(leg.actuator, g[..., i]) for i, leg in enumerate(design.legs)],
+        [act.leg_tangent_stiffness(leg, g[..., i]) for i, leg in enumerate(design.legs)],
         axis=-1,
     )
 

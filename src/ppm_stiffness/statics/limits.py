@@ -26,8 +26,9 @@ MAX_ROTATION = 0.1
 
 
 def _stroke_span(leg: LegModel) -> float:
-    """The whole travel of a leg's actuated coordinate (its limits' span) [m or rad]."""
-    lo, hi = leg.limits()[leg.ACTUATED_COORDINATE]
+    """The whole travel of a leg's actuated coordinate (its limits' span) [m or rad];
+    inf for a passive constraining leg (no actuator: its displacement is always 0)."""
+    lo, hi = leg.limits().get(leg.ACTUATED_COORDINATE, (-np.inf, np.inf))
     return float(hi - lo)
 
 

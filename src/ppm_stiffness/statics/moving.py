@@ -318,7 +318,7 @@ def _empty(
         coordinates=tuple(np.zeros((k, c)) for c in sizes),
         actuator_forces=np.zeros((k, n)),
         actuator_displacements=np.zeros((k, n)),
-        actuator_stiffness=np.tile([leg.actuator.locked_stiffness for leg in design.legs], (k, 1)),
+        actuator_stiffness=np.tile([leg.locked_stiffness() for leg in design.legs], (k, 1)),
         factor=np.zeros(k),
         unstable_between=np.full((k, 2), np.nan),
         steps=np.zeros(k, dtype=int),
@@ -355,11 +355,12 @@ def _fill(
         mine[idx] = theirs
     for i, (leg, chain) in enumerate(zip(design.legs, system.chains, strict=True)):
         a = chain.actuator
-        assert a is not None
+        if a is None:  # a passive constraining leg: no actuator force (its defaults)
+            continue
         g = path.forces[i][:, a]
         out.actuator_forces[idx, i] = g
         out.actuator_displacements[idx, i] = st.coordinates[i][:, a]
-        out.actuator_stiffness[idx, i] = act.stiffness_from_force(leg.actuator, g)
+        out.actuator_stiffness[idx, i] = act.leg_tangent_stiffness(leg, g)
     out.factor[idx] = path.factor
     out.unstable_between[idx] = path.unstable_between
     out.steps[idx] = path.steps

@@ -61,7 +61,10 @@ def platform_chains(design: Design, poses: FloatArray, offsets: FloatArray) -> P
         lp = leg.solve(poses)
         chains.append(screw_chain(leg.chain(lp), leg.actuator, k, offsets))
     strokes = np.array(
-        [float(np.subtract(*leg.limits()[leg.ACTUATED_COORDINATE][::-1])) for leg in design.legs]
+        [
+            float(np.subtract(*leg.limits().get(leg.ACTUATED_COORDINATE, (-np.inf, np.inf))[::-1]))
+            for leg in design.legs
+        ]
     )
     return PlatformChains(tuple(chains), strokes)
 

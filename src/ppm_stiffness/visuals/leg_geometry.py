@@ -230,7 +230,11 @@ def leg_view(leg: LegModel, index: int, pose: FloatArray) -> LegView:
 
 
 def platform_order(d: ArrayLike, centre: ArrayLike) -> list[int]:
-    """Indices of the platform points D_i counter-clockwise around P, from D_1.
+    """Indices of the platform points D_i counter-clockwise around P, from the first
+    on the polygon's rim (D_1 unless it is inside).
+
+    A point strictly inside the polygon of the others (a Tricept's central tube, fixed
+    at P) is no corner of it: it is left out while three or more points remain.
 
     Parameters
     ----------
@@ -240,9 +244,39 @@ def platform_order(d: ArrayLike, centre: ArrayLike) -> list[int]:
     centre : array_like (2,) or (3,)
     """
     rel = np.asarray(d, dtype=float)[:, :2] - np.asarray(centre, dtype=float)[:2]
-    order = [int(k) for k in np.argsort(np.arctan2(rel[:, 1], rel[:, 0]))]
-    start = order.index(0)
+    rim = [i for i in range(len(rel)) if not _inside_others(rel, i)]
+    if len(rim) < 3:
+        rim = list(range(len(rel)))
+    ring = rel[rim] - rel[rim].mean(axis=0) if len(rim) < len(rel) else rel
+    order = [rim[int(k)] for k in np.argsort(np.arctan2(ring[:, 1], ring[:, 0]))]
+    start = order.index(min(order))
     return order[start:] + order[:start]
+
+
+def _inside_others(points: FloatArray, index: int) -> bool:
+    """Whether point ``index`` of ``points`` (n, 2) lies strictly inside the polygon of
+    the others taken in angular order about their mean (n >= 4; an even-odd ray test,
+    a margin of 1e-9 of the polygon's size)."""
+    if len(points) < 4:
+        return False
+    others = np.delete(points, index, axis=0)
+    mean = others.mean(axis=0)
+    rel = others - mean
+    ring = others[np.argsort(np.arctan2(rel[:, 1], rel[:, 0]))]
+    p = points[index]
+    margin = 1e-9 * float(np.max(np.abs(rel)))
+    inside = False
+    for a, b in zip(ring, np.roll(ring, -1, axis=0), strict=True):
+        edge = b - a
+        cross = edge[0] * (p[1] - a[1]) - edge[1] * (p[0] - a[0])
+        if abs(cross) <= margin * float(np.hypot(*edge)):
+            on_segment = np.dot(p - a, edge) >= 0 and np.dot(p - b, -edge) >= 0
+            if on_segment:
+                return False  # on an edge: a corner of the rim
+        if (a[1] > p[1]) != (b[1] > p[1]):
+            x = a[0] + (p[1] - a[1]) * edge[0] / edge[1]
+            inside ^= bool(p[0] < x)
+    return inside
 
 
 def mechanism_view(design: Design, pose: ArrayLike | None = None) -> MechanismView:

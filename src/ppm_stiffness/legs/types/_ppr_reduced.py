@@ -176,6 +176,7 @@ def reduce_ppr_leg(leg: PPRGeometry) -> ReducedLeg:
     j1 = (jd[1] - jd[0]) / (lengths[1] - lengths[0])
     j0 = jd[0] - lengths[0] * j1
     act = springs[0].actuator_index
+    assert act is not None  # a P-P-R leg's first P is actuated
     c_fix = springs[0].compliance.copy()
     c_fix[act, act] = 0.0
     c_fix[_ROD, :] = 0.0

@@ -51,8 +51,7 @@ class StrutLeg(Protocol):
     def platform_joint(self) -> SphericalModel | None: ...
     @property
     def platform_joint_axis(self) -> tuple[float, float, float]: ...
-    @property
-    def actuator(self) -> ActuatorModel: ...
+    def law(self, what: str = "this") -> ActuatorModel: ...
 
     def platform_offset(self, poses: ArrayLike) -> FloatArray: ...
 
@@ -123,7 +122,7 @@ def strut_elements(leg: StrutLeg, leg_pose: LegPose) -> Sequence[Element]:
             joint_springs(leg.guide),
             actuated=True,
             name="guide",
-            mass=leg.actuator.moving_parts(),
+            mass=leg.law().moving_parts(),
         ),
         Link(pts["C"], pts["B"], leg.rod.section(), name="rod", mass=leg.rod.link_mass()),
         Joint("S", n, pts["B"], joint_springs(leg.platform_joint), name="platform_joint"),

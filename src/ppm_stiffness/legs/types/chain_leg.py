@@ -264,8 +264,11 @@ class ChainLeg(LegModel):
         if isinstance(last, LinkElement) and last.end is None:
             raise ValueError("elements: a last link is fixed to the platform: give its end")
         actuated = [e for e in self.joints() if e.actuated]
-        if len(actuated) != 1:
-            raise ValueError(f"elements: one actuated joint, got {len(actuated)}")
+        if len(actuated) > 1:
+            raise ValueError(
+                f"elements: at most one actuated joint (none: a passive constraining "
+                f"leg), got {len(actuated)}"
+            )
         names = [e.name for e in elements if e.name]
         if len(set(names)) != len(names):
             raise ValueError("elements: element names must differ")
@@ -373,7 +376,8 @@ class ChainLeg(LegModel):
                 state.carry(bodies[-1], self._end_point()) - p
             )
         coordinates = {f"q{j + 1}": state.q[:, j] for j in range(state.q.shape[1])}
-        coordinates["actuated"] = state.q[:, self._actuated_freedom()]
+        if self.is_actuated():
+            coordinates["actuated"] = state.q[:, self._actuated_freedom()]
         for name, value in self._joint_angles(state, points).items():
             coordinates[name] = value
         solvable = state.converged
@@ -385,6 +389,11 @@ class ChainLeg(LegModel):
             coordinates={k: v.reshape(shape) for k, v in coordinates.items()},
             solvable=np.asarray(solvable).reshape(shape),  # type: ignore[arg-type]  # bool, as every leg's
         )
+
+    def is_actuated(self) -> bool:
+        """Whether a joint is ``actuated = true``; without one the leg is a passive
+        constraining leg (no ``actuator`` table, no ``actuated`` coordinate)."""
+        return any(e.actuated for e in self.joints())
 
     def _actuated_freedom(self) -> int:
         _, bodies = self.freedoms()
@@ -497,7 +506,7 @@ class ChainLeg(LegModel):
         """The actuator, then each element's fields under its name: a beam link's
         section as the element (``rod.area``), a joint's keys (``crank_drive.springs.tilt``,
         ``crank_joint.point``)."""
-        items: list[tuple[str, Any]] = [("actuator", self.actuator)]
+        items: list[tuple[str, Any]] = [("actuator", self.actuator)] if self.actuator else []
         for i, element in enumerate(self.elements):
             name = self.element_name(i)
             if isinstance(element, LinkElement):
@@ -603,7 +612,7 @@ class ChainLeg(LegModel):
                 continue
             point = where(before, element.point)
             name = self.element_name(i)
-            mass = law.moving_parts() if element.actuated else None
+            mass = law.moving_parts() if element.actuated and law is not None else None
             springs = element.stiffnesses()
             record = joint_kind(element.joint)
             if record.spherical:

@@ -158,7 +158,7 @@ class PPRLeg(PlanarLegModel):
                 self.guide.stiffnesses(),
                 actuated=True,
                 name="guide",
-                mass=self.actuator.moving_parts(),
+                mass=self.law().moving_parts(),
             ),
             Link(
                 pts["B"],

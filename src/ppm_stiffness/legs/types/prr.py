@@ -132,7 +132,7 @@ class PRRLeg(PlanarLegModel):
                 self.guide.stiffnesses(),
                 actuated=True,
                 name="guide",
-                mass=self.actuator.moving_parts(),
+                mass=self.law().moving_parts(),
             ),
             Joint(
                 "R",

@@ -167,7 +167,7 @@ class PRSLeg(LegModel):
                 joint_springs(self.guide),
                 actuated=True,
                 name="guide",
-                mass=self.actuator.moving_parts(),
+                mass=self.law().moving_parts(),
                 axis2=e,
             ),
             Joint(

@@ -123,7 +123,7 @@ class RPRLeg(PlanarLegModel):
                 self.guide.stiffnesses(),
                 actuated=True,
                 name="guide",
-                mass=self.actuator.moving_parts(),
+                mass=self.law().moving_parts(),
             ),
             Link(
                 pts["C"],

@@ -140,7 +140,7 @@ class RRRLeg(PlanarLegModel):
                 joint_springs(self.base_revolute),
                 actuated=True,
                 name="base_revolute",
-                mass=self.actuator.moving_parts(),
+                mass=self.law().moving_parts(),
             ),
             Link(
                 pts["A"],
