@@ -20,7 +20,7 @@ from pydantic import BaseModel
 from ppm_stiffness.legs.base import LegModel
 from ppm_stiffness.legs.parts import part_units
 from ppm_stiffness.legs.registry import leg_types
-from ppm_stiffness.legs.types.chain_leg import JointElement, LinkElement
+from ppm_stiffness.legs.types.chain_leg import ChainLeg, JointElement, LinkElement
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "legs.md"
@@ -72,10 +72,17 @@ def _table(model: type[BaseModel], units: dict[str, str], skip: tuple[str, ...] 
         key = field.alias or name
         unit = units.get(name, "")
         rows.append(
-            f"| `{key}` | {_type_name(field.annotation)} | {unit} | "
-            f"{'yes' if field.is_required() else 'no'} |"
+            f"| `{key}` | {_type_name(field.annotation)} | {unit} | {_required(model, name)} |"
         )
     return "\n".join(rows)
+
+
+def _required(model: type[BaseModel], name: str) -> str:
+    """Yes or no; a leg's ``actuator``: required with an actuated joint (every coded
+    type's), refused without one (a chain leg's passive constraining leg)."""
+    if name == "actuator" and issubclass(model, LegModel):
+        return "with an actuated joint" if issubclass(model, ChainLeg) else "yes"
+    return "yes" if model.model_fields[name].is_required() else "no"
 
 
 def reference() -> str:

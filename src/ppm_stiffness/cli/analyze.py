@@ -180,7 +180,8 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             result["actuator_stiffness"]
         )
         k_act = ", ".join(
-            f"{v:.6g} {u[2]}" for v, u in zip(result["actuator_stiffness"], units, strict=True)
+            f"{v:.6g} {u[2]}" if v is not None and np.isfinite(v) else "none (passive leg)"
+            for v, u in zip(result["actuator_stiffness"], units, strict=True)
         )
         c.print(f"architecture: {result.get('architecture', '')}; actuator stiffness: {k_act}")
         tool = result.get("tool_point", [0.0, 0.0, 0.0])
