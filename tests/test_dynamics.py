@@ -173,7 +173,7 @@ def test_the_last_bodys_twist_is_the_platforms(name: str) -> None:
     design = _named(name)
     pose = home_pose(design)
     for leg in design.legs:
-        motion = leg_motion(leg.chain(leg.solve(pose)), leg.actuator.locked_stiffness)
+        motion = leg_motion(leg.chain(leg.solve(pose)), leg.locked_stiffness())
         assert np.max(np.abs(motion.after[-1] - np.eye(6))) <= 1e-12
 
 

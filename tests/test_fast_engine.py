@@ -62,7 +62,7 @@ def test_planar_engine_equals_general_path(name: str) -> None:
     design = design_named(name)
     poses = random_poses(design, 600, 12)
     rng = np.random.default_rng(13)
-    k_lock = np.array([leg.actuator.locked_stiffness for leg in design.legs])
+    k_lock = np.array([leg.locked_stiffness() for leg in design.legs])
     k_act = k_lock * rng.uniform(0.02, 1.0, (len(poses), len(design.legs)))
     fast = batch.evaluate_poses(design, poses, k_act, matrices=True, path="planar", chunk_size=97)
     ref = batch.evaluate_poses(design, poses, k_act, matrices=True, path="general")
@@ -93,7 +93,7 @@ def test_masks_agree_near_singular_poses(name: str) -> None:
     centre = np.array([design.workspace.centre_x, design.workspace.centre_y, design.workspace.phi])
     if name == "3rrr":
         poses = random_poses(design, 3000, 3)
-        k_lock = [leg.actuator.locked_stiffness for leg in design.legs]
+        k_lock = [leg.locked_stiffness() for leg in design.legs]
         _, pi, reach = batch.general_stiffness(design, poses, k_lock)
         tau = np.where(reach, transmission_index(pi + ~reach[:, None, None] * np.eye(6)), 1)
         worst = poses[int(np.argmin(tau))]

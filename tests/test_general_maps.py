@@ -63,7 +63,7 @@ def test_general_path_equals_single_pose_path(name: str) -> None:
     design = design_named(name)
     poses = workspace_poses(design, 80, 31)
     rng = np.random.default_rng(5)
-    k_lock = np.array([leg.actuator.locked_stiffness for leg in design.legs])
+    k_lock = np.array([leg.locked_stiffness() for leg in design.legs])
     k_act = k_lock * rng.uniform(0.05, 1.0, (len(poses), len(design.legs)))
     res = batch.evaluate_poses(design, poses, k_act, matrices=True, path="general", chunk_size=17)
     assert res.path == "general" and res.stiffness is not None
@@ -152,7 +152,7 @@ def test_general_map_equals_single_pose_with_each_legs_law(name: str) -> None:
         smap = stiffness_map(design, phi=0.1, actuators=acts, grid=(7, 6))
         assert 0 < smap.reachable.sum() < smap.reachable.size
         if acts == "max":
-            k_act = np.array([leg.actuator.locked_stiffness for leg in design.legs])
+            k_act = np.array([leg.locked_stiffness() for leg in design.legs])
         else:
             k_act = np.array(
                 [float(stiffness_from_force(leg.actuator, 10.0)) for leg in design.legs]

@@ -110,7 +110,7 @@ def test_unloaded_chain_gives_todays_leg_stiffness(name: str) -> None:
         chain = screw_chain(leg.chain(lp), leg.actuator, 1)
         system = PlatformChains((chain,))
         k_chain = linearize(system, zero_state(system), np.zeros((1, 6))).stiffness[0]
-        k_today = leg_stiffness(leg_springs(leg.chain(lp), leg.actuator.locked_stiffness))
+        k_today = leg_stiffness(leg_springs(leg.chain(lp), leg.locked_stiffness()))
         scale = np.array([10.0] * 3 + [1.0] * 3)
         err = np.abs((k_chain - k_today) * scale[:, None] * scale).max()
         assert err <= 2e-13 * np.abs(k_today * scale[:, None] * scale).max()

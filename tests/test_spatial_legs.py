@@ -238,7 +238,7 @@ def test_reciprocal_basis_stiffness_is_the_bordered_inverse() -> None:
         cases += [(leg, pose) for leg in legs]
     worst = 0.0
     for leg, pose in cases:
-        springs = leg_springs(leg.chain(leg.solve(pose)), leg.actuator.locked_stiffness)
+        springs = leg_springs(leg.chain(leg.solve(pose)), leg.locked_stiffness())
         ref = bordered_stiffness(
             leg_compliance_at_platform(springs.screws, springs.compliance), springs.passive
         )

@@ -118,7 +118,7 @@ def test_general_path_equals_the_dense_definition(name: str) -> None:
     design = design_named(name)
     poses = random_task_poses(design, 120, 4)
     rng = np.random.default_rng(9)
-    k_lock = np.array([leg.actuator.locked_stiffness for leg in design.legs])
+    k_lock = np.array([leg.locked_stiffness() for leg in design.legs])  # inf: passive
     k_act = k_lock * rng.uniform(0.05, 1.0, (len(poses), len(design.legs)))
     res = batch.evaluate_poses(design, poses, k_act, matrices=True, path="general", chunk_size=29)
     assert res.path == "general" and res.stiffness is not None

@@ -297,6 +297,8 @@ def _draw(
                 _draw_joint(ax, joint, i, j, col, unit, at, minor)
         if labels:
             for name, pt in v.points.items():
+                if float(np.linalg.norm(pt - view.centre)) < AT_ORIGIN:
+                    continue  # a leg fixed at P (a Tricept's central tube): "P" marks it
                 ax.text(*at(pt), f" {name}{i}", fontsize=7, color="0.15")
         else:
             ax.text(*at(v.platform_point), f" {v.platform_name}", fontsize=7, color="0.2")
@@ -409,7 +411,9 @@ def _draw_joint(
 def _draw_frames(ax: Any, view: MechanismView, length: float) -> None:
     """Base axes at O (grey) and platform axes (R's columns) at P (black) [mm]; the base
     axes' labels beyond the platform's when P is within an axis' length of O (a wrist),
-    so that they stay clear of the platform's; P at O is labelled "P = O" alone."""
+    so that they stay clear of the platform's; P at O is labelled "P = O" alone, and O
+    is not labelled where a leg's base joint sits on it (a Tricept's central U: its own
+    label marks the point)."""
     close = float(np.linalg.norm(view.centre * MM)) < length
     for name, origin, axes, col, at in (
         ("b", np.zeros(3), np.eye(3), "0.45", 1.7 if close else 1.15),
@@ -419,7 +423,8 @@ def _draw_frames(ax: Any, view: MechanismView, length: float) -> None:
             tip = origin + length * axes[:, k]
             ax.plot(*np.stack([origin, tip]).T, color=col, lw=1.6, gid=f"frame-{name}-{lab}")
             ax.text(*(origin + at * length * axes[:, k]), f"${lab}_{name}$", color=col, fontsize=9)
-    if float(np.linalg.norm(view.centre)) >= AT_ORIGIN:  # else P's label says "P = O"
+    joint_at_o = any(float(np.linalg.norm(v.base.point)) < AT_ORIGIN for v in view.legs)
+    if float(np.linalg.norm(view.centre)) >= AT_ORIGIN and not joint_at_o:  # else "P = O"
         ax.text(0.0, 0.0, 0.0, "O ", color="0.45", fontsize=9, ha="right", va="top")
 
 

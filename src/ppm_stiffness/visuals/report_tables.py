@@ -339,6 +339,10 @@ def loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, A
     rows = []
     for i in range(len(loaded["actuator_forces"])):
         force, disp, scale, stiff = units[i]
+        if design.legs[i].actuator is None:  # a passive constraining leg: no actuator
+            row = [f"leg {i + 1} (passive)", "—", "—", "—", "—"]
+            rows.append(row if shared else row + ["—"])
+            continue
         row = [
             f"leg {i + 1}",
             _cell(loaded["actuator_forces"][i], f"loaded/actuator_forces/{i}", sig=4),

@@ -6,8 +6,9 @@ The elements run from the base to the platform and are given at the design's hom
 - a **joint** (``joint = "R" | "P" | "C" | "U" | "S"``) at ``point``, with its axis
   ``axis`` (R, P, C; a U's first axis e1, fixed to the body before it) and a U's
   second axis ``axis2`` (e2, fixed to the body after it, normal to e1 at home); an S
-  has no axis. One joint of the leg is ``actuated = true`` (an R or a P: the actuator's
-  law acts along its freedom), with its ``stroke`` [lo, hi] [m or rad] measured from
+  has no axis. At most one joint of the leg is ``actuated = true`` (an R or a P: the
+  actuator's law acts along its freedom; none: a passive constraining leg, without an
+  ``actuator`` table), with its ``stroke`` [lo, hi] [m or rad] measured from
   its home position (``lo <= 0 <= hi``; a revolute's is an angle about its own axis).
   ``springs`` are its hardware springs in its constrained directions, the part of its
   kind (:mod:`ppm_stiffness.legs.parts`: a P's ``GuideModel``, a C's ``BearingModel``,
