@@ -167,3 +167,12 @@ def test_the_pictures_platform_is_the_three_joints_not_the_central_tube() -> Non
     design = design_from_dict(_data())
     view = mechanism_view(design)
     assert view.platform_order == [0, 1, 2]
+
+
+def test_too_few_actuated_legs_for_the_task_coordinates_are_refused() -> None:
+    """Two actuated legs and the passive one for z, rx, ry: a mechanism with its
+    actuators locked (before: the design was read)."""
+    data = _data()
+    data["legs"][0]["pattern"] = {"copies": 2}
+    with pytest.raises(DesignError, match=r"2 actuated leg\(s\) for 3 task coordinates"):
+        design_from_dict(data)

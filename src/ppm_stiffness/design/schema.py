@@ -346,6 +346,20 @@ class Design(PartModel):
         return self
 
     @model_validator(mode="after")
+    def _enough_actuators(self) -> Design:
+        """At least one actuated leg per task coordinate (passive constraining legs
+        drive nothing): with fewer, the platform moves with every actuator locked."""
+        actuated = sum(leg.is_actuated() for leg in self.legs)
+        if actuated < len(self.task_coordinates):
+            raise ValueError(
+                f"legs: {actuated} actuated leg(s) for {len(self.task_coordinates)} task "
+                f"coordinates ({', '.join(self.task_coordinates)}): the platform would "
+                "move with every actuator locked; each task coordinate needs an actuated "
+                "leg (a passive constraining leg, without an actuated joint, drives none)"
+            )
+        return self
+
+    @model_validator(mode="after")
     def _masses_need_platform(self) -> Design:
         """Leg masses are part of a mass model, whose base is the platform's mass."""
         if self.platform is None:
