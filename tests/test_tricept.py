@@ -176,3 +176,29 @@ def test_too_few_actuated_legs_for_the_task_coordinates_are_refused() -> None:
     data["legs"][0]["pattern"] = {"copies": 2}
     with pytest.raises(DesignError, match=r"2 actuated leg\(s\) for 3 task coordinates"):
         design_from_dict(data)
+
+
+@pytest.mark.parametrize("task", [[0.55, 0.0, 0.0], [0.57, 0.08, -0.06], [0.53, -0.1, 0.1]])
+def test_the_passive_leg_alone_is_the_fe_frames_and_resists_none_of_its_freedoms(
+    task: list[float],
+) -> None:
+    """The central leg's stiffness equals the FE frame's of the same elements (PyNite;
+    measured 3.8e-14 to 5.7e-14 of the largest balanced entry), has rank 3, and resists
+    neither a turn of the platform about the U's base axis x through O nor a slide along
+    the tube (R e_z)."""
+    pytest.importorskip("Pynite", reason="the FE cross-check needs the validate extra")
+    from ppm_stiffness.validation.fe_model import fe_leg_stiffness
+
+    design = design_from_dict(_data())
+    pose = full_pose(design, task)
+    k = leg_stiffnesses_at_pose(design, pose)[3]
+    scale = np.max(np.abs(length_balanced(k)))
+    k_fe = fe_leg_stiffness(design, 3, pose)
+    assert np.max(np.abs(length_balanced(k_fe) - length_balanced(k))) < 3e-13 * scale
+    assert np.linalg.matrix_rank(length_balanced(k), tol=1e-9 * scale) == 3
+    p = pose[:3]
+    turn = np.concatenate([[1.0, 0.0, 0.0], np.cross([1.0, 0.0, 0.0], p)])
+    slide = np.concatenate([np.zeros(3), pose6.rotation(pose)[:, 2]])
+    for twist in (turn, slide):
+        wrench = k @ twist
+        assert np.max(np.abs(wrench)) < 1e-9 * np.max(np.abs(k)), twist
