@@ -202,3 +202,15 @@ def test_the_passive_leg_alone_is_the_fe_frames_and_resists_none_of_its_freedoms
     for twist in (turn, slide):
         wrench = k @ twist
         assert np.max(np.abs(wrench)) < 1e-9 * np.max(np.abs(k)), twist
+
+
+def test_deflect_lists_the_actuated_legs_and_names_the_passive_one(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The actuator table has columns for legs 1-3 only (before: K4 = inf, G4 = 0)."""
+    from ppm_stiffness.cli import main
+
+    assert main(["deflect", "--design", str(EXAMPLE)]) == 0
+    out = capsys.readouterr().out
+    assert "K3" in out and "K4" not in out and "G4" not in out and "inf" not in out
+    assert "leg(s) 4: passive (no actuator)" in out

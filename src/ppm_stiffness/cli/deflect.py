@@ -656,6 +656,8 @@ def _print_actuators(curve: DeflectionCurve) -> None:
     one table each for more (so that six legs fit 80 columns)."""
     unit = curve.load_unit
     n_legs = curve.actuator_forces.shape[1]
+    # a passive constraining leg has no actuator (zero force, infinite stiffness): no column
+    legs = [i for i in range(n_legs) if np.any(np.isfinite(curve.actuator_stiffness[:, i]))]
     what = "force G \\[N] and tangent stiffness K \\[N/m] per leg"
     groups = [("G", _actuator_forces_shown(curve)), ("K", curve.actuator_stiffness)]
     tables = [groups] if n_legs <= _ONE_TABLE_LEGS else [[g] for g in groups]
@@ -668,11 +670,14 @@ def _print_actuators(curve: DeflectionCurve) -> None:
             title = "actuator tangent stiffness K \\[N/m] (N·m/rad if rotary)"
         a = _load_table(title, unit)
         for name, _ in group:
-            for i in range(n_legs):
+            for i in legs:
                 a.add_column(f"{name}{i + 1}", justify="right", no_wrap=True)
         for k, load in enumerate(curve.loads):
-            a.add_row(f"{load:g}", *(eng(v) for _, values in group for v in values[k]))
+            a.add_row(f"{load:g}", *(eng(values[k][i]) for _, values in group for i in legs))
         console.print(a)
+    passive = [str(i + 1) for i in range(n_legs) if i not in legs]
+    if passive:
+        console.print(f"leg(s) {', '.join(passive)}: passive (no actuator)")
 
 
 def run(args: argparse.Namespace) -> int:
