@@ -214,3 +214,14 @@ def test_deflect_lists_the_actuated_legs_and_names_the_passive_one(
     out = capsys.readouterr().out
     assert "K3" in out and "K4" not in out and "G4" not in out and "inf" not in out
     assert "leg(s) 4: passive (no actuator)" in out
+
+
+def test_the_mass_summary_counts_the_chain_legs_links() -> None:
+    """links = every beam link's mass, the pattern's three copies and the central
+    tubes (before: 0 kg for chain legs, whose links are elements, not fields)."""
+    from ppm_stiffness.dynamics.mass import moving_mass
+
+    data = _data()
+    masses = [[e["link"]["mass"] for e in leg["elements"] if "link" in e] for leg in data["legs"]]
+    expected = 3 * sum(masses[0]) + sum(masses[1])
+    assert moving_mass(design_from_dict(data))["links"] == pytest.approx(expected, rel=1e-15)

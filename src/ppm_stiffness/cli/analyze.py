@@ -12,6 +12,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     POSE_OPTIONS,
+    actuator_stiffness_text,
     add_design_argument,
     add_pose_arguments,
     add_tool_point_argument,
@@ -180,7 +181,7 @@ def print_tables(result: dict[str, Any], title: str) -> None:
             result["actuator_stiffness"]
         )
         k_act = ", ".join(
-            f"{v:.6g} {u[2]}" if v is not None and np.isfinite(v) else "none (passive leg)"
+            actuator_stiffness_text(v, ".6g", u[2])
             for v, u in zip(result["actuator_stiffness"], units, strict=True)
         )
         c.print(f"architecture: {result.get('architecture', '')}; actuator stiffness: {k_act}")

@@ -35,6 +35,14 @@ def json_document(command: str, payload: dict[str, Any], units: dict[str, str]) 
     return document(command, payload, units)
 
 
+def actuator_stiffness_text(value: float | None, spec: str = ".6g", unit: str = "") -> str:
+    """An actuator stiffness for the text output (``5e+07 N/m``), or "none (passive
+    leg)" for a passive constraining leg's (``inf`` inside, ``null`` in JSON)."""
+    if value is None or not math.isfinite(value):
+        return "none (passive leg)"
+    return f"{value:{spec}}" + (f" {unit}" if unit else "")
+
+
 def solve_legs(design: Design, pose: np.ndarray) -> None:
     """:func:`ppm_stiffness.model.solve_legs` (imported when called), for its refusal of
     a pose out of reach."""

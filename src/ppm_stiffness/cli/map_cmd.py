@@ -16,6 +16,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    actuator_stiffness_text,
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
@@ -452,7 +453,9 @@ def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namesp
     units = [leg.actuator_units()[2] for leg in design.legs]
 
     def _values(k: np.ndarray) -> str:
-        return ", ".join(f"{v:.6g} {u}" for v, u in zip(k, units, strict=True))
+        return ", ".join(
+            actuator_stiffness_text(v, ".6g", u) for v, u in zip(k, units, strict=True)
+        )
 
     load_units = sorted({leg.actuator_units()[0] for leg in design.legs})
     reference = f"{args.reference_force:g} {' or '.join(load_units)}" + (

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from typing import Any
 
 import numpy as np
@@ -11,6 +12,7 @@ from rich.table import Table
 
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
+    actuator_stiffness_text,
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
@@ -131,10 +133,12 @@ def print_tables(result: dict[str, Any], title: str, units: list[str]) -> None:
     task = [("x", "y", "z", "rx", "ry", "rz").index(n) for n in result["task_coordinates"]]
     c.print(f"pose: {format_pose(full, task)} (P in F_b)")
     values = result["actuator_stiffness"]
-    if len(set(units)) == 1:
+    if len(set(units)) == 1 and all(v is not None and math.isfinite(v) for v in values):
         k_act = ", ".join(f"{v:.4g}" for v in values) + f" {units[0]}"
     else:
-        k_act = ", ".join(f"{v:.4g} {u}" for v, u in zip(values, units, strict=True))
+        k_act = ", ".join(
+            actuator_stiffness_text(v, ".4g", u) for v, u in zip(values, units, strict=True)
+        )
     if result["state"] == "locked":
         c.print(f"actuators locked (stiffness {k_act})")
     else:

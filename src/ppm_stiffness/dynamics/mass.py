@@ -184,7 +184,7 @@ def moving_mass(design: Design) -> dict[str, float]:
     assert design.platform is not None
     links = carriages = 0.0
     for leg in design.legs:
-        for _, part in leg:
+        for _, part in leg.parameter_items():  # a chain leg's links are its elements
             mass = getattr(part, "mass", None)
             if isinstance(mass, float) and hasattr(part, "young_modulus"):
                 links += mass
