@@ -149,6 +149,11 @@ class Joint:
         rail, whose lateral direction the leg's geometry defines).
     mass : JointMass or None
         Moving parts the joint carries (the actuated joint's drive), for the mass model.
+    equivalent : bool
+        A joint of an element's equivalent chain (a parallelogram's two P joints and
+        U): exact for the stiffness and the masses, not a part; pictures draw the
+        element's parts instead (:meth:`~ppm_stiffness.legs.base.LegModel.
+        drawn_members`) and the FE frame refuses it.
     """
 
     kind: JointKind
@@ -159,6 +164,7 @@ class Joint:
     name: str = ""
     axis2: FloatArray | None = None
     mass: JointMass | None = None
+    equivalent: bool = False
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""

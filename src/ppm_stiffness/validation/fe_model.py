@@ -292,6 +292,12 @@ def build_model(
     for i, chain in chains.items():
         if not chain:
             raise DesignError(f"FE model, {leg_label(i)}: empty chain")
+        stand_in = [e.name for e in chain if isinstance(e, Joint) and e.equivalent]
+        if stand_in:
+            raise DesignError(
+                f"FE model, {leg_label(i)}: {stand_in[-1]} is modelled by an equivalent "
+                "chain (a parallelogram's); the FE frame does not build its bars yet"
+            )
     # the platform: distinct platform points (P first), their stiff members
     ends: list[FloatArray] = [np.zeros(3)]
     end_of: dict[int, int] = {}

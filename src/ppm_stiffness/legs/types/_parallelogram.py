@@ -45,9 +45,10 @@ from typing import Literal
 
 import numpy as np
 
+from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import FloatArray, cross
 from ppm_stiffness.legs.base import check_plausible
-from ppm_stiffness.legs.chain import Joint, JointMass, unit
+from ppm_stiffness.legs.chain import Joint, JointMass, Link, unit
 from ppm_stiffness.legs.parts import Finite, PartModel, Positive, SectionModel, SphericalModel
 from ppm_stiffness.legs.types._spatial import check_unit
 
@@ -144,8 +145,8 @@ def parallelogram_joints(
         springs = np.stack(np.broadcast_arrays(2.0 * k_bar, np.inf, np.inf, rotation), axis=-1)
     mass = element.bar_mass()
     return [
-        Joint("P", m, centre, None, name=f"{name}.translation_1"),
-        Joint("P", mu, centre, None, name=f"{name}.translation_2"),
+        Joint("P", m, centre, None, name=f"{name}.translation_1", equivalent=True),
+        Joint("P", mu, centre, None, name=f"{name}.translation_2", equivalent=True),
         Joint(
             "U",
             n,
@@ -154,8 +155,49 @@ def parallelogram_joints(
             name=name,
             axis2=m,
             mass=JointMass(mass=mass) if mass > 0.0 else None,
+            equivalent=True,
         ),
     ]
 
 
-__all__ = ["SKEW_TOLERANCE", "ParallelogramElement", "parallelogram_joints", "skew"]
+def parallelogram_members(
+    element: ParallelogramElement, near: FloatArray, far: FloatArray, name: str
+) -> tuple[list[Link], list[Joint]]:
+    """The element's parts as pictures draw them, from its corners (2, 3) at one pose
+    (relative to P) [m]: the near crossbar, the two bars, the far crossbar as two
+    halves ending at its centre (where the leg meets the platform), and a ball joint
+    at each corner."""
+    section = (
+        element.parallelogram.section()
+        if isinstance(element.parallelogram, SectionModel)
+        else _RIGID
+    )
+    centre = far.mean(axis=0)
+    links = [
+        Link(near[0], near[1], _RIGID, name=f"{name}.crossbar"),
+        Link(near[0], far[0], section, name=name),
+        Link(near[1], far[1], section, name=name),
+        Link(far[0], centre, _RIGID, name=f"{name}.crossbar"),
+        Link(far[1], centre, _RIGID, name=f"{name}.crossbar"),
+    ]
+    joints = []
+    for k in range(2):
+        bar = unit(far[k] - near[k])
+        joints += [
+            Joint("S", bar, near[k], name=f"{name}.corner"),
+            Joint("S", bar, far[k], name=f"{name}.corner"),
+        ]
+    return links, joints
+
+
+#: A stand-in section for drawn parts that have none (rigid crossbars).
+_RIGID = BeamSection(1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+
+
+__all__ = [
+    "SKEW_TOLERANCE",
+    "ParallelogramElement",
+    "parallelogram_joints",
+    "parallelogram_members",
+    "skew",
+]

@@ -78,6 +78,7 @@ from ppm_stiffness.legs.types._parallelogram import (
     SKEW_TOLERANCE,
     ParallelogramElement,
     parallelogram_joints,
+    parallelogram_members,
     skew,
 )
 from ppm_stiffness.legs.types._spatial import check_normal, check_unit, joint_angle
@@ -763,6 +764,30 @@ class ChainLeg(LegModel):
 
     def link_length_ranges(self) -> dict[str, tuple[float, float]]:
         return {}
+
+    def drawn_members(self, leg_pose: LegPose) -> tuple[list[Link], list[Joint]]:
+        """A parallelogram's bars, crossbars and corner joints (one pose)."""
+        element, bars = self._parallelogram(), self._bars()
+        if element is None or bars is None:
+            return [], []
+        pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)[:1]
+        state, _ = self._state(pose)
+        near = np.einsum("ij,mj->mi", state.rotations[0, -1], bars.near)
+        near = near + state.translations[0, -1] - pose[0, :3]
+        far = bars.far_points(self.home(), pose)[0] - pose[0, :3]
+        name = self.element_name(len(self.elements) - 1)
+        return parallelogram_members(element, near, far, name)
+
+    def moving_geometry_gap(self) -> str | None:
+        """A parallelogram's chain (two P joints and a U) is exact to first order only:
+        its bars' own swing under their axial loads (their geometric stiffness) is not
+        in it, so the moving geometry (K_F, the load margin) refuses it."""
+        if self._parallelogram() is None:
+            return None
+        return (
+            "the moving geometry does not model a parallelogram's bars swinging under "
+            "their axial loads (its chain is exact to first order only)"
+        )
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The first joint: a rail along a base P (its stroke from its home point) or a
