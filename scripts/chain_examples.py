@@ -223,7 +223,7 @@ def delta() -> str:
 #   3e8 N/m;
 # - arms: aluminium tubes 40 x 3 mm; forearm bars: carbon-fibre tubes 16 x 1.5 mm
 #   (E 110 GPa along the fibres, 1550 kg/m^3);
-# - ball joints at the forearms' corners: 2e7 N/m axial and radial;
+# - ball joints at the forearms' corners: 2e7 N/m axial and radial, +-40 deg;
 # - platform: an aluminium disk 140 x 10 mm.
 schema = 2
 name = "Delta robot with parallelogram forearms (examples/delta.toml)"
@@ -251,7 +251,7 @@ actuator = {{ locked_stiffness = 2e4, q = 1.0, threshold_displacement = 0.0, rot
 elements = [
     {{ joint = "R", name = "drive", point = {vec(c)}, axis = {vec(axis)}, actuated = true, stroke = [-0.6, 1.2], springs = {{ tilt = 1e5, axial = 3e8, radial = 3e8 }} }},
     {{ link = {tube(0.040, 0.003, ALUMINIUM, arm)}, name = "arm" }},
-    {{ parallelogram = {tube(0.016, 0.0015, CFRP, forearm)}, name = "forearm", near = {vec(elbow)}, far = {vec(far)}, crossbar = {vec(axis)}, width = {width:g}, springs = {{ axial = 2e7, radial = 2e7 }} }},
+    {{ parallelogram = {tube(0.016, 0.0015, CFRP, forearm)}, name = "forearm", near = {vec(elbow)}, far = {vec(far)}, crossbar = {vec(axis)}, width = {width:g}, springs = {{ axial = 2e7, radial = 2e7, max_angle = 0.7 }} }},
 ]
 """
 

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.errors import DesignError, UnreachablePoseError
 from ppm_stiffness.design.io import design_from_dict
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, platform_mass_matrix
 from ppm_stiffness.model import full_pose, stiffness_at_pose
@@ -213,3 +213,32 @@ def test_the_moving_geometry_and_the_fe_frame_refuse_a_parallelogram() -> None:
         platform_chains(design, pose, np.zeros((1, 3)))
     with pytest.raises(DesignError, match="forearm is modelled by an equivalent chain"):
         build_model(design, pose[0])
+
+
+def _turn(axis: np.ndarray, angle: float) -> np.ndarray:
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def test_the_corner_angle_is_the_bars_turn_from_home_on_each_side() -> None:
+    """forearm_angle = max over the corners of the angle between the bar and its home
+    direction carried by the arm (turned by the drive's angle about its axis) or by the
+    platform (not turned: rx = ry = rz = 0), to 1e-12 rad; beyond max_angle the pose is
+    refused with the coordinate named."""
+    design = design_from_dict(_data())
+    for pose in _poses(design, 4, seed=8):
+        for leg, g in zip(design.legs, _geometry(design, pose), strict=True):
+            forearm = g["forearm"]
+            home = np.subtract(forearm.far, forearm.near)
+            home = home / np.linalg.norm(home)
+            now = (g["f"] - g["e"]) / np.linalg.norm(g["f"] - g["e"])
+            theta = float(leg.solve(pose).coordinates["actuated"])
+            at_arm = _turn(g["a"], theta) @ home
+            expected = max(math.acos(np.clip(now @ at_arm, -1, 1)), math.acos(now @ home))
+            got = float(leg.solve(pose).coordinates["forearm_angle"])
+            assert abs(got - expected) < 1e-12
+    data = _data()
+    data["legs"][0]["elements"][2]["springs"]["max_angle"] = 0.05
+    narrow = design_from_dict(data)
+    with pytest.raises(UnreachablePoseError, match="forearm"):
+        stiffness_at_pose(narrow, [0.1, 0.0, -0.8])

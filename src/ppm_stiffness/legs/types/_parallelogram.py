@@ -8,7 +8,9 @@ the platform), the crossbars' direction ``crossbar`` (unit) and their ``width`` 
 [m]: the corners are ``near +- (w/2) a`` and ``far +- (w/2) a``, and each bar runs
 between the corners on the same side. The crossbars are rigid; the bars are beams
 with a spherical joint (``S``) at each end, whose ``springs`` (a ``SphericalModel``
-or one number) act at all four corners.
+or one number) act at all four corners; their ``max_angle`` limits the angle at each
+corner between the bar and its home direction carried by the corner's body (the arm,
+or the platform): the leg's coordinate ``<name>_angle`` is the largest of the four.
 
 Kinematics. Each bar keeps its home length: the leg's closure is the two bars' length
 errors (:class:`ppm_stiffness.legs.kinematics.Bars`), not the end body's pose. With the
@@ -107,6 +109,10 @@ class ParallelogramElement(PartModel):
             axial = self.springs if isinstance(self.springs, (int, float)) else self.springs.axial
             compliance += 2.0 / float(axial)
         return np.inf if compliance == 0.0 else 1.0 / compliance
+
+    def max_angle(self) -> float | None:
+        """The corners' angle limit [rad] (their springs' ``max_angle``), or None."""
+        return getattr(self.springs, "max_angle", None)
 
     def bar_mass(self) -> float:
         """Each bar's mass [kg] (0: not given)."""

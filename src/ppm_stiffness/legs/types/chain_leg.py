@@ -442,6 +442,10 @@ class ChainLeg(LegModel):
             near = near + state.translations[:, -1, None]
             far = bars.far_points(self.home(), pose.reshape(-1, 6))
             solvable = solvable & (skew(near, far) <= SKEW_TOLERANCE)
+            forearm = self._parallelogram()
+            if forearm is not None and forearm.max_angle() is not None:
+                name = f"{self.element_name(last)}_angle"
+                coordinates[name] = self._corner_angles(state, pose.reshape(-1, 6), near, far)
         if self.constraint_count() == 0:  # a leg that constrains nothing closes at every pose
             solvable = solvable & (np.max(np.abs(state.error), axis=-1) <= kin.CLOSED)
         return LegPose(
@@ -486,6 +490,23 @@ class ChainLeg(LegModel):
             )
         return out
 
+    def _corner_angles(
+        self, state: kin.ChainState, poses: FloatArray, near: FloatArray, far: FloatArray
+    ) -> FloatArray:
+        """The largest angle [rad] (n,) at a parallelogram's four corners between its bar
+        and the bar's home direction carried by the corner's body (the arm at the near
+        corners, the platform at the far ones)."""
+        bars = self._bars()
+        assert bars is not None
+        home = bars.far - bars.near
+        at_near = np.einsum("nij,mj->nmi", state.rotations[:, -1], home)
+        turn = pose6.rotation(poses) @ pose6.rotation(self.home()).T
+        at_far = np.einsum("nij,mj->nmi", turn, home)
+        now = far - near
+        return np.asarray(
+            np.maximum(joint_angle(now, at_near), joint_angle(now, at_far)).max(axis=-1)
+        )
+
     def _adjacent_link(self, index: int, prefer_before: bool) -> tuple[int, bool] | None:
         """The link beside joint ``index``, on the preferred side if it has one there:
         (the element whose point ends it: the joint past it, or a last link itself, for
@@ -523,6 +544,8 @@ class ChainLeg(LegModel):
                 limit = element.max_angle()
                 if limit is not None:
                     out[f"{self.element_name(i)}_angle"] = (0.0, float(limit))
+            elif isinstance(element, ParallelogramElement) and element.max_angle() is not None:
+                out[f"{self.element_name(i)}_angle"] = (0.0, float(element.max_angle() or 0.0))
         return out
 
     def coordinate(self, name: str) -> Coordinate:
