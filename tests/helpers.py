@@ -143,15 +143,6 @@ def has_moving_geometry(design: Design) -> bool:
     return all(leg.moving_geometry_gap() is None for leg in design.legs)
 
 
-def has_fe_frame(design: Design) -> bool:
-    """The FE frame builds every leg's chain (no element modelled by an equivalent
-    chain, as a parallelogram is)."""
-    home = np.array(design.workspace.start())
-    return not any(
-        getattr(e, "equivalent", False) for leg in design.legs for e in leg.chain(leg.solve(home))
-    )
-
-
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its

@@ -169,38 +169,47 @@ def parallelogram_joints(
 def parallelogram_members(
     element: ParallelogramElement, near: FloatArray, far: FloatArray, name: str
 ) -> tuple[list[Link], list[Joint]]:
-    """The element's parts as pictures draw them, from its corners (2, 3) at one pose
-    (relative to P) [m]: the near crossbar, the two bars, the far crossbar as two
-    halves ending at its centre (where the leg meets the platform), and a ball joint
-    at each corner."""
+    """The element's parts as pictures draw them and the FE frame builds them, from its
+    corners (2, 3) at one pose (relative to P) [m]: links: the near crossbar, the two
+    bars (their section; :data:`RIGID_PART` for rigid bars), the far crossbar as two
+    halves ending at its centre (where the leg meets the platform); joints: a ball
+    joint with the corner springs at each corner, in pairs (near, far) per bar."""
     section = (
         element.parallelogram.section()
         if isinstance(element.parallelogram, SectionModel)
-        else _RIGID
+        else RIGID_PART
     )
     centre = far.mean(axis=0)
     links = [
-        Link(near[0], near[1], _RIGID, name=f"{name}.crossbar"),
+        Link(near[0], near[1], RIGID_PART, name=f"{name}.crossbar"),
         Link(near[0], far[0], section, name=name),
         Link(near[1], far[1], section, name=name),
-        Link(far[0], centre, _RIGID, name=f"{name}.crossbar"),
-        Link(far[1], centre, _RIGID, name=f"{name}.crossbar"),
+        Link(far[0], centre, RIGID_PART, name=f"{name}.crossbar"),
+        Link(far[1], centre, RIGID_PART, name=f"{name}.crossbar"),
     ]
+    springs = None
+    if element.springs is not None:
+        springs = (
+            np.full(3, float(element.springs))
+            if isinstance(element.springs, (int, float))
+            else element.springs.stiffnesses()
+        )
     joints = []
     for k in range(2):
         bar = unit(far[k] - near[k])
         joints += [
-            Joint("S", bar, near[k], name=f"{name}.corner"),
-            Joint("S", bar, far[k], name=f"{name}.corner"),
+            Joint("S", bar, near[k], springs, name=f"{name}.corner"),
+            Joint("S", bar, far[k], springs, name=f"{name}.corner"),
         ]
     return links, joints
 
 
-#: A stand-in section for drawn parts that have none (rigid crossbars).
-_RIGID = BeamSection(1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+#: The stand-in section of a rigid part (the crossbars, rigid bars): never a beam.
+RIGID_PART = BeamSection(1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
 
 
 __all__ = [
+    "RIGID_PART",
     "SKEW_TOLERANCE",
     "ParallelogramElement",
     "parallelogram_joints",
