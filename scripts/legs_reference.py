@@ -20,7 +20,12 @@ from pydantic import BaseModel
 from ppm_stiffness.legs.base import LegModel
 from ppm_stiffness.legs.parts import part_units
 from ppm_stiffness.legs.registry import leg_types
-from ppm_stiffness.legs.types.chain_leg import ChainLeg, JointElement, LinkElement
+from ppm_stiffness.legs.types.chain_leg import (
+    ChainLeg,
+    JointElement,
+    LinkElement,
+    ParallelogramElement,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "legs.md"
@@ -100,7 +105,8 @@ def reference() -> str:
         for field in model.model_fields.values():
             for part in _models(field.annotation):
                 parts.setdefault(part.__name__, part)
-    for element in (JointElement, LinkElement):
+    elements = ("JointElement", "LinkElement", "ParallelogramElement")
+    for element in (JointElement, LinkElement, ParallelogramElement):
         for field in element.model_fields.values():
             for part in _models(field.annotation):
                 parts.setdefault(part.__name__, part)
@@ -115,11 +121,18 @@ def reference() -> str:
         "",
         _table(LinkElement, {"end": "m"}),
         "",
+        "#### parallelogram",
+        "",
+        _table(
+            ParallelogramElement,
+            {"near": "m", "far": "m", "crossbar": "1", "width": "m", "springs": "N/m"},
+        ),
+        "",
         "### Parts",
         "",
     ]
     for name, part in sorted(parts.items()):
-        if name in ("JointElement", "LinkElement"):
+        if name in elements:
             continue
         out += [f"#### `{name}`", "", _table(part, part_units(part)), ""]
     return "\n".join(out).rstrip() + "\n"

@@ -138,6 +138,11 @@ def has_reduced_form(design: Design) -> bool:
     return all(leg.reduced_form() is not None for leg in design.legs)
 
 
+def has_moving_geometry(design: Design) -> bool:
+    """The loaded mode's moving geometry models every leg (not a parallelogram's)."""
+    return all(leg.moving_geometry_gap() is None for leg in design.legs)
+
+
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its

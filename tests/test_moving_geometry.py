@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.helpers import design_named, example_designs
+from tests.helpers import design_named, example_designs, has_moving_geometry
 from tests.paper import PAPER_WRENCH
 
 from ppm_stiffness.core.conventions import BALANCE, hat, rotation_screw, translation_screw
@@ -29,7 +29,7 @@ from ppm_stiffness.statics.moving import (
 from ppm_stiffness.statics.moving_core import PlatformChains
 from ppm_stiffness.statics.moving_tangents import held_wrenches
 
-DESIGNS = example_designs(paper=True)
+DESIGNS = example_designs(has_moving_geometry, paper=True)
 
 
 def _random_pose(name: str, seed: int) -> np.ndarray:

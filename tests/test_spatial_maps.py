@@ -59,6 +59,8 @@ SLICES = [
     ("spherical_3rrr", ("ry", "rz"), {"rx": 0.2}),
     ("tricept", None, {"ry": 0.05}),
     ("tricept", ("rx", "ry"), {"z": 0.56}),
+    ("delta", None, {"z": -0.8}),
+    ("delta", ("x", "z"), {"y": 0.02}),
 ]
 RTOL = 1e-12
 
@@ -102,7 +104,8 @@ def dense_stiffness(design: Design, poses: np.ndarray, k_act: np.ndarray) -> np.
 def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Task values around the home pose: +-24 mm and +-0.18 rad for a
     hexapod, +-60 mm and +-0.45 rad for a tripod, +-1.2 rad for a wrist (orientation
-    only: beyond its drives' strokes) (planar: the helpers')."""
+    only: beyond its drives' strokes), +-0.25 m for a Delta (translations only)
+    (planar: the helpers')."""
     if design.planar:
         return poses_around_workspace(design, n, seed, pad=0.1, phi_max=0.3)
     idx = list(task_indices(design))
@@ -110,6 +113,8 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     half = np.array([0.04 if i < 3 else 0.3 for i in idx]) * (0.6 if len(idx) == 6 else 1.5)
     if min(idx) >= 3:
         half[:] = 1.2
+    if max(idx) < 3:  # translations only (a Delta): +-0.25 m, beyond its arms' strokes
+        half[:] = 0.25
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 
 

@@ -67,6 +67,7 @@ POSE_OPTIONS = {
     "6rus": ["--x", "3", "--y", "-2", "--z", "215", "--rx", "2", "--ry", "-1.5", "--rz", "3"],
     "spherical_3rrr": ["--rx", "15", "--ry", "-10", "--rz", "20"],
     "tricept": ["--z", "565", "--rx", "4", "--ry", "-3"],
+    "delta": ["--x", "30", "--y", "-20", "--z", "-790"],
 }
 
 
@@ -120,8 +121,10 @@ def _check_chain_drawn(fig, design, pose: np.ndarray, origin: np.ndarray) -> Non
     lines = _lines(fig)
     p = pose[:3]
     for i, leg in enumerate(design.legs, start=1):
-        chain = leg.chain(leg.solve(pose))
-        joints = [e for e in chain if isinstance(e, Joint)]
+        lp = leg.solve(pose)
+        members, member_joints = leg.drawn_members(lp)
+        chain = [*leg.chain(lp), *members, *member_joints]
+        joints = [e for e in chain if isinstance(e, Joint) and not e.equivalent]
         links = [e for e in chain if isinstance(e, Link)]
         for j, joint in enumerate(joints, start=1):
             at = np.asarray(joint.point) + p - origin
@@ -224,9 +227,11 @@ def test_mechanism_command_draws_the_spatial_model(
     if len(design.task_coordinates) < 6:
         assert "parasitic" in title
     legend = {t.get_text() for t in ax.get_legend().get_texts()}
-    kinds = {
-        e.kind for leg in design.legs for e in leg.chain(leg.solve(pose)) if isinstance(e, Joint)
-    }
+    kinds = set()
+    for leg in design.legs:
+        lp = leg.solve(pose)
+        chain = [*leg.chain(lp), *leg.drawn_members(lp)[1]]
+        kinds |= {e.kind for e in chain if isinstance(e, Joint) and not e.equivalent}
     assert {joint_kind(k).legend for k in kinds} <= legend
     assert "actuated joint" in legend
     plt.close(fig)

@@ -168,9 +168,9 @@ def _springs(
         else:
             passive.append(free)
         if element.springs is not None:
-            k = np.asarray(element.springs, dtype=float)
-            cols.append(flat(constrained_screws(element), (6, CONSTRAINED[element.kind])))
-            comp.append(np.broadcast_to(1.0 / k, (n, k.size)))
+            c = CONSTRAINED[element.kind]
+            cols.append(flat(constrained_screws(element), (6, c)))
+            comp.append(flat(1.0 / np.asarray(element.springs, dtype=float), (c,)))
         springs.append(
             (np.concatenate(cols, axis=-1), np.concatenate(comp, axis=-1), True) if cols else None
         )
@@ -280,9 +280,13 @@ def point_inertia(mass: float, point: ArrayLike) -> FloatArray:
     return spatial_inertia(mass, p, np.zeros(p.shape[:-1] + (3, 3)))
 
 
+def _carries(element: Element) -> bool:
+    return element.mass is not None or (isinstance(element, Link) and element.end_mass > 0.0)
+
+
 def has_masses(chain: Sequence[Element]) -> bool:
     """True if an element of the chain carries a mass or a rotor."""
-    return any(e.mass is not None for e in chain)
+    return any(_carries(e) for e in chain)
 
 
 def _congruence(t: FloatArray, m: FloatArray) -> FloatArray:
@@ -303,12 +307,15 @@ def leg_mass_matrix(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> 
     total = np.zeros(batch + (6, 6))
     if not has_masses(chain):
         return total
-    carrying = [e for e, element in enumerate(chain) if element.mass is not None]
+    carrying = [e for e, element in enumerate(chain) if _carries(element)]
     motion = leg_motion(chain, actuator_stiffness, carrying)
     for e, element in enumerate(chain):
         if isinstance(element, Link):
             if element.mass is not None:
                 total = total + link_mass_matrix(element, motion.before[e], motion.after[e])
+            if element.end_mass > 0.0:
+                end = point_inertia(element.end_mass, element.end)
+                total = total + _congruence(motion.after[e], end)
             continue
         parts = element.mass
         if parts is None:

@@ -60,13 +60,13 @@ def full_terms(compliance: np.ndarray) -> list[Term]:
     ]
 
 
-def spring_terms(springs: Sequence[float], directions: Sequence[tuple[str, int]]) -> list[Term]:
-    """A joint's hardware springs (stiffnesses in its constrained directions; inf is
-    rigid) as compliance terms."""
+def spring_terms(springs: Sequence[Scalar], directions: Sequence[tuple[str, int]]) -> list[Term]:
+    """A joint's hardware springs (stiffnesses in its constrained directions, a float or
+    one per pose; inf is rigid) as compliance terms."""
     return [
-        (k + (0 if kind == "r" else 3), k + (0 if kind == "r" else 3), 1.0 / s, 0)
+        (k + (0 if kind == "r" else 3), k + (0 if kind == "r" else 3), soa.recip(s), 0)
         for s, (kind, k) in zip(springs, directions, strict=True)
-        if math.isfinite(s)
+        if not isinstance(s, float) or math.isfinite(s)
     ]
 
 

@@ -43,7 +43,7 @@ from ppm_stiffness.core.errors import (
     ImplausibleDesignWarning,
     UnreachablePoseError,
 )
-from ppm_stiffness.legs.chain import Element, Joint, actuator_screw
+from ppm_stiffness.legs.chain import Element, Joint, Link, actuator_screw
 from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.parts import (
     MAX_CARRIAGE_RATIO,
@@ -543,6 +543,17 @@ class LegModel(PartModel):
         return BaseFeature("pivot", point, np.zeros(3))
 
     # -- optional capabilities (generic default: not offered) ------------------------
+    def drawn_members(self, leg_pose: LegPose) -> tuple[list[Link], list[Joint]]:
+        """Links and joints that pictures draw besides the chain's (an element's own
+        parts where its chain is an equivalent one: a parallelogram's bars, crossbars
+        and corner joints), at one pose, relative to P."""
+        return [], []
+
+    def moving_geometry_gap(self) -> str | None:
+        """Why the loaded mode's moving geometry does not model this leg (its second-
+        order terms), or None: it does."""
+        return None
+
     def reduced_form(self) -> Any | None:
         """An exact reduced form of the leg for fast batched maps, or None.
 

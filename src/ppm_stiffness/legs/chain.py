@@ -133,10 +133,11 @@ class Joint:
     axis : ndarray (..., 3), unit
         The joint axis e1 (an S joint: the direction that orients its springs' frame).
     point : ndarray (..., 3) [m]
-    springs : ndarray (CONSTRAINED[kind],) or None
+    springs : ndarray (CONSTRAINED[kind],) or (..., CONSTRAINED[kind]), or None
         Stiffness of each constrained direction, in the joint frame's order (see
-        :mod:`ppm_stiffness.legs.parts`); ``inf`` is rigid; None: no springs at all
-        (the joint is rigid in its constrained directions).
+        :mod:`ppm_stiffness.legs.parts`), the same at every pose or one row per pose
+        (a parallelogram's couple); ``inf`` is rigid; None: no springs at all (the
+        joint is rigid in its constrained directions).
     actuated : bool
     name : str
         The part's name in the design (``guide``, ``bearing``, ...), for pictures
@@ -148,6 +149,11 @@ class Joint:
         rail, whose lateral direction the leg's geometry defines).
     mass : JointMass or None
         Moving parts the joint carries (the actuated joint's drive), for the mass model.
+    equivalent : bool
+        A joint of an element's equivalent chain (a parallelogram's two P joints and
+        U): exact for the stiffness and the masses, not a part; pictures draw the
+        element's parts instead (:meth:`~ppm_stiffness.legs.base.LegModel.
+        drawn_members`) and the FE frame refuses it.
     """
 
     kind: JointKind
@@ -158,6 +164,7 @@ class Joint:
     name: str = ""
     axis2: FloatArray | None = None
     mass: JointMass | None = None
+    equivalent: bool = False
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
@@ -177,13 +184,16 @@ class Joint:
 @dataclass(frozen=True)
 class Link:
     """A straight beam from ``start`` to ``end`` (relative to P, axes of F_b) [m], and
-    its mass properties (None: massless)."""
+    its mass properties (None: massless); ``end_mass`` [kg] is a point mass at its end
+    moving with its end (what the element after it hands over: a parallelogram's
+    bars' near halves)."""
 
     start: FloatArray
     end: FloatArray
     section: BeamSection
     name: str = ""
     mass: LinkMass | None = None
+    end_mass: float = 0.0
 
 
 Element = Joint | Link
@@ -325,15 +335,10 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
         else:
             passive.append(free)
         if element.springs is not None:
-            k = np.asarray(element.springs, dtype=float)
             n = joint_kind(element.kind).constrained_count
-            if k.shape != (n,) or np.any(~(k > 0)):
-                raise DesignError(
-                    f"joint {element.name or element.kind}: {n} positive spring "
-                    f"stiffnesses expected, got {k}"
-                )
+            k = spring_stiffnesses(element, n)
             columns.append(np.broadcast_to(constrained_screws(element), batch + (6, n)))
-            blocks.append(np.broadcast_to(np.diag(1.0 / k), batch + (n, n)))
+            blocks.append(np.broadcast_to(np.eye(n) / k[..., None, :], batch + (n, n)))
     screws = np.concatenate(columns, axis=-1)
     m = screws.shape[-1]
     compliance = np.zeros(batch + (m, m))
@@ -348,6 +353,17 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
         passive=np.concatenate(passive, axis=-1) if passive else np.zeros(batch + (6, 0)),
         actuator_index=actuator_index,
     )
+
+
+def spring_stiffnesses(joint: Joint, count: int) -> FloatArray:
+    """A joint's hardware springs (count,) or (..., count), checked positive."""
+    k = np.asarray(joint.springs, dtype=float)
+    if k.ndim == 0 or k.shape[-1] != count or np.any(~(k > 0)):
+        raise DesignError(
+            f"joint {joint.name or joint.kind}: {count} positive spring "
+            f"stiffnesses expected, got {k}"
+        )
+    return k
 
 
 def freedom_count(joint: Joint) -> int:

@@ -222,7 +222,7 @@ def _reduce(
                 else forms.full_terms(cantilever_compliance(element.section, length))
             )
         elif element.springs is not None:
-            springs = np.asarray(element.springs, dtype=float).tolist()
+            springs = _chunk_springs(np.asarray(element.springs, dtype=float), geo)
             terms = forms.spring_terms(springs, joint_kind(element.kind).constrained)
         else:
             continue
@@ -238,6 +238,21 @@ def _reduce(
         forms.add_block(acc, terms, length, frame, (moments[key], forces), cache)
     w = [col[2] + col[1] for col in basis]
     return w, acc, [soa.dot(x, twist) for x in w], twist
+
+
+def _chunk_springs(k: FloatArray, geo: soa.Geometry) -> list[Scalar]:
+    """A joint's springs at the chunk's poses: a float per direction where the same at
+    every pose (all of them, usually), else the chunk's slice."""
+    if k.ndim == 1:
+        return list(k.tolist())
+    rows = k.reshape(-1, k.shape[-1])
+    out: list[Scalar] = []
+    for column in rows.T:
+        if rows.shape[0] == 1 or bool(np.all(column == column[0])):
+            out.append(float(column[0]))
+        else:
+            out.append(float(column[geo.lo]) if geo.scalar else column[geo.lo : geo.hi])
+    return out
 
 
 def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:

@@ -15,7 +15,10 @@ product parametrises its rotation away from +-90 deg of the middle one, far beyo
 any ball joint's range).
 
 The platform is the body after the last freedom: the chain closes at a pose when
-``G_n(q)`` carries the platform's home pose onto it. Newton's method solves the
+``G_n(q)`` carries the platform's home pose onto it. A chain that ends in bars of fixed
+length (a parallelogram's two bars, :class:`Bars`) closes when each bar's near end,
+fixed to the last body, lies at the bar's length from its far end, fixed to the
+platform: the closure is then the bars' length errors. Newton's method solves the
 closure's six equations, in length-balanced units (rotations times
 :data:`~ppm_stiffness.core.conventions.LENGTH_SCALE`), by least squares with the
 minimum-norm step (a leg of fewer than six independent freedoms cannot close at
@@ -106,9 +109,10 @@ class ChainState:
         Rotation of the body after each freedom (index 0: the base, the identity).
     translations : ndarray (n, f + 1, 3) [m]
         Its translation: a point x fixed to that body at home is at ``R x + t``.
-    error : ndarray (n, 6)
+    error : ndarray (n, 6) or (n, m)
         Remaining closure error, length-balanced (module doc), at the platform's
-        reference point: (rotation vector * LENGTH_SCALE, translation) [m].
+        reference point: (rotation vector * LENGTH_SCALE, translation) [m]; for a
+        chain closed by m bars, their length errors [m].
     converged : ndarray of bool (n,)
         Newton's last step was within tolerance (the least-squares solution found).
     """
@@ -207,26 +211,77 @@ def closure_error(
     return np.concatenate([dr, pose6.position(target) - p_now], axis=-1) * _BALANCE_TWIST
 
 
+@dataclass(frozen=True, eq=False)
+class Bars:
+    """Bars of fixed length closing a chain (module doc): bar k runs from ``near[k]``
+    (fixed to the chain's last body; F_b at home) to ``far[k]`` (fixed to the
+    platform; F_b at home) [m] and keeps its home length."""
+
+    near: FloatArray
+    far: FloatArray
+
+    @property
+    def lengths(self) -> FloatArray:
+        return np.asarray(np.linalg.norm(self.far - self.near, axis=-1))
+
+    def far_points(self, home: FloatArray, poses: FloatArray) -> FloatArray:
+        """The far ends (n, m, 3) [m] with the platform at ``poses`` (n, 6)."""
+        local = (self.far - pose6.position(home)) @ pose6.rotation(home)  # platform frame
+        r = pose6.rotation(poses)
+        return np.asarray(np.einsum("nij,mj->nmi", r, local) + pose6.position(poses)[:, None])
+
+    def directions(self, near_now: FloatArray, far_now: FloatArray) -> FloatArray:
+        """Unit directions (n, m, 3) of the bars, near to far."""
+        d = far_now - near_now
+        return np.asarray(d / np.linalg.norm(d, axis=-1, keepdims=True))
+
+
+def closure(
+    freedoms: Freedoms,
+    home: FloatArray,
+    target: FloatArray,
+    q: FloatArray,
+    bars: Bars | None,
+) -> tuple[FloatArray, FloatArray]:
+    """The closure error (n, m), the target less the chain's end now, and the end's
+    Jacobian (n, m, f) in the joint coordinates, both length-balanced: the end body's
+    error twist (m = 6), or the bars' lengths less their distances now (m = the number
+    of bars)."""
+    rot, trans = forward(freedoms, q)
+    if bars is None:
+        error = closure_error(rot[:, -1], trans[:, -1], home, target)
+        reference = (rot[:, -1] @ pose6.position(home)) + trans[:, -1]
+        return error, jacobian(freedoms, rot, trans, reference) * _BALANCE_TWIST[:, None]
+    near = np.einsum("nij,mj->nmi", rot[:, -1], bars.near) + trans[:, -1, None]
+    far = bars.far_points(home, target)
+    error = bars.lengths - np.linalg.norm(far - near, axis=-1)  # target less now
+    n = bars.directions(near, far)
+    jac = jacobian(freedoms, rot, trans, np.zeros_like(trans[:, -1]))
+    # velocity of a near end x: v + w x x; d(length)/dq = -n . (v + w x x)
+    rows = []
+    for k in range(bars.near.shape[0]):
+        v = jac[:, 3:] + cross(np.swapaxes(jac[:, :3], 1, 2), near[:, k, None, :]).swapaxes(1, 2)
+        rows.append(-np.einsum("ni,nif->nf", n[:, k], v))
+    return np.asarray(error), np.stack(rows, axis=1)
+
+
 def _newton(
     freedoms: Freedoms,
     home: FloatArray,
     target: FloatArray,
     q: FloatArray,
     tolerance: FloatArray,
+    bars: Bars | None = None,
 ) -> tuple[FloatArray, BoolArray]:
     """Least-squares Newton from ``q`` (n, f) toward ``target`` (n, 6) until the last
     step is within ``tolerance`` (n,) [m or rad]; (q, converged). Each iteration works
     on the poses not yet converged only."""
-    p_home = pose6.position(home)
     q = q.copy()
     converged = np.zeros(q.shape[0], dtype=bool)
     active = np.arange(q.shape[0])
     for _ in range(MAX_ITERATIONS):
         qa = q[active]
-        rot, trans = forward(freedoms, qa)
-        error = closure_error(rot[:, -1], trans[:, -1], home, target[active])
-        reference = (rot[:, -1] @ p_home) + trans[:, -1]
-        jac = jacobian(freedoms, rot, trans, reference) * _BALANCE_TWIST[:, None]
+        error, jac = closure(freedoms, home, target[active], qa, bars)
         step = _least_squares(jac, error)
         size = np.max(np.abs(step), axis=-1, initial=0.0)
         with np.errstate(invalid="ignore"):
@@ -241,14 +296,14 @@ def _newton(
 
 
 def _least_squares(jac: FloatArray, error: FloatArray) -> FloatArray:
-    """Minimum-norm least-squares steps (n, f) of ``jac @ step = error`` (jac (n, 6, f)
+    """Minimum-norm least-squares steps (n, f) of ``jac @ step = error`` (jac (n, m, f)
     of full rank: the normal equations of the smaller side); NaN where singular."""
-    f = jac.shape[-1]
+    m, f = jac.shape[-2:]
     if f == 0:
         return np.zeros(error.shape[:-1] + (0,))
     jt = np.swapaxes(jac, -1, -2)
     with np.errstate(all="ignore"):
-        if f <= 6:  # (J^T J) step = J^T e
+        if f <= m:  # (J^T J) step = J^T e
             normal, rhs = jt @ jac, np.einsum("nji,nj->ni", jac, error)
             return _solve_or_nan(normal, rhs)
         y = _solve_or_nan(jac @ jt, error)  # step = J^T (J J^T)^-1 e
@@ -269,7 +324,9 @@ def _solve_or_nan(a: FloatArray, b: FloatArray) -> FloatArray:
         return out
 
 
-def solve(freedoms: Freedoms, home: ArrayLike, poses: ArrayLike) -> ChainState:
+def solve(
+    freedoms: Freedoms, home: ArrayLike, poses: ArrayLike, bars: Bars | None = None
+) -> ChainState:
     """Joint coordinates closing the chain at ``poses`` (n, 6) (module doc).
 
     Parameters
@@ -279,11 +336,15 @@ def solve(freedoms: Freedoms, home: ArrayLike, poses: ArrayLike) -> ChainState:
     home : array_like (6,)
         The design's home pose [m, rad], where every joint coordinate is zero.
     poses : array_like (n, 6)
+    bars : Bars or None
+        Bars of fixed length that close the chain (module doc); None: the platform is
+        the chain's last body.
 
     Returns
     -------
     ChainState
-        ``error`` is zero (within :data:`CLOSURE_TOLERANCE`) where the chain closes.
+        ``error`` is zero (within :data:`CLOSURE_TOLERANCE`) where the chain closes:
+        (n, 6), or (n, m) for m bars.
     """
     home = np.asarray(home, dtype=float)
     target = np.asarray(poses, dtype=float).reshape(-1, 6)
@@ -299,12 +360,12 @@ def solve(freedoms: Freedoms, home: ArrayLike, poses: ArrayLike) -> ChainState:
         last = steps[index] == k
         along = home + (target[index] - home) * (k / steps[index])[:, None]
         tolerance = np.where(last, CLOSURE_TOLERANCE, PATH_TOLERANCE)
-        q_k, ok = _newton(freedoms, home, along, q[index], tolerance)
+        q_k, ok = _newton(freedoms, home, along, q[index], tolerance, bars)
         q[index] = q_k
         failed[index] = ~ok
     converged = ~failed
     rot, trans = forward(freedoms, q)
-    error = closure_error(rot[:, -1], trans[:, -1], home, target)
+    error, _ = closure(freedoms, home, target, q, bars)
     return ChainState(q, rot, trans, error, converged)
 
 
@@ -326,8 +387,10 @@ def rank(jac: FloatArray) -> int:
 
 __all__ = [
     "CLOSURE_TOLERANCE",
+    "Bars",
     "ChainState",
     "Freedoms",
+    "closure",
     "closure_error",
     "constraint_basis",
     "forward",

@@ -186,10 +186,10 @@ def _joint_springs(joint: Joint, k: int) -> tuple[FloatArray, FloatArray] | None
     (``1/k``; 0 for an ``inf`` spring), or None for a joint without springs."""
     if joint.springs is None:
         return None
-    stiff = np.asarray(joint.springs, dtype=float)
     c = joint_kind(joint.kind).constrained_count
+    stiff = np.broadcast_to(np.asarray(joint.springs, dtype=float), (k, c))
     screws = np.broadcast_to(constrained_screws(joint), (k, 6, c))
-    return screws, np.broadcast_to(np.diag(1.0 / stiff), (k, c, c))
+    return screws, np.eye(c) / stiff[:, None, :]
 
 
 def cross(a: ArrayLike, b: ArrayLike) -> FloatArray:

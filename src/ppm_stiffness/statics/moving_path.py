@@ -54,10 +54,22 @@ def load_point(design: Design, tool_point: ArrayLike | None) -> FloatArray:
 def platform_chains(design: Design, poses: FloatArray, offsets: FloatArray) -> PlatformChains:
     """Every leg's screw chain (:mod:`ppm_stiffness.legs.screw_chain`) at reachable full
     poses (k, 6), its twists about the load points ``offsets`` (k, 3) (relative to P,
-    axes of F_b)."""
+    axes of F_b). A leg whose moving geometry is not modelled is refused.
+
+    Raises
+    ------
+    InputDataError
+        A leg's :meth:`~ppm_stiffness.legs.base.LegModel.moving_geometry_gap`.
+    """
     k = poses.shape[0]
     chains = []
-    for leg in design.legs:
+    for i, leg in enumerate(design.legs):
+        gap = leg.moving_geometry_gap()
+        if gap is not None:
+            raise InputDataError(
+                f"leg {i + 1}: {gap}; the frozen geometry (--geometry frozen) gives the "
+                "stiffness under load to first order"
+            )
         lp = leg.solve(poses)
         chains.append(screw_chain(leg.chain(lp), leg.actuator, k, offsets))
     strokes = np.array(

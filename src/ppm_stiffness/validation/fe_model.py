@@ -57,7 +57,8 @@ from ppm_stiffness.core.conventions import FloatArray, length_balanced_complianc
 from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
-from ppm_stiffness.legs.chain import Element, Joint, Link
+from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis
+from ppm_stiffness.legs.types._parallelogram import RIGID_PART
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, validate_pose
 from ppm_stiffness.validation.frame import (
     DISPLACEMENTS,
@@ -212,14 +213,22 @@ def _add_leg(
     k_act: float,
     platform_node: str,
     label: str,
+    members: tuple[list[Link], list[Joint]] = ([], []),
 ) -> None:
-    """Add one leg's chain from the ground to its platform node (module doc)."""
+    """Add one leg's chain from the ground to its platform node (module doc); an
+    element modelled by an equivalent chain (a parallelogram) is built from its own
+    ``members`` instead (:func:`_add_bars`)."""
     if not chain or not isinstance(chain[0], Joint):
         raise DesignError(f"FE model, {label}: the chain must start with a joint at the base")
     current: str | None = None
     pos = np.zeros(3)
     last = len(chain) - 1
     for n, element in enumerate(chain):
+        if isinstance(element, Joint) and element.equivalent:
+            if current is None:
+                raise DesignError(f"FE model, {label}: the chain must start with a joint")
+            _add_bars(fb, plan, current, members, platform_node, label)
+            return
         name = f"{label}, {element.name or type(element).__name__.lower()} (element {n + 1})"
         out = platform_node if n == last else None
         if isinstance(element, Link):
@@ -246,6 +255,42 @@ def _add_leg(
                 before = current
             current = add_joint(fb, plan, before, element, k_act, name, out)
             pos = point
+
+
+def _add_bars(
+    fb: FrameBuilder,
+    plan: Placement,
+    near_body: str,
+    members: tuple[list[Link], list[Joint]],
+    platform_node: str,
+    label: str,
+) -> None:
+    """A parallelogram's own members: per bar (its corner joints in pairs, near and
+    far), a stiff crossbar from the near body's node to the near corner, the corner
+    joint, the bar (a beam, or stiff for rigid bars), the far corner joint and a stiff
+    crossbar to the platform node. The far corner stands as a U blocking the bar's spin
+    about its own axis (an internal mechanism of a ball-jointed bar, which transmits no
+    moment about it either way: the transmitted stiffness is unchanged)."""
+    links, joints = members
+    for near, far in zip(joints[0::2], joints[1::2], strict=True):
+        a, b = _point(near.point), _point(far.point)
+        bar = next(
+            link for link in links if _same(_point(link.start), a) and _same(_point(link.end), b)
+        )
+        name = f"{label}, {bar.name} bar"
+        corner = fb.node(a, "O")
+        fb.rigid(near_body, corner)
+        start = add_joint(fb, plan, corner, near, 0.0, name)
+        end = fb.node(b, "L")
+        if bar.section is RIGID_PART:
+            fb.rigid(start, end)
+        else:
+            fb.link(start, end, bar.section)
+        _, e1, e2 = frame_from_axis(_point(far.axis))
+        springs = None if far.springs is None else np.append(far.springs[[1, 2, 0]], np.inf)
+        blocked = Joint("U", e1, far.point, springs, name=far.name, axis2=e2)
+        tip = add_joint(fb, plan, end, blocked, 0.0, name)
+        fb.rigid(tip, platform_node)
 
 
 def build_model(
@@ -289,6 +334,7 @@ def build_model(
             raise DesignError(f"FE model: no leg {i} (the design has {len(design.legs)})")
     leg_poses = solve_legs(design, p)
     chains = {i: design.legs[i].chain(leg_poses[i]) for i in chosen}
+    members = {i: design.legs[i].drawn_members(leg_poses[i]) for i in chosen}
     for i, chain in chains.items():
         if not chain:
             raise DesignError(f"FE model, {leg_label(i)}: empty chain")
@@ -305,6 +351,10 @@ def build_model(
     parents = _platform_parents(ends[1:])
     plan = Placement(st.connector_length)
     _plan_structure(list(chains.values()), plan)
+    for links, _ in members.values():
+        for link in links:
+            plan.add_segment(_point(link.start), _point(link.end))
+            plan.add_point(0.5 * (_point(link.start) + _point(link.end)))
     plan.add_point(np.zeros(3))
     bends = {j: _bend(plan, ends[j + 1], ends[parent + 1]) for j, parent in enumerate(parents)}
     for j, parent in enumerate(parents):
@@ -323,7 +373,7 @@ def build_model(
             fb.rigid(nodes[j + 1], corner)
             fb.rigid(corner, nodes[parent + 1])
     for i, chain in chains.items():
-        _add_leg(fb, plan, chain, float(k_act[i]), nodes[end_of[i]], leg_label(i))
+        _add_leg(fb, plan, chain, float(k_act[i]), nodes[end_of[i]], leg_label(i), members[i])
     return fb, nodes[0]
 
 

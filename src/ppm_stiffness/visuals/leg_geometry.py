@@ -207,7 +207,10 @@ def leg_view(leg: LegModel, index: int, pose: FloatArray) -> LegView:
     lp = leg.solve(pose)
     solvable = bool(np.all(lp.solvable))
     chain = leg.chain(lp) if solvable else None
-    elements = chain or []
+    elements = list(chain or [])
+    if solvable:
+        links, joints = leg.drawn_members(lp)
+        elements += [*links, *joints]
     return LegView(
         index=index,
         leg_pose=lp,
@@ -215,7 +218,9 @@ def leg_view(leg: LegModel, index: int, pose: FloatArray) -> LegView:
         chain=chain,
         base=leg.base_feature(lp),
         violations=limit_violations(leg, lp),
-        joints=[_joint_view(e, origin) for e in elements if isinstance(e, Joint)],
+        joints=[
+            _joint_view(e, origin) for e in elements if isinstance(e, Joint) and not e.equivalent
+        ],
         links=[
             LinkView(
                 np.asarray(e.start, dtype=float).reshape(3) + origin,

@@ -24,10 +24,15 @@ The elements run from the base to the platform and are given at the design's hom
   the next joint's point, with the mass-model keys of any link; a rigid link adds no
   springs (and carries no mass).
 
+- a **parallelogram** (``parallelogram = {bar section}`` or ``"rigid"``), the last
+  element: two parallel bars with ball joints at their corners, between the body
+  before it and the platform (a Delta robot's forearm;
+  :mod:`ppm_stiffness.legs.types._parallelogram`).
+
 The platform is the body after the last element: a joint at a platform point (the
-usual S), or a link fixed to the platform (``end``: the point [m] of F_b at home where
-it is fixed, as a Tricept's central tube). Joints without a link between them are
-joined rigidly.
+usual S), a link fixed to the platform (``end``: the point [m] of F_b at home where
+it is fixed, as a Tricept's central tube), or a parallelogram's far crossbar. Joints
+without a link between them are joined rigidly.
 
 Spring frames, at every pose. A joint's frame (:mod:`ppm_stiffness.legs.chain`) is its
 current axis e1 (carried by the body before it) and, for a U, its current e2 (carried by
@@ -69,6 +74,13 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     SphericalModel,
     UniversalModel,
+)
+from ppm_stiffness.legs.types._parallelogram import (
+    SKEW_TOLERANCE,
+    ParallelogramElement,
+    parallelogram_joints,
+    parallelogram_members,
+    skew,
 )
 from ppm_stiffness.legs.types._spatial import check_normal, check_unit, joint_angle
 
@@ -176,12 +188,19 @@ class LinkElement(PartModel):
 
 def _element_kind(value: Any) -> str:
     if isinstance(value, dict):
-        return "link" if "link" in value else "joint"
+        for key in ("link", "parallelogram"):
+            if key in value:
+                return key
+        return "joint"
+    if isinstance(value, ParallelogramElement):
+        return "parallelogram"
     return "link" if isinstance(value, LinkElement) else "joint"
 
 
 ChainElement = Annotated[
-    Annotated[JointElement, Tag("joint")] | Annotated[LinkElement, Tag("link")],
+    Annotated[JointElement, Tag("joint")]
+    | Annotated[LinkElement, Tag("link")]
+    | Annotated[ParallelogramElement, Tag("parallelogram")],
     Discriminator(_element_kind),
 ]
 
@@ -209,7 +228,7 @@ def turned_leg(raw: dict[str, Any], turn: FloatArray, mirror: bool = False) -> d
         e = dict(element)
         letter = e.get("joint")
         rotation = isinstance(letter, str) and joint_kind(letter).first_rotates
-        for key in ("point", "end", "mounting_axis"):
+        for key in ("point", "end", "mounting_axis", "near", "far", "crossbar"):
             if key in e:
                 e[key] = polar(e[key])
         for key in ("axis", "axis2"):
@@ -264,6 +283,19 @@ class ChainLeg(LegModel):
         last = elements[-1]
         if isinstance(last, LinkElement) and last.end is None:
             raise ValueError("elements: a last link is fixed to the platform: give its end")
+        for i, e in enumerate(elements[:-1]):
+            if isinstance(e, ParallelogramElement):
+                raise ValueError(
+                    f"elements: {self.element_name(i)}: a parallelogram is the last element "
+                    "(its far crossbar is fixed to the platform)"
+                )
+        carried = isinstance(last, ParallelogramElement) and last.bar_mass() > 0.0
+        arm = elements[-2] if len(elements) > 1 else None
+        if carried and not (isinstance(arm, LinkElement) and arm.link != "rigid"):
+            raise ValueError(
+                "elements: a parallelogram's bar masses need a beam link before it (the "
+                "arm's end carries their near halves)"
+            )
         actuated = [e for e in self.joints() if e.actuated]
         if len(actuated) > 1:
             raise ValueError(
@@ -298,15 +330,32 @@ class ChainLeg(LegModel):
         points = [
             i
             for i, e in enumerate(self.elements)
-            if isinstance(e, JointElement) or i == len(self.elements) - 1
+            if not isinstance(e, LinkElement) or i == len(self.elements) - 1
         ]
         return chr(ord("A") + points.index(index))
+
+    def _parallelogram(self) -> ParallelogramElement | None:
+        last = self.elements[-1]
+        return last if isinstance(last, ParallelogramElement) else None
+
+    def _bars(self) -> kin.Bars | None:
+        """The closure by a last parallelogram's bars, or None."""
+        element = self._parallelogram()
+        if element is None:
+            return None
+        near, far = element.corners()
+        return kin.Bars(near, far)
 
     def element_name(self, index: int) -> str:
         element = self.elements[index]
         if element.name:
             return element.name
-        kind = "link" if isinstance(element, LinkElement) else element.joint
+        if isinstance(element, LinkElement):
+            kind = "link"
+        elif isinstance(element, ParallelogramElement):
+            kind = "parallelogram"
+        else:
+            kind = element.joint
         return f"{kind}{index + 1}"
 
     def freedoms(self) -> tuple[kin.Freedoms, list[int]]:
@@ -333,6 +382,8 @@ class ChainLeg(LegModel):
 
     def _end_point(self) -> FloatArray:
         last = self.elements[-1]
+        if isinstance(last, ParallelogramElement):
+            return np.array(last.far, dtype=float)
         point = last.end if isinstance(last, LinkElement) else last.point
         return np.array(point, dtype=float)
 
@@ -349,6 +400,11 @@ class ChainLeg(LegModel):
 
     def _count_constraints(self) -> int:
         freedoms, _ = self.freedoms()
+        bars = self._bars()
+        if bars is not None:  # the bars' lengths less what the joints can adjust
+            zero = np.zeros((1, freedoms.count))
+            _, jac = kin.closure(freedoms, self.home(), self.home()[None], zero, bars)
+            return bars.near.shape[0] - kin.rank(jac[0])
         state = kin.solve(freedoms, self.home(), self.home()[None])
         jac = kin.jacobian(freedoms, state.rotations, state.translations, self.home()[None, :3])
         return 6 - kin.rank(jac[0] * _BALANCED_ROWS[:, None])
@@ -357,7 +413,7 @@ class ChainLeg(LegModel):
     def _state(self, poses: ArrayLike) -> tuple[kin.ChainState, tuple[int, ...]]:
         q = np.asarray(poses, dtype=float)
         freedoms, _ = self.freedoms()
-        return kin.solve(freedoms, self.home(), q.reshape(-1, 6)), q.shape[:-1]
+        return kin.solve(freedoms, self.home(), q.reshape(-1, 6), self._bars()), q.shape[:-1]
 
     def solve(self, poses: ArrayLike) -> LegPose:
         """Inverse kinematics at poses (..., 6) (module doc); the coordinates are the
@@ -372,16 +428,29 @@ class ChainLeg(LegModel):
             if isinstance(element, JointElement):
                 before = bodies[i - 1] if i else 0
                 points[self._point_name(i)] = state.carry(before, element.point) - p
+        last = len(self.elements) - 1
         if isinstance(self.elements[-1], LinkElement):
-            points[self._point_name(len(self.elements) - 1)] = (
-                state.carry(bodies[-1], self._end_point()) - p
-            )
+            points[self._point_name(last)] = state.carry(bodies[-1], self._end_point()) - p
+        bars = self._bars()
+        if bars is not None:
+            far = bars.far_points(self.home(), pose.reshape(-1, 6))
+            points[self._point_name(last)] = state.carry(bodies[-1], bars.near.mean(axis=0)) - p
+            points[chr(ord(self._point_name(last)) + 1)] = far.mean(axis=1) - p
         coordinates = {f"q{j + 1}": state.q[:, j] for j in range(state.q.shape[1])}
         if self.is_actuated():
             coordinates["actuated"] = state.q[:, self._actuated_freedom()]
         for name, value in self._joint_angles(state, points).items():
             coordinates[name] = value
         solvable = state.converged
+        if bars is not None:  # a parallelogram's bars stay parallel
+            near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
+            near = near + state.translations[:, -1, None]
+            far = bars.far_points(self.home(), pose.reshape(-1, 6))
+            solvable = solvable & (skew(near, far) <= SKEW_TOLERANCE)
+            forearm = self._parallelogram()
+            if forearm is not None and forearm.max_angle() is not None:
+                name = f"{self.element_name(last)}_angle"
+                coordinates[name] = self._corner_angles(state, pose.reshape(-1, 6), near, far)
         if self.constraint_count() == 0:  # a leg that constrains nothing closes at every pose
             solvable = solvable & (np.max(np.abs(state.error), axis=-1) <= kin.CLOSED)
         return LegPose(
@@ -431,6 +500,23 @@ class ChainLeg(LegModel):
             )
         return out
 
+    def _corner_angles(
+        self, state: kin.ChainState, poses: FloatArray, near: FloatArray, far: FloatArray
+    ) -> FloatArray:
+        """The largest angle [rad] (n,) at a parallelogram's four corners between its bar
+        and the bar's home direction carried by the corner's body (the arm at the near
+        corners, the platform at the far ones)."""
+        bars = self._bars()
+        assert bars is not None
+        home = bars.far - bars.near
+        at_near = np.einsum("nij,mj->nmi", state.rotations[:, -1], home)
+        turn = pose6.rotation(poses) @ pose6.rotation(self.home()).T
+        at_far = np.einsum("nij,mj->nmi", turn, home)
+        now = far - near
+        return np.asarray(
+            np.maximum(joint_angle(now, at_near), joint_angle(now, at_far)).max(axis=-1)
+        )
+
     def _adjacent_link(self, index: int, prefer_before: bool) -> tuple[int, bool] | None:
         """The link beside joint ``index``, on the preferred side if it has one there:
         (the element whose point ends it: the joint past it, or a last link itself, for
@@ -452,7 +538,7 @@ class ChainLeg(LegModel):
     def _home_points(self) -> dict[int, FloatArray]:
         out = {}
         for i, element in enumerate(self.elements):
-            if isinstance(element, JointElement):
+            if isinstance(element, (JointElement, ParallelogramElement)):
                 out[i] = np.array(element.point, dtype=float)
             elif element.end is not None:
                 out[i] = np.array(element.end, dtype=float)
@@ -468,6 +554,8 @@ class ChainLeg(LegModel):
                 limit = element.max_angle()
                 if limit is not None:
                     out[f"{self.element_name(i)}_angle"] = (0.0, float(limit))
+            elif isinstance(element, ParallelogramElement) and element.max_angle() is not None:
+                out[f"{self.element_name(i)}_angle"] = (0.0, float(element.max_angle() or 0.0))
         return out
 
     def coordinate(self, name: str) -> Coordinate:
@@ -515,6 +603,12 @@ class ChainLeg(LegModel):
                 if element.end is not None:
                     items.append((f"{name}.end", element.end))
                 continue
+            if isinstance(element, ParallelogramElement):
+                items.append((name, element.parallelogram))
+                for key, value in element:
+                    if key not in ("name", "parallelogram") and value is not None:
+                        items.append((f"{name}.{key}", value))
+                continue
             for key, value in element:
                 if key != "name" and value is not None:
                     items.append((f"{name}.{key}", value))
@@ -530,6 +624,10 @@ class ChainLeg(LegModel):
         element = self.elements[index]
         if isinstance(element, LinkElement) and keys[1:2] != ["end"]:
             return ["elements", index, "link", *keys[1:]]
+        if isinstance(element, ParallelogramElement) and not set(keys[1:2]) & set(
+            ParallelogramElement.model_fields
+        ):
+            return ["elements", index, "parallelogram", *keys[1:]]
         return ["elements", index, *keys[1:]]
 
     def parameter_unit(self, key: str) -> str:
@@ -537,14 +635,15 @@ class ChainLeg(LegModel):
         field = key.rsplit(".", 1)[-1]
         if field == "stroke":
             return joint_kind(self.actuated_kind()).actuator_units()[1]
-        return {"point": "m", "end": "m", "axis": "1", "axis2": "1", "mounting_axis": "1"}.get(
-            field, ""
-        )
+        units = {"point": "m", "end": "m", "near": "m", "far": "m", "width": "m"}
+        return units.get(field, "1" if "axis" in field or field == "crossbar" else "")
 
     def architecture_name(self) -> str:
-        """The joints' letters from the base (``"RUS"``), the actuated one first
-        marked by its letter only (plain text cannot underline it)."""
-        return "".join(e.joint for e in self.joints())
+        """The joints' letters from the base (``"RUS"``; a parallelogram with its ball
+        joints ``(SS)2``, as a Delta's ``R(SS)2``), the actuated one marked by its letter
+        only (plain text cannot underline it)."""
+        bars = "(SS)2" if self._parallelogram() is not None else ""
+        return "".join(e.joint for e in self.joints()) + bars
 
     def actuated_kind(self) -> str:
         """The actuated joint's kind ("P" until the leg's own check has refused a leg
@@ -561,11 +660,35 @@ class ChainLeg(LegModel):
             return np.zeros(shape + (0,)), np.zeros(shape + (6, 0))
         state, _ = self._state(q)
         freedoms, _ = self.freedoms()
+        bars = self._bars()
+        if bars is not None:
+            return self._bar_constraint(state, q.reshape(-1, 6), bars, shape)
         reference = q.reshape(-1, 6)[:, :3]
         jac = kin.jacobian(freedoms, state.rotations, state.translations, reference)
         basis = kin.constraint_basis(jac * _BALANCED_ROWS[:, None], c)
         residual = np.einsum("nic,ni->nc", basis, state.error)
         wrenches = basis * _BALANCED_ROWS[:, None]
+        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c))
+
+    def _bar_constraint(
+        self, state: kin.ChainState, poses: FloatArray, bars: kin.Bars, shape: tuple[int, ...]
+    ) -> tuple[FloatArray, FloatArray]:
+        """The bars' length errors (length less distance) along the combinations the
+        joints cannot adjust (the left null space of their Jacobian), and the wrenches
+        of those combinations: each bar's distance grows with the platform twist as its
+        line's wrench ``((F_k - P) x n_k ; n_k)``."""
+        freedoms, _ = self.freedoms()
+        error, jac = kin.closure(freedoms, self.home(), poses, state.q, bars)
+        u, _, _ = np.linalg.svd(jac, full_matrices=True)
+        basis = u[..., jac.shape[-2] - self.constraint_count() :]  # (n, m, c)
+        near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
+        near = near + state.translations[:, -1, None]
+        far = bars.far_points(self.home(), poses)
+        n = bars.directions(near, far)
+        lines = np.concatenate([np.cross(far - poses[:, None, :3], n), n], axis=-1)  # (n, m, 6)
+        residual = np.einsum("nmc,nm->nc", basis, error)
+        wrenches = -np.einsum("nmi,nmc->nic", lines, basis)  # error: length less distance
+        c = basis.shape[-1]
         return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c))
 
     # -- the chain for the stiffness ----------------------------------------------
@@ -579,7 +702,8 @@ class ChainLeg(LegModel):
         ).reshape(-1, freedoms.count)
         rot, trans = kin.forward(freedoms, q)
         state = kin.ChainState(q, rot, trans, np.zeros((q.shape[0], 6)), np.ones(q.shape[0], bool))
-        p = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)[:, :3]
+        poses = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)
+        p = poses[:, :3]
 
         def where(body: int, point: ArrayLike) -> FloatArray:
             return (state.carry(body, point) - p).reshape(shape + (3,))
@@ -594,10 +718,13 @@ class ChainLeg(LegModel):
             before = bodies[i - 1] if i else 0
             if isinstance(element, LinkElement):
                 assert previous_point is not None
+                end_mass = 0.0
                 if i + 1 < len(self.elements):
                     nxt = self.elements[i + 1]
-                    assert isinstance(nxt, JointElement)
+                    assert not isinstance(nxt, LinkElement)
                     end = where(bodies[i], nxt.point)
+                    if isinstance(nxt, ParallelogramElement):
+                        end_mass = nxt.bar_mass()  # two near halves
                 else:
                     end = where(bodies[i], self._end_point())
                 if isinstance(element.link, SectionModel):
@@ -608,8 +735,22 @@ class ChainLeg(LegModel):
                             element.link.section(),
                             name=self.element_name(i),
                             mass=element.link.link_mass(),
+                            end_mass=end_mass,
                         )
                     )
+                continue
+            if isinstance(element, ParallelogramElement):
+                bars = self._bars()
+                assert bars is not None
+                near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
+                near = near + state.translations[:, -1, None] - p[:, None]
+                far = bars.far_points(self.home(), poses) - p[:, None]
+                out += parallelogram_joints(
+                    element,
+                    near.reshape(shape + (2, 3)),
+                    far.reshape(shape + (2, 3)),
+                    self.element_name(i),
+                )
                 continue
             point = where(before, element.point)
             name = self.element_name(i)
@@ -656,6 +797,30 @@ class ChainLeg(LegModel):
 
     def link_length_ranges(self) -> dict[str, tuple[float, float]]:
         return {}
+
+    def drawn_members(self, leg_pose: LegPose) -> tuple[list[Link], list[Joint]]:
+        """A parallelogram's bars, crossbars and corner joints (one pose)."""
+        element, bars = self._parallelogram(), self._bars()
+        if element is None or bars is None:
+            return [], []
+        pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)[:1]
+        state, _ = self._state(pose)
+        near = np.einsum("ij,mj->mi", state.rotations[0, -1], bars.near)
+        near = near + state.translations[0, -1] - pose[0, :3]
+        far = bars.far_points(self.home(), pose)[0] - pose[0, :3]
+        name = self.element_name(len(self.elements) - 1)
+        return parallelogram_members(element, near, far, name)
+
+    def moving_geometry_gap(self) -> str | None:
+        """A parallelogram's chain (two P joints and a U) is exact to first order only:
+        its bars' own swing under their axial loads (their geometric stiffness) is not
+        in it, so the moving geometry (K_F, the load margin) refuses it."""
+        if self._parallelogram() is None:
+            return None
+        return (
+            "the moving geometry does not model a parallelogram's bars swinging under "
+            "their axial loads (its chain is exact to first order only)"
+        )
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The first joint: a rail along a base P (its stroke from its home point) or a
