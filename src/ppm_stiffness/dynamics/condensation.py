@@ -66,6 +66,7 @@ from ppm_stiffness.legs.chain import (
     Link,
     check_chain,
     constrained_screws,
+    elastic_stiffnesses,
     freedom_count,
     freedom_screws,
     link_screws,
@@ -161,9 +162,15 @@ def _springs(
         free = flat(freedom_screws(element), (6, freedom_count(element)))
         cols: list[FloatArray] = []
         comp: list[FloatArray] = []
+        elastic = elastic_stiffnesses(element)
         if element.actuated:
             cols.append(free[..., :1])
-            comp.append((1.0 / k_act)[:, None])
+            k_total = k_act if elastic is None else k_act + elastic[0]
+            comp.append((1.0 / k_total)[:, None])
+            passive.append(None)
+        elif elastic is not None:  # elastic freedoms: springs along them, first
+            cols.append(free)
+            comp.append(np.broadcast_to(1.0 / elastic, (n, elastic.size)))
             passive.append(None)
         else:
             passive.append(free)
@@ -266,7 +273,7 @@ def leg_motion(
             rate: FloatArray | None = None
             cg_e = cgs[e]
             if isinstance(element, Joint) and e in wanted:
-                if element.actuated and cg_e is not None:
+                if (element.actuated or element.elastic is not None) and cg_e is not None:
                     rate = (cg_e[:, :1, :] @ h)[:, 0, :].reshape(batch + (6,))
                 elif dq_e is not None:
                     rate = dq_e[:, 0, :].reshape(batch + (6,))

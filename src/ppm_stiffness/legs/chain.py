@@ -31,6 +31,14 @@ axis has the batch shape plus a trailing 3) into the arrays of
   e1 for P, rotation about e1 for R), then its hardware springs;
 - a passive joint: its hardware springs; its freedoms become passive-joint screws
   (P: translation e1; C: rotation about e1, then translation e1; R: rotation e1);
+- an elastic joint (``Joint.elastic``: a stiffness along each freedom, a flexure): its
+  hardware springs; its freedoms become elastic freedoms (``LegSprings.elastic``), with
+  their stiffnesses, in chain order; the bordered solve keeps them
+  (:mod:`ppm_stiffness.core.solver`). An elastic S's freedoms are the rotations about
+  the three orthonormal axes of its frame with one stiffness (the same about every axis
+  through its centre); an elastic U's act about its current e1 and e2. An actuated
+  joint's elastic stiffness acts in parallel with its actuator: the actuator spring's
+  stiffness is their sum;
 - a link: six columns (rotation about local x, y, z; translation along x, y, z) at
   its end point, with the 6x6 cantilever compliance.
 
@@ -148,6 +156,10 @@ class Joint:
         rail, whose lateral direction the leg's geometry defines).
     mass : JointMass or None
         Moving parts the joint carries (the actuated joint's drive), for the mass model.
+    elastic : ndarray (FREEDOMS[kind],) or None
+        Stiffness along each freedom [N·m/rad or N/m] (a flexure, a torsion spring),
+        positive and finite: the freedoms are elastic, not passive (module doc); an
+        actuated joint's adds to its actuator's (in parallel). None: none.
     """
 
     kind: JointKind
@@ -158,6 +170,7 @@ class Joint:
     name: str = ""
     axis2: FloatArray | None = None
     mass: JointMass | None = None
+    elastic: FloatArray | None = None
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
@@ -268,6 +281,36 @@ def actuator_screw(chain: Sequence[Element]) -> FloatArray:
     return np.asarray(freedom_screws(joint)[..., 0])
 
 
+def elastic_stiffnesses(joint: Joint) -> FloatArray | None:
+    """A joint's elastic stiffnesses (f,) [N·m/rad or N/m], checked, or None.
+
+    Raises
+    ------
+    DesignError
+        Not one positive finite stiffness per freedom.
+    """
+    if joint.elastic is None:
+        return None
+    k = np.asarray(joint.elastic, dtype=float)
+    f = freedom_count(joint)
+    if k.shape != (f,) or np.any(~(k > 0)) or np.any(~np.isfinite(k)):
+        raise DesignError(
+            f"joint {joint.name or joint.kind}: {f} positive finite elastic stiffnesses "
+            f"expected, got {k}"
+        )
+    return k
+
+
+def parallel_stiffness(chain: Sequence[Element]) -> float:
+    """The elastic stiffness in parallel with the actuator (its joint's elastic
+    stiffness, 0 without one) [N·m/rad or N/m]."""
+    for element in chain:
+        if isinstance(element, Joint) and element.actuated:
+            k = elastic_stiffnesses(element)
+            return 0.0 if k is None else float(k[0])
+    return 0.0
+
+
 def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegSprings:
     """Virtual springs and passive joints of a leg from its chain (module doc).
 
@@ -290,8 +333,11 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     columns: list[FloatArray] = []
     blocks: list[FloatArray] = []  # (..., n, n) compliance blocks, in column order
     passive: list[FloatArray] = []
+    elastic: list[FloatArray] = []
+    elastic_k: list[FloatArray] = []
     actuator_index = 0
     k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch)
+    k_act = k_act + parallel_stiffness(chain)
     for element in chain:
         if isinstance(element, Link):
             screws, length = link_screws(element)
@@ -305,6 +351,9 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
             actuator_index = sum(c.shape[-1] for c in columns)
             columns.append(free[..., :1])
             blocks.append((1.0 / k_act)[..., None, None])
+        elif (k_joint := elastic_stiffnesses(element)) is not None:
+            elastic.append(free)
+            elastic_k.append(np.broadcast_to(k_joint, batch + free.shape[-1:]))
         else:
             passive.append(free)
         if element.springs is not None:
@@ -330,6 +379,8 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
         compliance=compliance,
         passive=np.concatenate(passive, axis=-1) if passive else np.zeros(batch + (6, 0)),
         actuator_index=actuator_index,
+        elastic=np.concatenate(elastic, axis=-1) if elastic else None,
+        elastic_stiffness=np.concatenate(elastic_k, axis=-1) if elastic else None,
     )
 
 

@@ -21,7 +21,11 @@ Coordinates, in chain order (:func:`screw_chain`):
 - an **actuated joint**: the actuator along its freedom, then the joint's hardware springs
   (they ride on the moving part: a carriage's guide block);
 - a **passive joint**: its hardware springs, then its freedoms (the bearing's
-  compliance tilts the axis the joint turns about).
+  compliance tilts the axis the joint turns about);
+- an **elastic joint** (a flexure): its hardware springs, then its freedoms as linear
+  springs of its stiffnesses (``1/k``), at rest at the reference configuration: the
+  preload of a flexure bent away from home is not carried (as in the frozen K). A
+  drive in parallel with a flexure is refused here.
 
 At x = 0 the columns are exactly those of :func:`ppm_stiffness.legs.chain.leg_springs`
 (reordered): the order changes nothing to first order, only the second derivatives.
@@ -46,6 +50,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
+from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.legs.chain import (
     Element,
@@ -53,6 +58,7 @@ from ppm_stiffness.legs.chain import (
     Link,
     check_chain,
     constrained_screws,
+    elastic_stiffnesses,
     freedom_count,
     freedom_screws,
     link_screws,
@@ -153,6 +159,13 @@ def screw_chain(
             continue
         free = np.broadcast_to(freedom_screws(element), (k, 6, freedom_count(element)))
         springs = _joint_springs(element, k)
+        elastic = elastic_stiffnesses(element)
+        if element.actuated and elastic is not None:
+            raise DesignError(
+                f"joint {element.name or element.kind}: a drive in parallel with a flexure "
+                "(an actuated elastic joint) is not supported by the moving geometry "
+                "(--geometry moving, the loaded states); use the frozen geometry"
+            )
         if element.actuated:
             actuator = sum(c.shape[-1] for c in columns)
             columns.append(free[..., :1])
@@ -162,7 +175,11 @@ def screw_chain(
             columns.append(springs[0])
             blocks.append(springs[1])
             passive += [False] * springs[0].shape[-1]
-        if not element.actuated:
+        if elastic is not None and not element.actuated:  # a flexure: springs, resting here
+            columns.append(free)
+            blocks.append(np.broadcast_to(np.diag(1.0 / elastic), (k, elastic.size, elastic.size)))
+            passive += [False] * free.shape[-1]
+        elif not element.actuated:
             columns.append(free)
             blocks += [None] * free.shape[-1]
             passive += [True] * free.shape[-1]
