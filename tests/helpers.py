@@ -166,7 +166,8 @@ def rotational_symmetry(design: Design) -> int:
         for e in leg.chain(leg_pose):
             if isinstance(e, Joint):
                 springs = None if e.springs is None else tuple(np.asarray(e.springs).tolist())
-                out += [e.kind, springs, rot @ np.ravel(e.point), rot @ np.ravel(e.axis)]
+                elastic = None if e.elastic is None else tuple(np.asarray(e.elastic).tolist())
+                out += [e.kind, springs, elastic, rot @ np.ravel(e.point), rot @ np.ravel(e.axis)]
             else:
                 out += [e.section, rot @ np.ravel(e.start), rot @ np.ravel(e.end)]
         return out

@@ -55,6 +55,7 @@ SLICES = [
     ("3rps", ("ry", "z"), {"rx": -0.1}),
     ("6rus", None, {"z": 0.215}),
     ("6rus", ("rx", "rz"), {"y": 0.005}),
+    ("6rus_flexure", None, {"z": 0.213}),
     ("spherical_3rrr", None, {}),
     ("spherical_3rrr", ("ry", "rz"), {"rx": 0.2}),
 ]
@@ -97,10 +98,20 @@ def dense_stiffness(design: Design, poses: np.ndarray, k_act: np.ndarray) -> np.
     return total
 
 
+def _flexure_jointed(design: Design) -> bool:
+    """A leg of the design has an elastic joint (a flexure, of small range)."""
+    return any(
+        getattr(e, "elastic", None) is not None
+        for leg in design.legs
+        for e in getattr(leg, "elements", [])
+    )
+
+
 def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Task values around the home pose: +-24 mm and +-0.18 rad for a
     hexapod, +-60 mm and +-0.45 rad for a tripod, +-1.2 rad for a wrist (orientation
-    only: beyond its drives' strokes) (planar: the helpers')."""
+    only: beyond its drives' strokes), a twentieth of these for a flexure-jointed design
+    (planar: the helpers')."""
     if design.planar:
         return poses_around_workspace(design, n, seed, pad=0.1, phi_max=0.3)
     idx = list(task_indices(design))
@@ -108,6 +119,8 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     half = np.array([0.04 if i < 3 else 0.3 for i in idx]) * (0.6 if len(idx) == 6 else 1.5)
     if min(idx) >= 3:
         half[:] = 1.2
+    if _flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad
+        half *= 0.05
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 
 
