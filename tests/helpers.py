@@ -138,6 +138,16 @@ def has_reduced_form(design: Design) -> bool:
     return all(leg.reduced_form() is not None for leg in design.legs)
 
 
+def flexure_jointed(design: Design) -> bool:
+    """A leg of the design has an elastic joint (a flexure: a small range of motion, and
+    joint stiffnesses orders of magnitude below its structure's)."""
+    return any(
+        getattr(e, "elastic", None) is not None
+        for leg in design.legs
+        for e in getattr(leg, "elements", [])
+    )
+
+
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its

@@ -21,7 +21,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import check_entries, design_named, example_designs, is_spatial, poses_around_workspace
+from helpers import (
+    check_entries,
+    design_named,
+    example_designs,
+    flexure_jointed,
+    is_spatial,
+    poses_around_workspace,
+)
 from ppm_stiffness.cli import main
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.conventions import length_balanced
@@ -98,15 +105,6 @@ def dense_stiffness(design: Design, poses: np.ndarray, k_act: np.ndarray) -> np.
     return total
 
 
-def _flexure_jointed(design: Design) -> bool:
-    """A leg of the design has an elastic joint (a flexure, of small range)."""
-    return any(
-        getattr(e, "elastic", None) is not None
-        for leg in design.legs
-        for e in getattr(leg, "elements", [])
-    )
-
-
 def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Task values around the home pose: +-24 mm and +-0.18 rad for a
     hexapod, +-60 mm and +-0.45 rad for a tripod, +-1.2 rad for a wrist (orientation
@@ -119,7 +117,7 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     half = np.array([0.04 if i < 3 else 0.3 for i in idx]) * (0.6 if len(idx) == 6 else 1.5)
     if min(idx) >= 3:
         half[:] = 1.2
-    if _flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad
+    if flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad
         half *= 0.05
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 

@@ -225,9 +225,10 @@ def test_leg_passive_directions_are_free_and_leg_matches(leg: int) -> None:
 
 def assert_passive_free(design: Design, leg: int, pose: np.ndarray, k_fe: np.ndarray) -> None:
     """The wrench of a leg's FE stiffness on each unit twist of its passive joints
-    (from the chain; elastic ones are springs) is below 1e-6 of |K| (balanced units). Measured 1.7e-7 on the
-    built-in design: a 9.8e-3 N reaction, round-off of the 1e11 N/m penalty elements
-    (the virtual-joint leg stiffness gives 0 by construction)."""
+    (from the chain; elastic ones are springs) is below 1e-6 of |K| (balanced units).
+    Measured 1.7e-7 on the built-in design: a 9.8e-3 N reaction, round-off of the
+    1e11 N/m penalty elements (the virtual-joint leg stiffness gives 0 by
+    construction)."""
     model = design.legs[leg]
     joints = [
         e

@@ -22,10 +22,11 @@ Coordinates, in chain order (:func:`screw_chain`):
   (they ride on the moving part: a carriage's guide block);
 - a **passive joint**: its hardware springs, then its freedoms (the bearing's
   compliance tilts the axis the joint turns about);
-- an **elastic joint** (a flexure): its hardware springs, then its freedoms as linear
-  springs of its stiffnesses (``1/k``), at rest at the reference configuration: the
-  preload of a flexure bent away from home is not carried (as in the frozen K). A
-  drive in parallel with a flexure is refused here.
+- an **elastic joint** (a flexure): its hardware springs, then its freedoms, with
+  their stiffnesses (``ScrewChain.elastic``: the equilibrium holds them in stiffness
+  form, never as ``1/k``), at rest at the reference configuration: the preload of a
+  flexure bent away from home is not carried (as in the frozen K). A drive in parallel
+  with a flexure is refused here.
 
 At x = 0 the columns are exactly those of :func:`ppm_stiffness.legs.chain.leg_springs`
 (reordered): the order changes nothing to first order, only the second derivatives.
@@ -87,6 +88,10 @@ class ScrewChain:
         (a chain of linear springs only).
     law : ActuatorModel or None
         The actuator law (:mod:`ppm_stiffness.statics.actuator`).
+    elastic : ndarray (n,) or None
+        The stiffness of each elastic coordinate (a flexure's freedom) [N·m/rad or N/m],
+        0 for the others; their compliance rows are zero: they enter the equilibrium
+        in stiffness form, ``tau_e = k x_e``. None: none.
     rotational : ndarray of bool (n,)
         The coordinates that are rotations (unit rotation part), the others are
         translations: a generalised force is in N·m or N accordingly.
@@ -97,6 +102,7 @@ class ScrewChain:
     passive: BoolArray
     actuator: int | None = None
     law: ActuatorModel | None = None
+    elastic: FloatArray | None = None
 
     @property
     def size(self) -> int:
@@ -118,7 +124,7 @@ class ScrewChain:
         d = np.broadcast_to(np.asarray(offset, dtype=float), (self.size, 3))
         s = self.screws.copy()
         s[:, 3:, :] += cross(np.swapaxes(s[:, :3, :], 1, 2), d[:, None, :]).swapaxes(1, 2)
-        return ScrewChain(s, self.compliance, self.passive, self.actuator, self.law)
+        return ScrewChain(s, self.compliance, self.passive, self.actuator, self.law, self.elastic)
 
 
 def screw_chain(
@@ -147,6 +153,7 @@ def screw_chain(
     columns: list[FloatArray] = []
     blocks: list[FloatArray | None] = []  # None: a passive or actuator column
     passive: list[bool] = []
+    stiffness: list[float] = []  # per column: an elastic coordinate's stiffness, else 0
     actuator = None
     for element in chain:
         if isinstance(element, Link):
@@ -175,10 +182,12 @@ def screw_chain(
             columns.append(springs[0])
             blocks.append(springs[1])
             passive += [False] * springs[0].shape[-1]
-        if elastic is not None and not element.actuated:  # a flexure: springs, resting here
+        if elastic is not None and not element.actuated:  # a flexure: k, resting here
             columns.append(free)
-            blocks.append(np.broadcast_to(np.diag(1.0 / elastic), (k, elastic.size, elastic.size)))
+            blocks += [None] * free.shape[-1]
             passive += [False] * free.shape[-1]
+            stiffness += [0.0] * (len(passive) - len(stiffness) - free.shape[-1])
+            stiffness += elastic.tolist()
         elif not element.actuated:
             columns.append(free)
             blocks += [None] * free.shape[-1]
@@ -194,7 +203,11 @@ def screw_chain(
         m = block.shape[-1]
         compliance[:, i : i + m, i : i + m] = block
         i += m
-    chain_out = ScrewChain(np.array(screws), compliance, np.array(passive), actuator, law)
+    stiffness += [0.0] * (n - len(stiffness))
+    elastic_k = np.array(stiffness) if any(stiffness) else None
+    chain_out = ScrewChain(
+        np.array(screws), compliance, np.array(passive), actuator, law, elastic_k
+    )
     return chain_out.shifted(reference)
 
 
