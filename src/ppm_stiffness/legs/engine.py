@@ -333,6 +333,16 @@ def _elastic_leg_stiffness(reduction: LegReduction, k_inv: FloatArray | None) ->
         m = m + v[:, :, None] * v[:, None, :] * k_inv[:, None, None]
     out = np.full((m.shape[0], 6, 6), np.nan)
     good = np.isfinite(m).all(axis=(1, 2)) & np.isfinite(reduction.basis).all(axis=(1, 2))
+    try:  # the usual case: one batched solve
+        out[good] = elastic_stiffness(
+            reduction.basis[good],
+            m[good],
+            reduction.elastic[good],
+            reduction.elastic_stiffness[good],
+        )
+        return out
+    except SingularConfigurationError:
+        pass
     for i in np.flatnonzero(good):
         try:
             out[i] = elastic_stiffness(
