@@ -257,3 +257,39 @@ def test_the_design_key_is_refused_when_wrong() -> None:
         JointElement(joint="R", point=(0.0, 0.0, 0.0), axis=(1.0, 0.0, 0.0), elastic=0.0)
     with pytest.raises(DesignError, match="positive finite elastic stiffnesses"):
         leg_springs(r_link_chain(-1.0), K_SLIDE)
+
+
+def test_the_engine_equals_the_definition_with_a_drive_in_parallel() -> None:
+    """The batched engine (maps, analyze) and the dense definition agree on the
+    ball leg with a flexure in parallel with its drive, at three actuator stiffnesses
+    and a rigid drive (measured 0: the same arithmetic on this leg)."""
+    from ppm_stiffness.legs import engine
+
+    chain = _ball_leg(Z, 4.7, 2e6)
+    reduction = engine.reduce_chain(chain, 1)
+    for k_act in (1e5, 5e6, 1e9):
+        dense = leg_stiffness(leg_springs(chain, k_act))
+        batched = engine.leg_stiffness(reduction, np.array([k_act]))[0]
+        np.testing.assert_allclose(batched, dense, rtol=0, atol=2e-15 * np.abs(dense).max())
+    rigid = engine.leg_stiffness(reduction, None)[0]
+    assert rigid[5, 5] == pytest.approx(1e8, rel=1e-14)  # only the S's spring along z
+
+
+def test_the_fe_joint_springs_carry_the_elastic_stiffnesses() -> None:
+    """The FE frame's joint: an elastic U's rotations about e1, e2 are springs of its
+    stiffnesses (0 would be free), an actuated elastic slider's travel the sum."""
+    from ppm_stiffness.validation.joints import joint_stiffness
+
+    u = Joint(
+        "U", X, np.zeros(3), np.array([1e8, 1e8, 1e8, 50.0]), axis2=Y, elastic=np.array([3.0, 7.0])
+    )
+    np.testing.assert_array_equal(joint_stiffness(u, 0.0), [3.0, 7.0, 50.0, 1e8, 1e8, 1e8])
+    slider = Joint("P", Z, np.zeros(3), None, actuated=True, elastic=np.array([2e6]))
+    assert joint_stiffness(slider, 5e6)[3] == 7e6
+
+
+def test_the_moving_geometry_refuses_a_drive_in_parallel() -> None:
+    from ppm_stiffness.legs.screw_chain import screw_chain
+
+    with pytest.raises(DesignError, match="drive in parallel with a flexure"):
+        screw_chain(_ball_leg(Z, 4.7, 2e6), None, 1)
