@@ -24,7 +24,7 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.solver import LegSprings, leg_stiffness
 from ppm_stiffness.legs.chain import Joint, Link, leg_springs
 from ppm_stiffness.legs.types.chain_leg import JointElement
-from ppm_stiffness.model import full_pose, solve_legs
+from ppm_stiffness.model import full_pose, solve_legs, stiffness_at_pose
 
 #: A steel rod 20 mm in diameter, 0.2 m long: a stiff link (3EI/L = 2.4e4 N·m/rad).
 LENGTH = 0.2
@@ -293,3 +293,17 @@ def test_the_moving_geometry_refuses_a_drive_in_parallel() -> None:
 
     with pytest.raises(DesignError, match="drive in parallel with a flexure"):
         screw_chain(_ball_leg(Z, 4.7, 2e6), None, 1)
+
+
+def test_loaded_states_refuse_a_drive_in_parallel() -> None:
+    """The actuator forces would count the flexure's share as the drive's: refused."""
+    from ppm_stiffness.design import design_from_dict
+    from ppm_stiffness.statics.loading import actuator_forces, loaded_state
+
+    data = design_named("6rus_flexure").model_dump()
+    data["legs"][0]["elements"][0]["elastic"] = 10.0
+    design = design_from_dict(data)
+    assert np.all(np.isfinite(stiffness_at_pose(design)))
+    for call in (actuator_forces, loaded_state):
+        with pytest.raises(DesignError, match="leg 1: its actuated joint is elastic"):
+            call(design, np.array([0.0, 0.0, 0.0, 0.0, 0.0, -10.0]))
