@@ -200,8 +200,8 @@ def six_rus_flexure() -> str:
 #   a hardware spring); axial EA/L = {f["axial"]:.3g} N/m and lateral 12EI/L^3 =
 #   {f["lateral"]:.3g} N/m (guided ends) as the translational springs;
 # - range: the neck's surface yields at 2 L sigma_y / (E d) = {f["yield_angle"]:.3g} rad; with a
-#   safety factor 1.5 the joints' max_angle is {limit:.3g} rad, and the required workspace is
-#   +-1 mm, +-5 mrad.
+#   safety factor 1.5 the joints' max_angle is {limit:.3g} rad; the required workspace,
+#   +-0.8 mm and +-4 mrad, keeps every joint within it (the crank's flexure bends most).
 # The flexures rest at home: away from home they are bent, and the frozen K does not
 # include that preload.
 schema = 2
@@ -212,12 +212,12 @@ task_coordinates = ["x", "y", "z", "rx", "ry", "rz"]
 centre_z = {height:.10g}
 
 [workspace.required]
-x = [-0.001, 0.001]
-y = [-0.001, 0.001]
-z = [{height - 0.001:.10g}, {height + 0.001:.10g}]
-rx = [-0.005, 0.005]
-ry = [-0.005, 0.005]
-rz = [-0.005, 0.005]
+x = [-0.0008, 0.0008]
+y = [-0.0008, 0.0008]
+z = [{height - 0.0008:.10g}, {height + 0.0008:.10g}]
+rx = [-0.004, 0.004]
+ry = [-0.004, 0.004]
+rz = [-0.004, 0.004]
 grid = [3, 3, 3, 3, 3, 3]
 
 [platform]

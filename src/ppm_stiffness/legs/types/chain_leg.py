@@ -551,10 +551,13 @@ class ChainLeg(LegModel):
         return ["elements", index, *keys[1:]]
 
     def parameter_unit(self, key: str) -> str:
-        """m for points, rad or m for a stroke, 1 for axes (the element's field)."""
+        """m for points, rad or m for a stroke, 1 for axes, N·m/rad or N/m for an elastic
+        stiffness (the element's field)."""
         field = key.rsplit(".", 1)[-1]
         if field == "stroke":
             return joint_kind(self.actuated_kind()).actuator_units()[1]
+        if field == "elastic":
+            return "N·m/rad or N/m"
         return {"point": "m", "end": "m", "axis": "1", "axis2": "1", "mounting_axis": "1"}.get(
             field, ""
         )
