@@ -307,3 +307,37 @@ def test_loaded_states_refuse_a_drive_in_parallel() -> None:
     for call in (actuator_forces, loaded_state):
         with pytest.raises(DesignError, match="leg 1: its actuated joint is elastic"):
             call(design, np.array([0.0, 0.0, 0.0, 0.0, 0.0, -10.0]))
+
+
+def test_the_mass_model_tends_to_the_passive_joints_at_first_order() -> None:
+    """The leg's condensed mass matrix (its rod and crank masses moving with the
+    flexures' bordered rates) tends to the passive legs' at first order in the
+    flexures' stiffness: log10 of the ratio over s = 1e-5 -> 1e-3 is 2 + 8.9e-6
+    (measured; smaller s meets the round-off of the 1e7 springs)."""
+    from ppm_stiffness.dynamics.condensation import leg_mass_matrix
+
+    chain, k_act = _flexure_leg()
+    passive = leg_mass_matrix(_with_elastic(chain, None), k_act)
+    d = [
+        np.max(np.abs(leg_mass_matrix(_with_elastic(chain, s), k_act) - passive))
+        for s in (1e-5, 1e-3)
+    ]
+    assert abs(_slope(*d) - 2.0) < 3e-5
+
+
+def test_elastic_and_passive_freedoms_in_one_leg() -> None:
+    """The example's leg with its S passive and its U elastic: the batched engine
+    (whose reference point is the passive S) equals the dense definition (measured
+    3.7e-16 of the largest entry)."""
+    from ppm_stiffness.legs import engine
+
+    chain, k_act = _flexure_leg()
+    mixed = [
+        dataclasses.replace(e, elastic=None) if isinstance(e, Joint) and e.kind == "S" else e
+        for e in chain
+    ]
+    springs = leg_springs(mixed, k_act)
+    assert springs.passive.shape[-1] == 3 and springs.elastic_count == 2
+    dense = leg_stiffness(springs)
+    batched = engine.leg_stiffness(engine.reduce_chain(mixed, 1), np.array([k_act]))[0]
+    np.testing.assert_allclose(batched, dense, rtol=0, atol=2e-15 * np.abs(dense).max())
