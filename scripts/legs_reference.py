@@ -114,7 +114,12 @@ def reference() -> str:
     out += [
         _table(
             JointElement,
-            {"point": "m", "stroke": "m or rad", "springs": "N/m, N·m/rad"},
+            {
+                "point": "m",
+                "stroke": "m or rad",
+                "springs": "N/m, N·m/rad",
+                "elastic": "N·m/rad or N/m",
+            },
         ),
         "",
         "#### link",

@@ -143,6 +143,16 @@ def has_moving_geometry(design: Design) -> bool:
     return all(leg.moving_geometry_gap() is None for leg in design.legs)
 
 
+def flexure_jointed(design: Design) -> bool:
+    """A leg of the design has an elastic joint (a flexure: a small range of motion, and
+    joint stiffnesses orders of magnitude below its structure's)."""
+    return any(
+        getattr(e, "elastic", None) is not None
+        for leg in design.legs
+        for e in getattr(leg, "elements", [])
+    )
+
+
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its
@@ -171,7 +181,8 @@ def rotational_symmetry(design: Design) -> int:
         for e in leg.chain(leg_pose):
             if isinstance(e, Joint):
                 springs = None if e.springs is None else tuple(np.asarray(e.springs).tolist())
-                out += [e.kind, springs, rot @ np.ravel(e.point), rot @ np.ravel(e.axis)]
+                elastic = None if e.elastic is None else tuple(np.asarray(e.elastic).tolist())
+                out += [e.kind, springs, elastic, rot @ np.ravel(e.point), rot @ np.ravel(e.axis)]
             else:
                 out += [e.section, rot @ np.ravel(e.start), rot @ np.ravel(e.end)]
         return out

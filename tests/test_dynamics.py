@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from helpers import example_designs
+from helpers import example_designs, flexure_jointed
 from ppm_stiffness.core import pose as P
 from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
 from ppm_stiffness.design import Design, design_from_dict, design_to_dict
@@ -169,12 +169,15 @@ def test_ups_leg_against_its_closed_form(pose_index: int) -> None:
 @pytest.mark.parametrize("name", example_designs(paper=True))
 def test_the_last_bodys_twist_is_the_platforms(name: str) -> None:
     """The twists of a leg's coordinates add up to the platform twist (the static
-    condensation's bordered system solved exactly). Residual 1.7e-13."""
+    condensation's bordered system solved exactly). Residual 1.7e-13 (1.1e-12 for the
+    flexure 6-RUS, whose 4.7 N·m/rad flexures meet springs of 1e7 in one LU; 1.8e-11
+    with 1/k in the compliance)."""
     design = _named(name)
     pose = home_pose(design)
+    tol = 4e-12 if flexure_jointed(design) else 1e-12
     for leg in design.legs:
         motion = leg_motion(leg.chain(leg.solve(pose)), leg.locked_stiffness())
-        assert np.max(np.abs(motion.after[-1] - np.eye(6))) <= 1e-12
+        assert np.max(np.abs(motion.after[-1] - np.eye(6))) <= tol
 
 
 # --- frame consistency --------------------------------------------------------------------

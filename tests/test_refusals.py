@@ -187,6 +187,14 @@ SPATIAL_CASES: dict[
         [1e6],
         {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
     ),
+    "6-RUS flexure x-y": (
+        "6rus_flexure",
+        None,
+        {"rz": 0.003},
+        [1.0, 1e3],
+        [1e6],
+        {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
+    ),
     # a wrist's drives turn as its platform: it rotates beyond the model long before a
     # drive passes its 2.4 rad stroke (no BEYOND_STROKE)
     "wrist rx-ry": ("spherical_3rrr", None, {"rz": 0.1}, [1.0, 1e3], [], {Refusal.LARGE_ROTATION}),

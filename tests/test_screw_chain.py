@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from tests.helpers import design_named, example_designs
+from tests.helpers import design_named, example_designs, flexure_jointed
 
 from ppm_stiffness.core.solver import leg_stiffness
 from ppm_stiffness.legs.chain import leg_springs
@@ -103,7 +103,8 @@ def test_unloaded_chain_gives_todays_leg_stiffness(name: str) -> None:
     """The chain's coordinates at rest are the leg's virtual springs and passive joints
     (reordered): each leg's loaded tangent at zero load equals today's bordered
     inverse (core.solver.leg_stiffness) to round-off (largest measured 4e-14 of the
-    largest length-balanced entry)."""
+    largest length-balanced entry; 2.05e-12 for the flexure 6-RUS, whose flexures'
+    4.7 N·m/rad and hardware springs of 1e7 N/m meet in one LU: asserted to 6e-12)."""
     design = design_named(name)
     pose = home_pose(design)
     for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
@@ -113,4 +114,5 @@ def test_unloaded_chain_gives_todays_leg_stiffness(name: str) -> None:
         k_today = leg_stiffness(leg_springs(leg.chain(lp), leg.locked_stiffness()))
         scale = np.array([10.0] * 3 + [1.0] * 3)
         err = np.abs((k_chain - k_today) * scale[:, None] * scale).max()
-        assert err <= 2e-13 * np.abs(k_today * scale[:, None] * scale).max()
+        tol = 6e-12 if flexure_jointed(design) else 2e-13
+        assert err <= tol * np.abs(k_today * scale[:, None] * scale).max()

@@ -21,7 +21,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import check_entries, design_named, example_designs, is_spatial, poses_around_workspace
+from helpers import (
+    check_entries,
+    design_named,
+    example_designs,
+    flexure_jointed,
+    is_spatial,
+    poses_around_workspace,
+)
 from ppm_stiffness.cli import main
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.conventions import length_balanced
@@ -55,6 +62,7 @@ SLICES = [
     ("3rps", ("ry", "z"), {"rx": -0.1}),
     ("6rus", None, {"z": 0.215}),
     ("6rus", ("rx", "rz"), {"y": 0.005}),
+    ("6rus_flexure", None, {"z": 0.213}),
     ("spherical_3rrr", None, {}),
     ("spherical_3rrr", ("ry", "rz"), {"rx": 0.2}),
     ("tricept", None, {"ry": 0.05}),
@@ -104,7 +112,8 @@ def dense_stiffness(design: Design, poses: np.ndarray, k_act: np.ndarray) -> np.
 def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Task values around the home pose: +-24 mm and +-0.18 rad for a
     hexapod, +-60 mm and +-0.45 rad for a tripod, +-1.2 rad for a wrist (orientation
-    only: beyond its drives' strokes), +-0.25 m for a Delta (translations only)
+    only: beyond its drives' strokes), +-0.25 m for a Delta (translations only),
+    a twentieth of these for a flexure-jointed design
     (planar: the helpers')."""
     if design.planar:
         return poses_around_workspace(design, n, seed, pad=0.1, phi_max=0.3)
@@ -115,6 +124,8 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
         half[:] = 1.2
     if max(idx) < 3:  # translations only (a Delta): +-0.25 m, beyond its arms' strokes
         half[:] = 0.25
+    if flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad
+        half *= 0.05
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 
 

@@ -40,6 +40,14 @@ the platform twist to body b's and M_b its spatial inertia at P
 ends' twists); the twists of the chain's last element add up to t itself (a check the
 tests make). Springs are massless.
 
+Elastic freedoms (``Joint.elastic``, a flexure) are coordinates of the leg with a
+stiffness K_e and twists J_e: the bordered form of the stiffness
+(:mod:`ppm_stiffness.core.solver`) gives their rates with the wrench,
+``[[A, H], [H^T, -K_e]] [y; de] = [W^T t; 0]`` with ``H = W^T J_e`` and
+``lambda = W y`` (never ``1/K_e`` in a compliance); the bodies after them move with
+``J_e de`` as after a passive joint. A flexure in parallel with the actuator adds to
+its stiffness.
+
 Every array has leading batch axes (...): the chain's points and axes (..., 3) or
 (3,), the actuator stiffness (...) or a scalar. A pose whose passive twists are
 dependent gives NaN.
@@ -66,6 +74,7 @@ from ppm_stiffness.legs.chain import (
     Link,
     check_chain,
     constrained_screws,
+    elastic_stiffnesses,
     freedom_count,
     freedom_screws,
     link_screws,
@@ -141,7 +150,11 @@ def _solve(a: FloatArray, b: FloatArray) -> FloatArray:
 
 def _springs(
     chain: Sequence[Element], batch: tuple[int, ...], k_act: FloatArray
-) -> tuple[list[tuple[FloatArray, FloatArray, bool] | None], list[FloatArray | None]]:
+) -> tuple[
+    list[tuple[FloatArray, FloatArray, bool] | None],
+    list[FloatArray | None],
+    list[tuple[FloatArray, FloatArray] | None],
+]:
     """Each element's springs ``(J_e (n, 6, m), C_e, diagonal)`` (C_e (n, m) diagonal
     for a joint, (n, 6, 6) for a link) and passive twists (n, 6, p_e), or None."""
     n = math.prod(batch)
@@ -151,22 +164,31 @@ def _springs(
 
     springs: list[tuple[FloatArray, FloatArray, bool] | None] = []
     passive: list[FloatArray | None] = []
+    elastic_out: list[tuple[FloatArray, FloatArray] | None] = []
     for element in chain:
         if isinstance(element, Link):
             screws, length = link_screws(element)
             compliance = cantilever_compliance(element.section, length)
             springs.append((flat(screws, (6, 6)), flat(compliance, (6, 6)), False))
             passive.append(None)
+            elastic_out.append(None)
             continue
         free = flat(freedom_screws(element), (6, freedom_count(element)))
         cols: list[FloatArray] = []
         comp: list[FloatArray] = []
+        elastic = elastic_stiffnesses(element)
         if element.actuated:
             cols.append(free[..., :1])
-            comp.append((1.0 / k_act)[:, None])
+            k_total = k_act if elastic is None else k_act + elastic[0]
+            comp.append((1.0 / k_total)[:, None])
+            passive.append(None)
+            elastic_out.append(None)
+        elif elastic is not None:  # elastic freedoms: kept by the bordered solve
+            elastic_out.append((free, elastic))
             passive.append(None)
         else:
             passive.append(free)
+            elastic_out.append(None)
         if element.springs is not None:
             c = CONSTRAINED[element.kind]
             cols.append(flat(constrained_screws(element), (6, c)))
@@ -174,7 +196,32 @@ def _springs(
         springs.append(
             (np.concatenate(cols, axis=-1), np.concatenate(comp, axis=-1), True) if cols else None
         )
-    return springs, passive
+    return springs, passive, elastic_out
+
+
+def _bordered_rates(
+    a: FloatArray, h_e: FloatArray, k_e: FloatArray, w: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """``y`` (n, r, 6) and the elastic rates (n, e, 6) from
+    ``[[A, H], [H^T, -K_e]] [y; de] = [W^T; 0]`` (the bordered form of
+    :mod:`ppm_stiffness.core.solver`); NaN where it is singular or not finite."""
+    n, r, e = a.shape[0], a.shape[-1], h_e.shape[-1]
+    m = np.zeros((n, r + e, r + e))
+    m[:, :r, :r] = 0.5 * (a + np.swapaxes(a, -1, -2))
+    m[:, :r, r:] = h_e
+    m[:, r:, :r] = np.swapaxes(h_e, -1, -2)
+    idx = np.arange(r, r + e)
+    m[:, idx, idx] = -k_e
+    rhs = np.zeros((n, r + e, 6))
+    rhs[:, :r, :] = np.swapaxes(w, -1, -2)
+    out = np.full((n, r + e, 6), np.nan)
+    good = np.isfinite(m).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=(1, 2))
+    for i in np.flatnonzero(good):
+        try:
+            out[i] = np.linalg.solve(m[i], rhs[i])
+        except np.linalg.LinAlgError:
+            continue
+    return out[:, :r, :], out[:, r:, :]
 
 
 def leg_motion(
@@ -208,7 +255,7 @@ def leg_motion(
     n = math.prod(batch)
     wanted = set(range(len(chain)) if elements is None else elements)
     k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch).reshape(n)
-    springs, passive = _springs(chain, batch, k_act)
+    springs, passive, elastic = _springs(chain, batch, k_act)
     q_all = [q[:, :, j] for q in passive if q is not None for j in range(q.shape[-1])]
     w = engine.reciprocal_basis(q_all, n)  # (n, 6, r)
     r = w.shape[-1]
@@ -227,14 +274,29 @@ def leg_motion(
             a += np.swapaxes(g, -1, -2) @ cg
             cgs.append(cg)
             xs.append(j_e @ cg)
-        h = _solve(0.5 * (a + np.swapaxes(a, -1, -2)), np.swapaxes(w, -1, -2))  # (n, r, 6)
+        elastic_rates: list[FloatArray | None] = [None] * len(chain)
+        elastic_sum = np.zeros((n, 6, 6))  # sum of J_e de over the elastic freedoms
+        if any(x is not None for x in elastic):
+            j_all = np.concatenate([f[0] for f in elastic if f is not None], axis=-1)
+            k_all = np.concatenate(
+                [np.broadcast_to(f[1], (n, f[1].size)) for f in elastic if f is not None], axis=-1
+            )
+            h, de = _bordered_rates(a, np.swapaxes(w, -1, -2) @ j_all, k_all, w)
+            i = 0
+            for e, found in enumerate(elastic):
+                if found is not None:
+                    elastic_rates[e] = de[:, i : i + found[1].size, :]
+                    i += found[1].size
+            elastic_sum = j_all @ de
+        else:
+            h = _solve(0.5 * (a + np.swapaxes(a, -1, -2)), np.swapaxes(w, -1, -2))  # (n, r, 6)
         total = np.zeros((n, 6, r))
         for x in xs:
             if x is not None:
                 total = total + x
         passive_rates: list[FloatArray | None] = [None] * len(chain)
         if q_all:
-            residual = np.eye(6) - total @ h
+            residual = np.eye(6) - total @ h - elastic_sum
             jb = TWIST_BALANCE[:, None] * np.stack(q_all, axis=-1)  # (n, 6, p), (omega L, v)
             jbt = np.swapaxes(jb, -1, -2)
             dq = _solve(jbt @ jb, jbt @ (TWIST_BALANCE[:, None] * residual))  # (n, p, 6)
@@ -258,6 +320,9 @@ def leg_motion(
                 springs_sum = springs_sum + x_e
             if q is not None and dq_e is not None:
                 passive_sum = passive_sum + q @ dq_e
+            flexure, de_e = elastic[e], elastic_rates[e]
+            if flexure is not None and de_e is not None:
+                passive_sum = passive_sum + flexure[0] @ de_e
             if e in wanted:
                 after.append((springs_sum @ h + passive_sum).reshape(batch + (6, 6)))
             else:
@@ -268,6 +333,8 @@ def leg_motion(
             if isinstance(element, Joint) and e in wanted:
                 if element.actuated and cg_e is not None:
                     rate = (cg_e[:, :1, :] @ h)[:, 0, :].reshape(batch + (6,))
+                elif de_e is not None:
+                    rate = de_e[:, 0, :].reshape(batch + (6,))
                 elif dq_e is not None:
                     rate = dq_e[:, 0, :].reshape(batch + (6,))
             first.append(rate)

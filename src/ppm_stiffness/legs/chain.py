@@ -31,6 +31,14 @@ axis has the batch shape plus a trailing 3) into the arrays of
   e1 for P, rotation about e1 for R), then its hardware springs;
 - a passive joint: its hardware springs; its freedoms become passive-joint screws
   (P: translation e1; C: rotation about e1, then translation e1; R: rotation e1);
+- an elastic joint (``Joint.elastic``: a stiffness along each freedom, a flexure): its
+  hardware springs; its freedoms become elastic freedoms (``LegSprings.elastic``), with
+  their stiffnesses, in chain order; the bordered solve keeps them
+  (:mod:`ppm_stiffness.core.solver`). An elastic S's freedoms are the rotations about
+  the three orthonormal axes of its frame with one stiffness (the same about every axis
+  through its centre); an elastic U's act about its current e1 and e2. An actuated
+  joint's elastic stiffness acts in parallel with its actuator: the actuator spring's
+  stiffness is their sum;
 - a link: six columns (rotation about local x, y, z; translation along x, y, z) at
   its end point, with the 6x6 cantilever compliance.
 
@@ -154,6 +162,10 @@ class Joint:
         U): exact for the stiffness and the masses, not a part; pictures draw the
         element's parts instead (:meth:`~ppm_stiffness.legs.base.LegModel.
         drawn_members`) and the FE frame refuses it.
+    elastic : ndarray (FREEDOMS[kind],) or None
+        Stiffness along each freedom [N·m/rad or N/m] (a flexure, a torsion spring),
+        positive and finite: the freedoms are elastic, not passive (module doc); an
+        actuated joint's adds to its actuator's (in parallel). None: none.
     """
 
     kind: JointKind
@@ -165,6 +177,7 @@ class Joint:
     axis2: FloatArray | None = None
     mass: JointMass | None = None
     equivalent: bool = False
+    elastic: FloatArray | None = None
 
     def frame(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """The joint frame ``(e1, e2, e3)`` (module doc), each (..., 3)."""
@@ -293,6 +306,36 @@ def actuator_screw(chain: Sequence[Element]) -> FloatArray:
     return np.asarray(freedom_screws(joint)[..., 0])
 
 
+def elastic_stiffnesses(joint: Joint) -> FloatArray | None:
+    """A joint's elastic stiffnesses (f,) [N·m/rad or N/m], checked, or None.
+
+    Raises
+    ------
+    DesignError
+        Not one positive finite stiffness per freedom.
+    """
+    if joint.elastic is None:
+        return None
+    k = np.asarray(joint.elastic, dtype=float)
+    f = freedom_count(joint)
+    if k.shape != (f,) or np.any(~(k > 0)) or np.any(~np.isfinite(k)):
+        raise DesignError(
+            f"joint {joint.name or joint.kind}: {f} positive finite elastic stiffnesses "
+            f"expected, got {k}"
+        )
+    return k
+
+
+def parallel_stiffness(chain: Sequence[Element]) -> float:
+    """The elastic stiffness in parallel with the actuator (its joint's elastic
+    stiffness, 0 without one) [N·m/rad or N/m]."""
+    for element in chain:
+        if isinstance(element, Joint) and element.actuated:
+            k = elastic_stiffnesses(element)
+            return 0.0 if k is None else float(k[0])
+    return 0.0
+
+
 def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegSprings:
     """Virtual springs and passive joints of a leg from its chain (module doc).
 
@@ -318,7 +361,10 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
     blocks: list[FloatArray] = []  # (..., n, n) compliance blocks, in column order
     passive: list[FloatArray] = []
     actuator_index: int | None = None
+    elastic: list[FloatArray] = []
+    elastic_k: list[FloatArray] = []
     k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch)
+    k_act = k_act + parallel_stiffness(chain)
     for element in chain:
         if isinstance(element, Link):
             screws, length = link_screws(element)
@@ -332,6 +378,9 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
             actuator_index = sum(c.shape[-1] for c in columns)
             columns.append(free[..., :1])
             blocks.append((1.0 / k_act)[..., None, None])
+        elif (k_joint := elastic_stiffnesses(element)) is not None:
+            elastic.append(free)
+            elastic_k.append(np.broadcast_to(k_joint, batch + free.shape[-1:]))
         else:
             passive.append(free)
         if element.springs is not None:
@@ -352,6 +401,8 @@ def leg_springs(chain: Sequence[Element], actuator_stiffness: ArrayLike) -> LegS
         compliance=compliance,
         passive=np.concatenate(passive, axis=-1) if passive else np.zeros(batch + (6, 0)),
         actuator_index=actuator_index,
+        elastic=np.concatenate(elastic, axis=-1) if elastic else None,
+        elastic_stiffness=np.concatenate(elastic_k, axis=-1) if elastic else None,
     )
 
 

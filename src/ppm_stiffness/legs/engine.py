@@ -49,11 +49,21 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
-from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.solver import elastic_stiffness
 from ppm_stiffness.legs import _forms as forms
 from ppm_stiffness.legs import _soa as soa
 from ppm_stiffness.legs._soa import Scalar, Vec
-from ppm_stiffness.legs.chain import Element, Joint, Link, check_chain, freedom_count
+from ppm_stiffness.legs.chain import (
+    Element,
+    Joint,
+    Link,
+    check_chain,
+    elastic_stiffnesses,
+    freedom_count,
+    freedom_screws,
+    parallel_stiffness,
+)
 from ppm_stiffness.legs.joint_kinds import joint_kind
 
 #: Smallest norm of a passive twist's remainder (length-balanced, at the reference
@@ -80,12 +90,22 @@ class LegReduction:
         v = W^T a.
     twist : ndarray (n, 6)
         a, the actuated joint's unit twist at P.
+    elastic : ndarray (n, r, e) or None
+        H = W^T J_e for the chain's elastic freedoms (:mod:`ppm_stiffness.core.solver`);
+        None: none.
+    elastic_stiffness : ndarray (n, e) or None
+        Their stiffnesses [N·m/rad or N/m].
+    parallel : float
+        The elastic stiffness in parallel with the actuator (its joint's, 0 without).
     """
 
     basis: FloatArray
     compliance: FloatArray
     actuator: FloatArray
     twist: FloatArray
+    elastic: FloatArray | None = None
+    elastic_stiffness: FloatArray | None = None
+    parallel: float = 0.0
 
 
 def reciprocal_basis(passive: Sequence[FloatArray], n: int) -> FloatArray:
@@ -124,7 +144,7 @@ def _reference(chain: Sequence[Element]) -> int | None:
     equals), or None if no passive joint rotates."""
     best, ref = 0, None
     for i, element in enumerate(chain):
-        if isinstance(element, Joint) and not element.actuated:
+        if isinstance(element, Joint) and not element.actuated and element.elastic is None:
             count = joint_kind(element.kind).rotations
             if count and count >= best:
                 best, ref = count, i
@@ -187,6 +207,8 @@ def _wrenches(
         if element.actuated:
             kind, k = directions[0]
             twist = soa.twist(kind, frame.point, axes[k])
+            continue
+        if element.elastic is not None:  # not passive: kept by the bordered solve
             continue
         free = [
             soa.twist(kind, offset(frame.point), axes[k], LENGTH_SCALE) for kind, k in directions
@@ -266,7 +288,11 @@ def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:
         Number of poses.
     """
     check_chain(chain)
-    p = sum(freedom_count(e) for e in chain if isinstance(e, Joint) and not e.actuated)
+    p = sum(
+        freedom_count(e)
+        for e in chain
+        if isinstance(e, Joint) and not e.actuated and e.elastic is None
+    )
     if p > 6:
         raise DesignError(f"a leg with {p} passive freedoms (at most 6)")
     r = 6 - p
@@ -287,7 +313,62 @@ def reduce_chain(chain: Sequence[Element], n: int) -> LegReduction:
                     k += 1
             soa.stack(v, actuator[lo:hi])
             soa.stack(a, twist[lo:hi])
-    return LegReduction(basis, compliance, actuator, twist)
+    return LegReduction(basis, compliance, actuator, twist, *_elastic(chain, basis))
+
+
+def _elastic(
+    chain: Sequence[Element], basis: FloatArray
+) -> tuple[FloatArray | None, FloatArray | None, float]:
+    """H = W^T J_e (n, r, e), the stiffnesses (n, e) of the chain's elastic freedoms
+    (None, None without any) and the stiffness in parallel with the actuator."""
+    n = basis.shape[0]
+    twists, stiffness = [], []
+    for element in chain:
+        if isinstance(element, Joint) and not element.actuated and element.elastic is not None:
+            k = elastic_stiffnesses(element)
+            assert k is not None
+            f = k.size
+            twists.append(np.broadcast_to(freedom_screws(element), (n, 6, f)))
+            stiffness.append(np.broadcast_to(k, (n, f)))
+    parallel = parallel_stiffness(chain)
+    if not twists:
+        return None, None, parallel
+    j_e = np.concatenate(twists, axis=-1)
+    return np.swapaxes(basis, -1, -2) @ j_e, np.concatenate(stiffness, axis=-1), parallel
+
+
+def _elastic_leg_stiffness(reduction: LegReduction, k_inv: FloatArray | None) -> FloatArray:
+    """K (n, 6, 6) of a leg with elastic freedoms: the bordered form of
+    :func:`ppm_stiffness.core.solver.elastic_stiffness`; NaN where it is singular or
+    not finite."""
+    assert reduction.elastic is not None and reduction.elastic_stiffness is not None
+    m = reduction.compliance
+    if k_inv is not None:
+        v = reduction.actuator
+        m = m + v[:, :, None] * v[:, None, :] * k_inv[:, None, None]
+    out = np.full((m.shape[0], 6, 6), np.nan)
+    good = np.isfinite(m).all(axis=(1, 2)) & np.isfinite(reduction.basis).all(axis=(1, 2))
+    try:  # the usual case: one batched solve
+        out[good] = elastic_stiffness(
+            reduction.basis[good],
+            m[good],
+            reduction.elastic[good],
+            reduction.elastic_stiffness[good],
+        )
+        return out
+    except SingularConfigurationError:
+        pass
+    for i in np.flatnonzero(good):
+        try:
+            out[i] = elastic_stiffness(
+                reduction.basis[i],
+                m[i],
+                reduction.elastic[i],
+                reduction.elastic_stiffness[i],
+            )
+        except SingularConfigurationError:
+            continue
+    return out
 
 
 def _by_inverse(m: FloatArray, w: FloatArray) -> FloatArray:
@@ -319,8 +400,11 @@ def leg_stiffness(reduction: LegReduction, actuator_stiffness: ArrayLike | None)
     k_inv = (
         None
         if actuator_stiffness is None
-        else 1.0 / np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n,))
+        else 1.0
+        / (np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), (n,)) + reduction.parallel)
     )
+    if reduction.elastic is not None:
+        return _elastic_leg_stiffness(reduction, k_inv)
     v = reduction.actuator
     w = np.ascontiguousarray(reduction.basis.transpose(2, 1, 0))  # (r, 6, n)
     factor: list[list[FloatArray]] = []  # R[j][i - j], i >= j

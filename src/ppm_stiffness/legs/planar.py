@@ -422,6 +422,8 @@ def leg_blocks(chain: Sequence[Element]) -> LegBlocks | None:
     """A leg's chain at n poses (arrays (n, 3) or constant (3,)) reduced per block, or
     None if the chain is not planar at every pose (then use the general path)."""
     check_chain(chain)
+    if any(isinstance(e, Joint) and e.elastic is not None for e in chain):
+        return None  # elastic freedoms: the general path's bordered solve
     blocks = {True: Block([0.0] * 6, None, []), False: Block([0.0] * 6, None, [])}
     for element in chain:
         ok = _link(element, blocks) if isinstance(element, Link) else _joint(element, blocks)

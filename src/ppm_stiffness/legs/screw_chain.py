@@ -21,7 +21,12 @@ Coordinates, in chain order (:func:`screw_chain`):
 - an **actuated joint**: the actuator along its freedom, then the joint's hardware springs
   (they ride on the moving part: a carriage's guide block);
 - a **passive joint**: its hardware springs, then its freedoms (the bearing's
-  compliance tilts the axis the joint turns about).
+  compliance tilts the axis the joint turns about);
+- an **elastic joint** (a flexure): its hardware springs, then its freedoms, with
+  their stiffnesses (``ScrewChain.elastic``: the equilibrium holds them in stiffness
+  form, never as ``1/k``), at rest at the reference configuration: the preload of a
+  flexure bent away from home is not carried (as in the frozen K). A drive in parallel
+  with a flexure is refused here.
 
 At x = 0 the columns are exactly those of :func:`ppm_stiffness.legs.chain.leg_springs`
 (reordered): the order changes nothing to first order, only the second derivatives.
@@ -46,6 +51,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
+from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.legs.chain import (
     Element,
@@ -53,6 +59,7 @@ from ppm_stiffness.legs.chain import (
     Link,
     check_chain,
     constrained_screws,
+    elastic_stiffnesses,
     freedom_count,
     freedom_screws,
     link_screws,
@@ -81,6 +88,10 @@ class ScrewChain:
         (a chain of linear springs only).
     law : ActuatorModel or None
         The actuator law (:mod:`ppm_stiffness.statics.actuator`).
+    elastic : ndarray (n,) or None
+        The stiffness of each elastic coordinate (a flexure's freedom) [N·m/rad or N/m],
+        0 for the others; their compliance rows are zero: they enter the equilibrium
+        in stiffness form, ``tau_e = k x_e``. None: none.
     rotational : ndarray of bool (n,)
         The coordinates that are rotations (unit rotation part), the others are
         translations: a generalised force is in N·m or N accordingly.
@@ -91,6 +102,7 @@ class ScrewChain:
     passive: BoolArray
     actuator: int | None = None
     law: ActuatorModel | None = None
+    elastic: FloatArray | None = None
 
     @property
     def size(self) -> int:
@@ -112,7 +124,7 @@ class ScrewChain:
         d = np.broadcast_to(np.asarray(offset, dtype=float), (self.size, 3))
         s = self.screws.copy()
         s[:, 3:, :] += cross(np.swapaxes(s[:, :3, :], 1, 2), d[:, None, :]).swapaxes(1, 2)
-        return ScrewChain(s, self.compliance, self.passive, self.actuator, self.law)
+        return ScrewChain(s, self.compliance, self.passive, self.actuator, self.law, self.elastic)
 
 
 def screw_chain(
@@ -141,6 +153,7 @@ def screw_chain(
     columns: list[FloatArray] = []
     blocks: list[FloatArray | None] = []  # None: a passive or actuator column
     passive: list[bool] = []
+    stiffness: list[float] = []  # per column: an elastic coordinate's stiffness, else 0
     actuator = None
     for element in chain:
         if isinstance(element, Link):
@@ -153,6 +166,13 @@ def screw_chain(
             continue
         free = np.broadcast_to(freedom_screws(element), (k, 6, freedom_count(element)))
         springs = _joint_springs(element, k)
+        elastic = elastic_stiffnesses(element)
+        if element.actuated and elastic is not None:
+            raise DesignError(
+                f"joint {element.name or element.kind}: a drive in parallel with a flexure "
+                "(an actuated elastic joint) is not supported by the moving geometry "
+                "(--geometry moving, the loaded states); use the frozen geometry"
+            )
         if element.actuated:
             actuator = sum(c.shape[-1] for c in columns)
             columns.append(free[..., :1])
@@ -162,7 +182,13 @@ def screw_chain(
             columns.append(springs[0])
             blocks.append(springs[1])
             passive += [False] * springs[0].shape[-1]
-        if not element.actuated:
+        if elastic is not None and not element.actuated:  # a flexure: k, resting here
+            columns.append(free)
+            blocks += [None] * free.shape[-1]
+            passive += [False] * free.shape[-1]
+            stiffness += [0.0] * (len(passive) - len(stiffness) - free.shape[-1])
+            stiffness += elastic.tolist()
+        elif not element.actuated:
             columns.append(free)
             blocks += [None] * free.shape[-1]
             passive += [True] * free.shape[-1]
@@ -177,7 +203,11 @@ def screw_chain(
         m = block.shape[-1]
         compliance[:, i : i + m, i : i + m] = block
         i += m
-    chain_out = ScrewChain(np.array(screws), compliance, np.array(passive), actuator, law)
+    stiffness += [0.0] * (n - len(stiffness))
+    elastic_k = np.array(stiffness) if any(stiffness) else None
+    chain_out = ScrewChain(
+        np.array(screws), compliance, np.array(passive), actuator, law, elastic_k
+    )
     return chain_out.shifted(reference)
 
 

@@ -32,6 +32,7 @@ from ppm_stiffness.statics.equilibrium import (
     check_small_rotation,
     equilibrium,
 )
+from ppm_stiffness.statics.structures import refuse_parallel_flexures
 
 
 def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:
@@ -53,6 +54,7 @@ def actuator_forces(
     redundant design it is the split of a linear model with those stiffnesses (the
     locked ones by default), *not* the loaded equilibrium: use :func:`loaded_state`.
     """
+    refuse_parallel_flexures(design)
     w = validate_wrench(wrench)
     p = validate_pose(design, pose)
     legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)

@@ -121,7 +121,9 @@ class PlatformChains:
         """The problems ``index``."""
         return PlatformChains(
             tuple(
-                ScrewChain(c.screws[index], c.compliance[index], c.passive, c.actuator, c.law)
+                ScrewChain(
+                    c.screws[index], c.compliance[index], c.passive, c.actuator, c.law, c.elastic
+                )
                 for c in self.chains
             ),
             self.strokes,
@@ -196,6 +198,9 @@ def spring_law(chain: ScrewChain, tau: FloatArray) -> tuple[FloatArray, FloatArr
     actuator's ``delta(G)`` and ``1/K_act(G)`` (eq. 20-21); 0 for passive coordinates."""
     defl = np.einsum("kij,kj->ki", chain.compliance, tau)
     c_tan = chain.compliance.copy()
+    if chain.elastic is not None:  # an elastic coordinate's deflection tau / k
+        e = np.flatnonzero(chain.elastic)
+        defl[:, e] = tau[:, e] / chain.elastic[e]
     if chain.actuator is not None:
         a = chain.actuator
         if chain.law is None:  # pragma: no cover - a ScrewChain is built with its law
@@ -349,6 +354,14 @@ def linearize_leg(
     a[:, q, n:] = jt[:, q, :]
     rhs[:, q, 0] = -tau[:, q]
     rhs[:, q, 1:] = -pt[:, q, :]
+    if chain.elastic is not None:  # stiffness form: H dx - k dx_e + ... = -(tau_e - k x_e)
+        e = np.flatnonzero(chain.elastic)
+        k_e = chain.elastic[e]
+        a[:, e, :n] = hx[:, e, :]
+        a[:, e, e] -= k_e
+        a[:, e, n:] = jt[:, e, :]
+        rhs[:, e, 0] = -(tau[:, e] - k_e * coordinates[:, e])
+        rhs[:, e, 1:] = -pt[:, e, :]
     a[:, n:, :n] = jx
     rhs[:, n:, 0] = closure
     rhs[:, n:, 1:] = np.eye(6)
@@ -362,11 +375,13 @@ def linearize_leg(
     r_closure = np.max(np.abs(closure * _TWIST_SCALE), axis=1) / displacement_size
     x_scaled = coordinates * scale
     r_spring = np.abs((coordinates - defl) * scale)
-    r_spring = np.where(chain.passive, 0.0, r_spring)
+    held = chain.passive if chain.elastic is None else chain.passive | (chain.elastic > 0)
+    r_spring = np.where(held, 0.0, r_spring)
     x_size = np.max(np.abs(np.where(chain.passive, 0.0, x_scaled)), axis=1)
     r_springs = np.max(r_spring, axis=1) / np.where(x_size > 0, x_size, 1.0)
     load = np.maximum(_balanced_norm(w0), np.max(np.abs(tau / scale), axis=1))
-    r_passive = np.max(np.abs(np.where(chain.passive, tau / scale, 0.0)), axis=1, initial=0.0)
+    unbalanced = tau if chain.elastic is None else tau - chain.elastic * coordinates
+    r_passive = np.max(np.abs(np.where(held, unbalanced / scale, 0.0)), axis=1, initial=0.0)
     r_passive = r_passive / np.where(load > 0, load, 1.0)
     residual = np.maximum(np.maximum(r_closure, r_springs), r_passive)
     return LegLinearization(

@@ -3,9 +3,9 @@
 A joint joins the node before it to a new node at the same point (the node after it).
 In the joint frame (e1, e2, e3) (:meth:`ppm_stiffness.legs.chain.Joint.frame`), each of
 the six relative motions (rotations about e1, e2, e3, translations along e1, e2, e3) is
-free (a passive freedom: no element), a spring (a hardware spring, or the actuator
-along the actuated joint's freedom) or rigid (no hardware spring given: a spring of the
-``rigid`` scale, :attr:`FESettings.rigid_stiffness`):
+free (a passive freedom: no element), a spring (a hardware spring, an elastic
+freedom's stiffness, or the actuator along the actuated joint's freedom) or rigid (no
+hardware spring given: a spring of the ``rigid`` scale, :attr:`FESettings.rigid_stiffness`):
 
 * rotations: two *moment-only* members (all end forces released at a common auxiliary
   node X, X's translations supported) from the two nodes to X along one axis of the
@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import LENGTH_SCALE, FloatArray
 from ppm_stiffness.core.errors import DesignError
-from ppm_stiffness.legs.chain import Joint
+from ppm_stiffness.legs.chain import Joint, elastic_stiffnesses
 from ppm_stiffness.legs.joint_kinds import JOINT_KINDS, joint_kind
 from ppm_stiffness.validation.frame import FrameBuilder, unit_vector
 
@@ -68,7 +68,8 @@ def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
 
     Order: rotations about e1, e2, e3 [N·m/rad], translations along e1, e2, e3 [N/m].
     0 is a free motion, ``inf`` a rigid one (a constrained direction without a
-    hardware spring, or an ``inf`` spring).
+    hardware spring, or an ``inf`` spring); an elastic freedom (a flexure) is a spring
+    of its stiffness, added to the actuator's on the actuated joint (in parallel).
 
     Raises
     ------
@@ -88,8 +89,12 @@ def joint_stiffness(joint: Joint, actuator_stiffness: float) -> FloatArray:
                 f"spring stiffnesses expected, got {springs}"
             )
         k[list(constrained)] = springs
+    elastic = elastic_stiffnesses(joint)
+    if elastic is not None:  # a flexure: a spring along each freedom
+        for (motion, axis), stiffness in zip(record.freedoms, elastic, strict=True):
+            k[MOTION[motion] + axis] = stiffness
     if joint.actuated:
-        k[record.fe_releases[0]] = actuator_stiffness
+        k[record.fe_releases[0]] = actuator_stiffness + (0.0 if elastic is None else elastic[0])
     return k
 
 

@@ -14,7 +14,12 @@ The elements run from the base to the platform and are given at the design's hom
   kind (:mod:`ppm_stiffness.legs.parts`: a P's ``GuideModel``, a C's ``BearingModel``,
   an R's ``RevoluteModel``, a U's ``UniversalModel``, an S's ``SphericalModel``), or one
   number [N/m or N·m/rad] for every constrained direction alike; absent, the joint is
-  rigid in them. A U's or an S's ``max_angle`` limits the angle between its
+  rigid in them. ``elastic`` makes its freedoms elastic (a flexure, a torsion spring):
+  a stiffness along each freedom [N·m/rad or N/m], one number for all or a list in the
+  order of its freedoms (an S: one number, the same about every axis through its
+  centre; a U's two act about its current e1 and e2); on the actuated joint it acts in
+  parallel with the drive (the stiffnesses add). Elastic joints rest at home. A U's or
+  an S's ``max_angle`` limits the angle between its
   ``mounting_axis`` (default: its link's home direction; fixed to the body on the other
   side) and its link (the link after it; the link before it for the joint at the
   platform);
@@ -115,6 +120,7 @@ class JointElement(PartModel):
     stroke: tuple[Finite, Finite] | None = None
     springs: JointSprings = None
     mounting_axis: Vector3 | None = None
+    elastic: Positive | list[Positive] | None = None
 
     @model_validator(mode="after")
     def _axes(self) -> JointElement:
@@ -142,11 +148,33 @@ class JointElement(PartModel):
                 f"springs: a {record.name} joint's springs are a {part.__name__} table "
                 f"({', '.join(part.model_fields)}) or one stiffness"
             )
+        self._check_elastic(record)
         if self.actuated:
             self._check_stroke(record)
         elif self.stroke is not None:
             raise ValueError("stroke is the actuated joint's; this joint is passive")
         return self
+
+    def _check_elastic(self, record: JointKindRecord) -> None:
+        if not isinstance(self.elastic, list):
+            return
+        if record.spherical:
+            raise ValueError(
+                "elastic: a spherical joint has one stiffness [N·m/rad], the same about "
+                "every axis through its centre"
+            )
+        if len(self.elastic) != record.freedom_count:
+            raise ValueError(
+                f"elastic: one stiffness, or one per freedom ({record.freedom_count} for a "
+                f"{record.name} joint), got {len(self.elastic)}"
+            )
+
+    def elastic_stiffnesses(self) -> FloatArray | None:
+        """The stiffness along each freedom (f,) [N·m/rad or N/m], or None."""
+        if self.elastic is None:
+            return None
+        count = joint_kind(self.joint).freedom_count
+        return np.broadcast_to(np.asarray(self.elastic, dtype=float), (count,)).copy()
 
     def _check_stroke(self, record: JointKindRecord) -> None:
         if record.freedom_count != 1:
@@ -631,10 +659,13 @@ class ChainLeg(LegModel):
         return ["elements", index, *keys[1:]]
 
     def parameter_unit(self, key: str) -> str:
-        """m for points, rad or m for a stroke, 1 for axes (the element's field)."""
+        """m for points, rad or m for a stroke, 1 for axes, N·m/rad or N/m for an elastic
+        stiffness (the element's field)."""
         field = key.rsplit(".", 1)[-1]
         if field == "stroke":
             return joint_kind(self.actuated_kind()).actuator_units()[1]
+        if field == "elastic":
+            return "N·m/rad or N/m"
         units = {"point": "m", "end": "m", "near": "m", "far": "m", "width": "m"}
         return units.get(field, "1" if "axis" in field or field == "crossbar" else "")
 
@@ -757,14 +788,19 @@ class ChainLeg(LegModel):
             mass = law.moving_parts() if element.actuated and law is not None else None
             springs = element.stiffnesses()
             record = joint_kind(element.joint)
+            elastic = element.elastic_stiffnesses()
             if record.spherical:
                 direction = self._spherical_axis(i, where, bodies)
-                out.append(Joint(element.joint, direction, point, springs, name=name))
+                out.append(
+                    Joint(element.joint, direction, point, springs, name=name, elastic=elastic)
+                )
             elif record.second_axis:
                 assert element.axis is not None and element.axis2 is not None
                 e1 = turn(before, element.axis)
                 e2 = turn(before + 1, element.axis2)
-                out.append(Joint(element.joint, e1, point, springs, name=name, axis2=e2))
+                out.append(
+                    Joint(element.joint, e1, point, springs, name=name, axis2=e2, elastic=elastic)
+                )
             else:
                 assert element.axis is not None
                 axis = turn(before, element.axis)
@@ -777,6 +813,7 @@ class ChainLeg(LegModel):
                         actuated=element.actuated,
                         name=name,
                         mass=mass,
+                        elastic=elastic,
                     )
                 )
             previous_point = point
