@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import legacy_ppr
+from helpers import flexure_jointed
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.conventions import length_balanced, rotation_z, twist_b_from_twist_a
 from ppm_stiffness.core.pose import pose_from_rotation, rotation
@@ -41,12 +42,15 @@ SHIPPED = {
 
 def random_reachable_poses(design: Design, n: int, seed: int) -> np.ndarray:
     """Seeded reachable, nonsingular full poses (n, 6) around the home pose: task
-    coordinates within 20 mm and 0.2 rad (0.05 rad for a design with six), completed."""
+    coordinates within 20 mm and 0.2 rad (0.05 rad for a design with six; a twentieth for
+    a flexure-jointed design), completed."""
     rng = np.random.default_rng(seed)
     home = home_pose(design)
     task = list(task_indices(design))
     angle = 0.05 if len(task) == 6 else 0.2
     spans = np.array([0.02, 0.02, 0.02, angle, angle, angle])[task]
+    if flexure_jointed(design):  # its flexures' range: a twentieth
+        spans *= 0.05
     out: list[np.ndarray] = []
     for _ in range(200 * n):
         full, ok = full_poses(design, home[task] + rng.uniform(-1, 1, len(task)) * spans)
