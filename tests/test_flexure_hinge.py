@@ -161,3 +161,111 @@ def test_bad_hinge_input_is_refused() -> None:
             width=B,
             material=MATERIAL,
         )
+
+
+# --- a hinge in a chain leg (issue 29 item 2) -------------------------------------------
+
+NOTCH = {"profile": "circular", "radius": 2e-3, "thickness": 0.3e-3}
+HINGE = {"profile": NOTCH, "width": B, "material": MATERIAL}
+
+
+@pytest.mark.parametrize(
+    ("centre", "tolerance"), [((0.0, 0.0, 0.0), 2e-15), ((-0.05, 0.02, 0.0), 5e-11)]
+)
+def test_a_single_hinge_leg_is_the_hinge_compliance_transported(
+    centre: tuple[float, float, float], tolerance: float
+) -> None:
+    """A leg made of one hinge R (centre c, axis z, notch along x) whose far side is the
+    platform: its compliance inv(K) at P = 0 is the hinge's end compliance (clamped at
+    its base side) transported from its loaded end c + L/2 x to P (closed form,
+    ``T C T^T``), max |dC_ij| / sqrt(C_ii C_jj) measured 5.4e-16 with c = P, and 9.2e-12
+    with c 54 mm from P (the round-off of inverting K: cond(C) = 2.2e8 there); the
+    elastic rotation's stiffness is 1 / C_phiz_phiz, the Wu-Zhou closed form's."""
+    from ppm_stiffness.core.conventions import twist_b_from_twist_a
+    from ppm_stiffness.core.solver import leg_stiffness
+    from ppm_stiffness.legs.chain import Joint, leg_springs
+    from ppm_stiffness.legs.types.chain_leg import JointElement
+
+    c = np.array(centre)
+    axis, along = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
+    element = JointElement(
+        joint="R", point=centre, axis=tuple(axis), axis2=tuple(along), hinge=HINGE
+    )
+    hinge = FlexureHinge(**HINGE)
+    joint = Joint(
+        "R", axis, c, element.stiffnesses(), axis2=along, elastic=element.elastic_stiffnesses()
+    )
+    k_leg = leg_stiffness(leg_springs([joint], None))
+    t = twist_b_from_twist_a(np.eye(3), c + hinge.length / 2 * along)
+    expected = t @ hinge.compliance() @ t.T
+    d = np.sqrt(np.diag(expected))
+    assert np.max(np.abs(np.linalg.inv(k_leg) - expected) / np.outer(d, d)) < tolerance
+    elastic = element.elastic_stiffnesses()
+    assert elastic is not None and elastic[0] == 1.0 / hinge.compliance()[2, 2]
+    assert elastic[0] == pytest.approx(1.0 / wu_zhou(2e-3, 0.3e-3), rel=1e-12)
+
+
+def test_a_hinge_in_a_design_is_an_elastic_r_with_five_springs() -> None:
+    """examples/6rus_flexure.toml with its crank drive's bearing replaced by a notch
+    hinge (a piezo-lever stage's base hinge: drive in parallel): the chain's R at home
+    has the hinge's elastic rotation and its five springs 1 / C_ii along the joint
+    frame e1 = axis (hinge z), e2 = axis2 (hinge x, along the notch), e3 (hinge y)."""
+    from helpers import design_named
+    from ppm_stiffness.design import design_from_dict
+    from ppm_stiffness.legs.chain import Joint
+    from ppm_stiffness.model import full_pose, solve_legs, stiffness_at_pose
+
+    data = design_named("6rus_flexure").model_dump()
+    notch = []
+    for leg in data["legs"]:
+        crank, far = leg["elements"][0], leg["elements"][2]
+        along = np.subtract(far["point"], crank["point"])
+        notch.append(along / np.linalg.norm(along))
+        crank.update(springs=None, hinge=HINGE, axis2=tuple(notch[-1]))
+    design = design_from_dict(data)
+    leg_pose = solve_legs(design, full_pose(design))[0]
+    joint = next(e for e in design.legs[0].chain(leg_pose) if isinstance(e, Joint))
+    c = np.diag(FlexureHinge(**HINGE).centre_compliance())
+    # R constrained: rotation e2 (x), e3 (y); translation e1 (z), e2 (x), e3 (y)
+    np.testing.assert_array_equal(joint.springs, 1.0 / c[[0, 1, 5, 3, 4]])
+    np.testing.assert_array_equal(joint.elastic, [1.0 / c[2]])
+    e1, e2, _ = joint.frame()
+    np.testing.assert_allclose(e2, notch[0], atol=1e-15)
+    assert np.all(np.isfinite(stiffness_at_pose(design)))
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        ({"joint": "U", "axis2": (0.0, 1.0, 0.0)}, "a notch hinge is an R joint, not a universal"),
+        ({"springs": 1e6}, "the hinge gives the joint's springs and elastic"),
+        ({"elastic": 3.0}, "the hinge gives the joint's springs and elastic"),
+        ({"axis2": None}, "give axis2, the notch's direction"),
+        (
+            {
+                "hinge": {
+                    **HINGE,
+                    "profile": {
+                        "profile": "tabulated",
+                        "x": [0, 1e-3, 3e-3],
+                        "h": [1e-3, 3e-4, 1e-3],
+                    },
+                }
+            },
+            "the profile is not symmetric about its centre",
+        ),
+    ],
+)
+def test_bad_hinge_joints_are_refused(changes: dict[str, object], message: str) -> None:
+    from ppm_stiffness.legs.types.chain_leg import JointElement
+
+    good = {
+        "joint": "R",
+        "point": (0.0, 0.0, 0.0),
+        "axis": (0.0, 0.0, 1.0),
+        "axis2": (1.0, 0.0, 0.0),
+        "hinge": HINGE,
+    }
+    JointElement(**good)
+    with pytest.raises(ValidationError, match=message):
+        JointElement(**{**good, **changes})

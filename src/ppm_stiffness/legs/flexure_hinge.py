@@ -29,7 +29,6 @@ from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
-from scipy.special import zeta
 
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a
 from ppm_stiffness.legs.parts import NonNegative, PartModel, Positive
@@ -195,6 +194,8 @@ def torsion_constant(width: ArrayLikeF, thickness: ArrayLikeF) -> FloatArray:
     The sum is (31/32) zeta(5) minus sum_{n odd} (1 - tanh(...)) / n^5, whose terms fall
     as exp(-n pi a / c): 40 of them leave it exact to round-off for any a >= c.
     """
+    from scipy.special import zeta
+
     w, t = np.broadcast_arrays(np.asarray(width, float), np.asarray(thickness, float))
     a, c = np.maximum(w, t), np.minimum(w, t)
     n = np.arange(1, 80, 2, dtype=float)
@@ -271,3 +272,41 @@ class FlexureHinge(PartModel):
     def centre_compliance(self) -> FloatArray:
         """Compliance at the notch's centre x = L / 2 (diagonal for a symmetric notch)."""
         return self.compliance_at(self.length / 2.0)
+
+
+#: Largest off-diagonal entry of a notch's centre compliance, relative to the geometric
+#: mean of its diagonal pair, for the notch to be a joint (symmetric profiles give 1e-16).
+SYMMETRY_TOLERANCE = 1e-9
+
+
+def asymmetry(hinge: FlexureHinge) -> float:
+    """max |C_ij| / sqrt(C_ii C_jj), i != j, of the compliance at the notch's centre."""
+    c = hinge.centre_compliance()
+    d = np.sqrt(np.diag(c))
+    return float(np.max(np.abs(c - np.diag(np.diag(c))) / np.outer(d, d)))
+
+
+def joint_stiffnesses(
+    hinge: FlexureHinge,
+    directions: tuple[tuple[str, int], ...],
+    hinge_axes: tuple[int, int, int],
+) -> FloatArray:
+    """1 / C_ii at the notch's centre along directions of a joint frame.
+
+    Parameters
+    ----------
+    hinge : FlexureHinge
+        A symmetric notch (its centre compliance diagonal, :func:`asymmetry`).
+    directions : tuple of ("r" | "t", k)
+        Directions of the joint frame (e1, e2, e3) (:mod:`ppm_stiffness.legs.joint_kinds`).
+    hinge_axes : (int, int, int)
+        The hinge axis (0, 1, 2 for x, y, z) along e1, e2, e3 (the kind's record).
+
+    Returns
+    -------
+    ndarray, shape (len(directions),)
+        [N·m/rad for a rotation, N/m for a translation].
+    """
+    c = np.diag(hinge.centre_compliance())
+    index = [hinge_axes[k] + (3 if kind == "t" else 0) for kind, k in directions]
+    return np.asarray(1.0 / c[index])
