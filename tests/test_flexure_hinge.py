@@ -340,3 +340,25 @@ def test_analyze_runs_on_the_stage(stage_file: Path, capsys: pytest.CaptureFixtu
 
     assert main(["analyze", "--design", str(stage_file)]) == 0
     assert "Principal stiffnesses" in capsys.readouterr().out
+
+
+def test_a_hinges_dimensions_are_design_parameters(stage_file: Path) -> None:
+    """The hinge's keys are named parameters with their units, and setting the notch's
+    thickness changes the stage's K_phiz: the elastic R's k follows it (K_phiz of the
+    stage is k_a-dominated; the elbow and platform hinges' k scale as t^(5/2) at
+    first order)."""
+    from ppm_stiffness.design import load_design
+    from ppm_stiffness.model import stiffness_at_pose
+
+    design = load_design(stage_file)
+    name = "leg1.elbow_hinge.hinge.profile.thickness"
+    assert design.parameter(name) == 0.3e-3
+    assert design.parameter_unit(name) == "m"
+    assert design.parameter_unit("leg1.elbow_hinge.hinge.material.young_modulus") == "Pa"
+    thicker = design.with_parameters(
+        {f"leg{i}.elbow_hinge.hinge.profile.thickness": 0.6e-3 for i in (1, 2, 3)}
+    )
+    element = thicker.legs[0].elements[2]
+    assert element.hinge.profile.thickness == 0.6e-3
+    k0, k1 = stiffness_at_pose(design), stiffness_at_pose(thicker)
+    assert k1[2, 2] > k0[2, 2] * (1 + 1e-4)

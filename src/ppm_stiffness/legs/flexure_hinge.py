@@ -25,7 +25,7 @@ rotational compliance matches its closed form to 2.1e-14 relative for R/t from 1
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -44,6 +44,14 @@ Segment = tuple[float, float, Callable[[FloatArray], tuple[FloatArray, FloatArra
 
 class HingeMaterial(PartModel):
     """A hinge's material [Pa, kg/m^3]: E, and G or Poisson's ratio nu (one of them)."""
+
+    UNITS: ClassVar[dict[str, str]] = {
+        "young_modulus": "Pa",
+        "shear_modulus": "Pa",
+        "poisson_ratio": "1",
+        "density": "kg/m^3",
+        "yield_strength": "Pa",
+    }
 
     young_modulus: Positive
     shear_modulus: Positive | None = None
@@ -85,8 +93,27 @@ def _flat(x0: float, x1: float, h0: float, h1: float) -> Segment:
     return (x0, x1, shape)
 
 
+#: Every other field of a profile or a hinge is a length [m] (a design's parameter table).
+_LENGTHS: dict[str, str] = {
+    key: "m"
+    for key in (
+        "radius",
+        "thickness",
+        "semi_length",
+        "semi_depth",
+        "length",
+        "fillet_radius",
+        "x",
+        "h",
+        "width",
+    )
+}
+
+
 class CircularNotch(PartModel):
     """Right-circular notch: two cuts of radius R [m], minimum thickness t [m]; L = 2R."""
+
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
 
     profile: Literal["circular"]
     radius: Positive
@@ -105,6 +132,8 @@ class CircularNotch(PartModel):
 class EllipticalNotch(PartModel):
     """Elliptical notch: semi-axis ``semi_length`` along x, ``semi_depth`` across h [m]."""
 
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
+
     profile: Literal["elliptical"]
     semi_length: Positive
     semi_depth: Positive
@@ -122,6 +151,8 @@ class EllipticalNotch(PartModel):
 
 class FilletedLeaf(PartModel):
     """Corner-filleted leaf: total length L, thickness t, fillets of radius r at both ends."""
+
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
 
     profile: Literal["filleted"]
     length: Positive
@@ -146,6 +177,8 @@ class FilletedLeaf(PartModel):
 class PlainLeaf(PartModel):
     """A prismatic leaf of length L and thickness t [m]."""
 
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
+
     profile: Literal["leaf"]
     length: Positive
     thickness: Positive
@@ -157,6 +190,8 @@ class PlainLeaf(PartModel):
 class TabulatedProfile(PartModel):
     """Any profile: thickness ``h`` [m] at stations ``x`` [m] (from 0, increasing),
     linear between them."""
+
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
 
     profile: Literal["tabulated"]
     x: list[float] = Field(min_length=2)
@@ -224,6 +259,8 @@ def _nodes(segments: list[Segment], panels: int, points: int) -> tuple[FloatArra
 class FlexureHinge(PartModel):
     """A notch flexure hinge: its profile, width b [m] (along the rotation axis z) and
     material. Compliances in hinge axes, order (phi; v), SI (module doc)."""
+
+    UNITS: ClassVar[dict[str, str]] = _LENGTHS
 
     profile: Profile
     width: Positive
