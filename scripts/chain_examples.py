@@ -1,5 +1,6 @@
 """Write the chain-leg example designs (examples/6rus.toml, 6rus_flexure.toml,
-spherical_3rrr.toml, tricept.toml, delta.toml).
+spherical_3rrr.toml, tricept.toml, delta.toml); :func:`flexure_3rrr` gives the flexure
+stage of issue 29 item 4 (not yet shipped in examples/: tests/test_flexure_hinge.py).
 
 Every number comes from a stated dimension or catalogue-class estimate below (estimates
 of the right order, not one vendor's values): sections from the bar and tube
@@ -455,6 +456,85 @@ elements = [
     {{ joint = "R", name = "drive", point = {vec(c)}, axis = {vec(axis)}, actuated = true, stroke = [-0.6, 1.2], springs = {{ tilt = 1e5, axial = 3e8, radial = 3e8 }} }},
     {{ link = {tube(0.040, 0.003, ALUMINIUM, arm)}, name = "arm" }},
     {{ parallelogram = {tube(0.016, 0.0015, CFRP, forearm)}, name = "forearm", near = {vec(elbow)}, far = {vec(far)}, crossbar = {vec(axis)}, width = {width:g}, springs = {{ axial = 2e7, radial = 2e7, max_angle = 0.7 }} }},
+]
+"""
+
+
+AL7075 = {
+    "young_modulus": 71.7e9,
+    "poisson_ratio": 0.33,
+    "density": 2810.0,
+    "yield_strength": 503e6,
+}
+
+
+def flexure_3rrr() -> str:
+    """A monolithic 3-RRR XY-theta stage in Al 7075-T6: three legs of two rigid links
+    joined by circular notch hinges, the base hinge of each driven by a piezo stack on
+    a lever (issue 29 item 4)."""
+    from ppm_stiffness.legs.flexure_hinge import FlexureHinge
+
+    base, plat, link = 0.060, 0.020, 0.030  # radii of the hinge circles, link length [m]
+    radius, thick, width = 2e-3, 0.3e-3, 5e-3  # notch R, t, b [m]
+    k_piezo, stroke, arm = 50e6, 15e-6, 0.010  # N/m, m (0-100 V), lever arm [m]
+    notch = {"profile": "circular", "radius": radius, "thickness": thick}
+    hinge = FlexureHinge(profile=notch, width=width, material=AL7075)
+    k_hinge = 1.0 / hinge.centre_compliance()[2, 2]
+    a, c = np.array([base, 0.0, 0.0]), np.array([plat, 0.0, 0.0])
+    half = np.linalg.norm(a - c) / 2
+    b = (a + c) / 2 + np.array([0.0, 1.0, 0.0]) * math.sqrt(link**2 - half**2)
+    along_ab, along_bc = (b - a) / link, (c - b) / link
+    h = (
+        f'{{ profile = {{ profile = "circular", radius = {radius:g}, thickness = {thick:g} }}, '
+        f"width = {width:g}, material = {{ young_modulus = {AL7075['young_modulus']:.4g}, "
+        f"poisson_ratio = {AL7075['poisson_ratio']:g}, density = {AL7075['density']:g}, "
+        f"yield_strength = {AL7075['yield_strength']:.4g} }} }}"
+    )
+    platform_mass = AL7075["density"] * math.pi * 0.025**2 * 0.010
+    z = "[0, 0, 1]"
+    return f"""# A monolithic 3-RRR XY-theta flexure stage (issue 29 item 4; docs/flexures.md), generated
+# by scripts/chain_examples.py. Cut from one Al 7075-T6 plate (E = 71.7 GPa, nu = 0.33,
+# 2810 kg/m^3, yield 503 MPa: handbook values). Each leg: base hinge (driven), a rigid
+# link of {link * 1e3:g} mm, a hinge, a rigid link of {link * 1e3:g} mm, a hinge on the platform; the
+# legs are turned by 120 deg. Hinge centres on circles of {base * 1e3:g} mm (base) and
+# {plat * 1e3:g} mm (platform).
+# Hinges: right-circular notches, R = {radius * 1e3:g} mm, t = {thick * 1e3:g} mm, b = {width * 1e3:g} mm (the
+# plate's thickness), each an elastic R at the notch's centre (k = 1/C_phiz =
+# {k_hinge:.4g} N·m/rad by the Euler-Bernoulli integrals, springs 1/C_ii in its five other
+# directions; docs/flexures.md). The links are rigid: the stage is modelled as rigid
+# bodies joined by hinges (the notch is not counted twice); they carry no mass, the
+# platform's mass is a 50 mm x 10 mm Al disc ({platform_mass * 1e3:.4g} g).
+# Drives: a piezo stack of the 10 x 10 mm^2, 18 mm multilayer class (catalogue-class
+# stiffness {k_piezo / 1e6:g} N/um, stroke {stroke * 1e6:g} um at 100 V) pushing a lever of arm {arm * 1e3:g} mm on
+# the base hinge, in parallel with it: k_a = k_p r^2 = {k_piezo * arm**2:g} N·m/rad, stroke
+# +-{stroke / arm / 2:.3g} rad about the hinge's rest (the stack preloaded at mid-stroke).
+# The hinges rest at home; the frozen K does not include their bending preload.
+schema = 2
+name = "3-RRR flexure XY-theta stage (examples/flexure_3rrr.toml)"
+task_coordinates = ["x", "y", "rz"]
+
+[workspace.required]
+x = [-1e-05, 1e-05]
+y = [-1e-05, 1e-05]
+rz = [-0.0002, 0.0002]
+grid = [3, 3, 3]
+
+[platform]
+mass = {platform_mass:.4g}
+shape = "cylinder"
+radius = 0.025
+height = 0.01
+
+[[legs]]
+type = "chain"
+pattern = {{ copies = 3 }}
+actuator = {{ locked_stiffness = {k_piezo * arm**2:g}, q = 1.0, threshold_displacement = 0.0 }}
+elements = [
+    {{ joint = "R", name = "base_hinge", point = {vec(a)}, axis = {z}, axis2 = {vec(along_ab)}, actuated = true, stroke = [{-stroke / arm / 2:.3g}, {stroke / arm / 2:.3g}], hinge = {h} }},
+    {{ link = "rigid", name = "proximal" }},
+    {{ joint = "R", name = "elbow_hinge", point = {vec(b)}, axis = {z}, axis2 = {vec(along_bc)}, hinge = {h} }},
+    {{ link = "rigid", name = "distal" }},
+    {{ joint = "R", name = "platform_hinge", point = {vec(c)}, axis = {z}, axis2 = {vec(along_bc)}, hinge = {h} }},
 ]
 """
 

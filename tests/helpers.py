@@ -144,10 +144,10 @@ def has_moving_geometry(design: Design) -> bool:
 
 
 def flexure_jointed(design: Design) -> bool:
-    """A leg of the design has an elastic joint (a flexure: a small range of motion, and
-    joint stiffnesses orders of magnitude below its structure's)."""
+    """A leg of the design has an elastic joint or a notch hinge (a flexure: a small range
+    of motion, and joint stiffnesses orders of magnitude below its structure's)."""
     return any(
-        getattr(e, "elastic", None) is not None
+        getattr(e, "elastic", None) is not None or getattr(e, "hinge", None) is not None
         for leg in design.legs
         for e in getattr(leg, "elements", [])
     )

@@ -101,6 +101,12 @@ class JointKindRecord:
     spring_part : str
         The class of :mod:`ppm_stiffness.legs.parts` that gives its hardware springs in
         a design file (a chain leg's joint ``springs``).
+    hinge_axes : (int, int, int) or None
+        The kind may be a notch flexure hinge (:mod:`ppm_stiffness.legs.flexure_hinge`):
+        the hinge axis (0, 1, 2 for x, y, z) along e1, e2, e3 of its frame; its freedoms
+        are elastic and its springs 1 / C_ii of the hinge along its constrained
+        directions. None: no hinge (only an R is one: e1 = z the axis, e2 = x along the
+        notch, e3 = y).
     """
 
     letter: JointKind
@@ -117,6 +123,7 @@ class JointKindRecord:
     legend: str
     caption: str
     spring_part: str
+    hinge_axes: tuple[int, int, int] | None = None
 
     def springs_model(self) -> type[BaseModel]:
         """The part (:mod:`ppm_stiffness.legs.parts`) that gives this kind's hardware
@@ -205,6 +212,7 @@ JOINT_KINDS: dict[str, JointKindRecord] = {
             legend="revolute joint R (bar: its axis)",
             caption="revolute joints R: a circle with a bar along the axis",
             spring_part="RevoluteModel",
+            hinge_axes=(2, 0, 1),
         ),
         JointKindRecord(
             letter="P",

@@ -543,7 +543,8 @@ def part_units(model: type[BaseModel]) -> dict[str, str]:
         },
         SphericalModel: {"axial": "N/m", "radial": "N/m", "max_angle": "rad"},
     }
-    return dict(units.get(model, {}))
+    # other parts (a flexure hinge's) state their units as a class attribute UNITS
+    return dict(units.get(model, getattr(model, "UNITS", {})))
 
 
 JointPart = GuideModel | BearingModel | RevoluteModel | UniversalModel | SphericalModel

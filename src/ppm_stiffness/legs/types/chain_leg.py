@@ -68,6 +68,12 @@ from ppm_stiffness.core.conventions import FloatArray, rotation_z
 from ppm_stiffness.legs import kinematics as kin
 from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, check_plausible
 from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis, unit
+from ppm_stiffness.legs.flexure_hinge import (
+    SYMMETRY_TOLERANCE,
+    FlexureHinge,
+    asymmetry,
+    joint_stiffnesses,
+)
 from ppm_stiffness.legs.joint_kinds import JointKind, JointKindRecord, joint_kind
 from ppm_stiffness.legs.parts import (
     BearingModel,
@@ -121,6 +127,7 @@ class JointElement(PartModel):
     springs: JointSprings = None
     mounting_axis: Vector3 | None = None
     elastic: Positive | list[Positive] | None = None
+    hinge: FlexureHinge | None = None
 
     @model_validator(mode="after")
     def _axes(self) -> JointElement:
@@ -138,7 +145,7 @@ class JointElement(PartModel):
                 if self.axis2 is None:
                     raise ValueError(f"a {record.name} joint needs axis2 (e2, normal to axis)")
                 check_normal("axis", e1, "axis2", check_unit("axis2", self.axis2))
-            elif self.axis2 is not None:
+            elif self.axis2 is not None and self.hinge is None:
                 raise ValueError(f"axis2 is a second axis; a {record.name} joint has one axis")
         if self.mounting_axis is not None:
             check_unit("mounting_axis", self.mounting_axis)
@@ -149,6 +156,7 @@ class JointElement(PartModel):
                 f"({', '.join(part.model_fields)}) or one stiffness"
             )
         self._check_elastic(record)
+        self._check_hinge(record)
         if self.actuated:
             self._check_stroke(record)
         elif self.stroke is not None:
@@ -169,8 +177,33 @@ class JointElement(PartModel):
                 f"{record.name} joint), got {len(self.elastic)}"
             )
 
+    def _check_hinge(self, record: JointKindRecord) -> None:
+        """A ``hinge`` (:mod:`ppm_stiffness.legs.flexure_hinge`) at the notch's centre
+        ``point``: a kind with ``hinge_axes`` (an R), ``axis2`` along the notch, a
+        symmetric profile, neither ``springs`` nor ``elastic`` (the hinge gives both)."""
+        if self.hinge is None:
+            return
+        if record.hinge_axes is None:
+            raise ValueError(f"hinge: a notch hinge is an R joint, not a {record.name} joint")
+        if self.springs is not None or self.elastic is not None:
+            raise ValueError("hinge: the hinge gives the joint's springs and elastic; remove them")
+        if self.axis2 is None:
+            raise ValueError(
+                "hinge: give axis2, the notch's direction (hinge x, towards the platform)"
+            )
+        assert self.axis is not None  # an R has one (checked before)
+        check_normal("axis", unit(self.axis), "axis2", check_unit("axis2", self.axis2))
+        if (defect := asymmetry(self.hinge)) > SYMMETRY_TOLERANCE:
+            raise ValueError(
+                f"hinge: the profile is not symmetric about its centre (coupling {defect:.3g});"
+                " only a symmetric notch is an R joint"
+            )
+
     def elastic_stiffnesses(self) -> FloatArray | None:
         """The stiffness along each freedom (f,) [N·m/rad or N/m], or None."""
+        record = joint_kind(self.joint)
+        if self.hinge is not None and record.hinge_axes is not None:
+            return joint_stiffnesses(self.hinge, record.freedoms, record.hinge_axes)
         if self.elastic is None:
             return None
         count = joint_kind(self.joint).freedom_count
@@ -195,6 +228,9 @@ class JointElement(PartModel):
 
     def stiffnesses(self) -> FloatArray | None:
         """The hardware springs in the kind's constrained order, or None (rigid)."""
+        record = joint_kind(self.joint)
+        if self.hinge is not None and record.hinge_axes is not None:
+            return joint_stiffnesses(self.hinge, record.constrained, record.hinge_axes)
         if self.springs is None:
             return None
         if isinstance(self.springs, (float, int)):
@@ -814,6 +850,7 @@ class ChainLeg(LegModel):
                         name=name,
                         mass=mass,
                         elastic=elastic,
+                        axis2=None if element.axis2 is None else turn(before, element.axis2),
                     )
                 )
             previous_point = point
