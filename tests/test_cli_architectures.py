@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import flexure_jointed
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import (
     length_balanced,
@@ -77,7 +78,10 @@ def test_deflect_on_every_design(
     assert not np.any(twists[0])  # the path starts unloaded
     scale = np.max(np.abs(expected))
     assert scale > 0
-    np.testing.assert_allclose(twists[1], expected, rtol=0, atol=1e-13 * scale)
+    # the flexure 6-RUS: 3.5e-12 measured (its 4.7 N·m/rad flexures beside 1e7 N/m
+    # springs in one solve, as in tests/test_moving_geometry.py)
+    tol = 1e-11 if flexure_jointed(design) else 1e-13
+    np.testing.assert_allclose(twists[1], expected, rtol=0, atol=tol * scale)
     forces = np.array(out["actuator_forces"])[1]
     # forces compared at the scale of the load (a tripod's actuators carry none of a
     # planar force: their forces are round-off of the 5 N load, measured 1.1e-13 N)
