@@ -230,6 +230,11 @@ class Bars:
         r = pose6.rotation(poses)
         return np.asarray(np.einsum("nij,mj->nmi", r, local) + pose6.position(poses)[:, None])
 
+    def near_points(self, rot_end: FloatArray, trans_end: FloatArray) -> FloatArray:
+        """The near ends (n, m, 3) [m] carried by the chain's last body, at rotations
+        (n, 3, 3) and translations (n, 3)."""
+        return np.asarray(np.einsum("nij,mj->nmi", rot_end, self.near) + trans_end[:, None])
+
     def directions(self, near_now: FloatArray, far_now: FloatArray) -> FloatArray:
         """Unit directions (n, m, 3) of the bars, near to far."""
         d = far_now - near_now
@@ -252,7 +257,7 @@ def closure(
         error = closure_error(rot[:, -1], trans[:, -1], home, target)
         reference = (rot[:, -1] @ pose6.position(home)) + trans[:, -1]
         return error, jacobian(freedoms, rot, trans, reference) * _BALANCE_TWIST[:, None]
-    near = np.einsum("nij,mj->nmi", rot[:, -1], bars.near) + trans[:, -1, None]
+    near = bars.near_points(rot[:, -1], trans[:, -1])
     far = bars.far_points(home, target)
     error = bars.lengths - np.linalg.norm(far - near, axis=-1)  # target less now
     n = bars.directions(near, far)

@@ -507,8 +507,7 @@ class ChainLeg(LegModel):
             coordinates[name] = value
         solvable = state.converged
         if bars is not None:  # a parallelogram's bars stay parallel
-            near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
-            near = near + state.translations[:, -1, None]
+            near = bars.near_points(state.rotations[:, -1], state.translations[:, -1])
             far = bars.far_points(self.home(), pose.reshape(-1, 6))
             solvable = solvable & (skew(near, far) <= SKEW_TOLERANCE)
             forearm = self._parallelogram()
@@ -748,8 +747,7 @@ class ChainLeg(LegModel):
         error, jac = kin.closure(freedoms, self.home(), poses, state.q, bars)
         u, _, _ = np.linalg.svd(jac, full_matrices=True)
         basis = u[..., jac.shape[-2] - self.constraint_count() :]  # (n, m, c)
-        near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
-        near = near + state.translations[:, -1, None]
+        near = bars.near_points(state.rotations[:, -1], state.translations[:, -1])
         far = bars.far_points(self.home(), poses)
         n = bars.directions(near, far)
         lines = np.concatenate([np.cross(far - poses[:, None, :3], n), n], axis=-1)  # (n, m, 6)
@@ -809,8 +807,8 @@ class ChainLeg(LegModel):
             if isinstance(element, ParallelogramElement):
                 bars = self._bars()
                 assert bars is not None
-                near = np.einsum("nij,mj->nmi", state.rotations[:, -1], bars.near)
-                near = near + state.translations[:, -1, None] - p[:, None]
+                near = bars.near_points(state.rotations[:, -1], state.translations[:, -1])
+                near = near - p[:, None]
                 far = bars.far_points(self.home(), poses) - p[:, None]
                 out += parallelogram_joints(
                     element,
@@ -879,8 +877,7 @@ class ChainLeg(LegModel):
             return [], []
         pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)[:1]
         state, _ = self._state(pose)
-        near = np.einsum("ij,mj->mi", state.rotations[0, -1], bars.near)
-        near = near + state.translations[0, -1] - pose[0, :3]
+        near = bars.near_points(state.rotations[:, -1], state.translations[:, -1])[0] - pose[0, :3]
         far = bars.far_points(self.home(), pose)[0] - pose[0, :3]
         name = self.element_name(len(self.elements) - 1)
         return parallelogram_members(element, near, far, name)
