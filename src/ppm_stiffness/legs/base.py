@@ -484,6 +484,16 @@ class LegModel(PartModel):
         shape = np.shape(poses)[:-1]
         return np.zeros(shape + (0,)), np.zeros(shape + (6, 0))
 
+    def constraint_continued(
+        self, poses: ArrayLike, start: tuple[FloatArray, FloatArray] | None
+    ) -> tuple[FloatArray, FloatArray, tuple[FloatArray, FloatArray] | None]:
+        """:meth:`constraint`, for a leg whose inverse kinematics is a continuation
+        (a joint-list leg) continued from ``start`` (poses (n, 6) solved before and
+        their joint coordinates), with what to continue from next; a leg with a closed
+        form ignores ``start`` and returns None."""
+        residual, wrenches = self.constraint(poses)
+        return residual, wrenches, None
+
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:  # pragma: no cover
         """The joint chain at the poses of ``leg_pose``, base to platform."""
         raise NotImplementedError

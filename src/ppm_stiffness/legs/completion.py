@@ -15,7 +15,10 @@ stacked residuals may repeat a constraint: every planar leg states the plane). T
 iteration stops when every residual is within :data:`RESIDUAL_TOLERANCE` [m or rad]
 and the last step within :data:`STEP_TOLERANCE`; it fails after
 :data:`MAX_ITERATIONS`. Every array has leading batch axes: a map completes all its
-poses at once.
+poses at once. A joint-list leg's inverse kinematics (a continuation from home,
+:func:`ppm_stiffness.legs.kinematics.solve`) continues at each iterate from its
+solution at the previous iterate of the same pose, not from home again: the same
+branch, each pose independent of the others in its batch.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
 from ppm_stiffness.core.pose import twist_from_coordinate_rates
@@ -39,10 +42,17 @@ MAX_ITERATIONS = 30
 MAX_STEP = 0.2
 
 
+Start = tuple[FloatArray, FloatArray]
+
+
 class Constrained(Protocol):
     """What the completion needs of a leg."""
 
     def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]: ...
+
+    def constraint_continued(
+        self, poses: ArrayLike, start: Start | None
+    ) -> tuple[FloatArray, FloatArray, Start | None]: ...
 
 
 def residuals(legs: Sequence[Constrained], poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -52,6 +62,34 @@ def residuals(legs: Sequence[Constrained], poses: ArrayLike) -> tuple[FloatArray
     r = np.concatenate([p[0] for p in parts], axis=-1)
     w = np.concatenate([p[1] for p in parts], axis=-1)
     return r, w
+
+
+def _continued_residuals(
+    legs: Sequence[Constrained],
+    poses: FloatArray,
+    rows: NDArray[np.intp],
+    memo: list[Start | None],
+    total: int,
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`residuals` at ``poses`` (k, 6), rows ``rows`` of the batch, each leg's
+    inverse kinematics continued from its solution at the previous iterate of the same
+    rows (``memo``: per leg, (poses (total, 6), joint coordinates (total, f)) of the
+    whole batch, updated in place)."""
+    parts = []
+    for i, leg in enumerate(legs):
+        kept = memo[i]
+        start = None if kept is None else (kept[0][rows], kept[1][rows])
+        r, w, now = leg.constraint_continued(poses, start)
+        if now is not None:
+            if kept is None:
+                kept = (np.full((total, 6), np.nan), np.full((total, now[1].shape[-1]), np.nan))
+                memo[i] = kept
+            kept[0][rows], kept[1][rows] = now
+        parts.append((r, w))
+    return (
+        np.concatenate([p[0] for p in parts], axis=-1),
+        np.concatenate([p[1] for p in parts], axis=-1),
+    )
 
 
 def complete_poses(
@@ -92,11 +130,12 @@ def complete_poses(
         r, _ = residuals(legs, flat)
         ok = np.all(np.abs(r) <= RESIDUAL_TOLERANCE, axis=-1) if r.shape[-1] else np.ones(n, bool)
         return q, ok.reshape(batch)
+    memo: list[Start | None] = [None] * len(legs)
     for _ in range(max_iterations + 1):
         if active.size == 0:
             break
         sub = flat[active]
-        r, w = residuals(legs, sub)
+        r, w = _continued_residuals(legs, sub, active, memo, n)
         small = np.all(np.abs(r) <= RESIDUAL_TOLERANCE, axis=-1) & (
             last_step[active] <= STEP_TOLERANCE
         )

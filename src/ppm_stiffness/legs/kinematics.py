@@ -330,7 +330,11 @@ def _solve_or_nan(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def solve(
-    freedoms: Freedoms, home: ArrayLike, poses: ArrayLike, bars: Bars | None = None
+    freedoms: Freedoms,
+    home: ArrayLike,
+    poses: ArrayLike,
+    bars: Bars | None = None,
+    start: tuple[FloatArray, FloatArray] | None = None,
 ) -> ChainState:
     """Joint coordinates closing the chain at ``poses`` (n, 6) (module doc).
 
@@ -344,6 +348,11 @@ def solve(
     bars : Bars or None
         Bars of fixed length that close the chain (module doc); None: the platform is
         the chain's last body.
+    start : (ndarray (n, 6), ndarray (n, f)) or None
+        Poses already solved on the home pose's branch and their joint coordinates:
+        each pose continues from its start instead of from home (a Newton iteration's
+        previous iterate, a neighbouring pose); a row whose coordinates are not finite
+        continues from home.
 
     Returns
     -------
@@ -354,16 +363,20 @@ def solve(
     home = np.asarray(home, dtype=float)
     target = np.asarray(poses, dtype=float).reshape(-1, 6)
     n = target.shape[0]
-    span = np.max(np.abs((target - home) * _PATH_WEIGHTS), axis=-1, initial=0.0)
-    steps = np.maximum(1, np.ceil(span / CONTINUATION_STEP)).astype(int)
+    origin = np.broadcast_to(home, target.shape).copy()
     q = np.zeros((n, freedoms.count))
+    if start is not None:
+        warm = np.all(np.isfinite(start[1]), axis=-1) & np.all(np.isfinite(start[0]), axis=-1)
+        origin[warm], q[warm] = start[0][warm], start[1][warm]
+    span = np.max(np.abs((target - origin) * _PATH_WEIGHTS), axis=-1, initial=0.0)
+    steps = np.maximum(1, np.ceil(span / CONTINUATION_STEP)).astype(int)
     failed: BoolArray = np.zeros(n, dtype=bool)
     for k in range(1, int(steps.max(initial=1)) + 1):
         index = np.flatnonzero((k <= steps) & ~failed)
         if index.size == 0:
             break
         last = steps[index] == k
-        along = home + (target[index] - home) * (k / steps[index])[:, None]
+        along = origin[index] + (target[index] - origin[index]) * (k / steps[index])[:, None]
         tolerance = np.where(last, CLOSURE_TOLERANCE, PATH_TOLERANCE)
         q_k, ok = _newton(freedoms, home, along, q[index], tolerance, bars)
         q[index] = q_k

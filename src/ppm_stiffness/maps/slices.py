@@ -16,14 +16,17 @@ Bounds of a slice (:func:`slice_bounds`), when none are given: the reachable ext
 along the slice. For a planar design's x-y slice the exact or sampled box of
 :mod:`ppm_stiffness.maps.bounds`. For any other slice, sampled: reachability (the
 pose completed, every leg's inverse kinematics solvable and its joint coordinates
-within limits, U and S joint angle limits included) on a 101 x 101 grid around the
-base pose's values of the two axes, over a half-width of twice the largest distance
-from P to a named leg point for a length and 0.5 rad for an angle (angles within
-[-pi, pi]), doubled along an axis while reachable samples touch its edges; then the
+within limits, U and S joint angle limits included) on a :data:`SEARCH` x
+:data:`SEARCH` grid around the base pose's values of the two axes, over a half-width of
+twice the largest distance from P to a named leg point for a length and 0.5 rad for an
+angle (angles within [-pi, pi]), doubled along an axis while reachable samples touch
+its edges (a window with no reachable sample is sampled again at :data:`COARSE` and
+4 :data:`COARSE` points per axis before the slice is declared unreachable); then the
 grid is resampled :data:`TIGHTEN` times on the box of its reachable samples (one cell
-wider each side). The result is the box of the last grid's reachable samples: an inner
-box, within one cell (1 % of its size) of the sampled extent; a part of the slice
-narrower than a coarse cell and disconnected from the rest may be missed. Singular
+wider each side), the last time at :data:`COARSE` x :data:`COARSE` points. The result
+is the box of the last grid's reachable samples: an inner box, within one cell (1 % of
+its size) of the sampled extent; a part of the slice narrower than a search cell and
+disconnected from the rest may be missed. Singular
 poses are not excluded (as for the planar bounds). Boxes are cached per design object.
 """
 
@@ -43,7 +46,10 @@ from ppm_stiffness.design import Design
 from ppm_stiffness.maps.bounds import workspace_bounds
 from ppm_stiffness.poses import full_poses, home_pose
 
-#: Sampled slice bounds: grid points per axis, resamplings, most doublings of a window.
+#: Sampled slice bounds: grid points per axis of the search (most of its samples lie
+#: far outside the reachable extent, where a chain leg's inverse kinematics continues
+#: longest) and of the last resampling, resamplings, most doublings of a window.
+SEARCH = 31
 COARSE = 101
 TIGHTEN = 2
 MAX_DOUBLINGS = 12
@@ -220,17 +226,17 @@ def _sampled_slice_bounds(design: Design, sl: MapSlice) -> FloatArray:
     centre = [float(sl.base[sl.task.index(name)]) for name in sl.axes]
     half = [_half_width(design, sl, name) for name in sl.axes]
     for _ in range(MAX_DOUBLINGS):
-        us, vs = (_window(centre[k], half[k], angle[k]) for k in range(2))
-        mask = slice_reachable(design, sl, us[None, :], vs[:, None])
-        if not mask.any():
-            us, vs = (_window(centre[k], half[k], angle[k], 4 * COARSE) for k in range(2))
+        for count in (SEARCH, COARSE, 4 * COARSE):
+            us, vs = (_window(centre[k], half[k], angle[k], count) for k in range(2))
             mask = slice_reachable(design, sl, us[None, :], vs[:, None])
-            if not mask.any():
-                raise UnreachablePoseError(
-                    f"no reachable pose of the {sl.axes[0]}-{sl.axes[1]} slice"
-                    + (f" at {sl.label()}" if sl.fixed else "")
-                    + ": the joint limits of the design exclude it"
-                )
+            if mask.any():
+                break
+        else:
+            raise UnreachablePoseError(
+                f"no reachable pose of the {sl.axes[0]}-{sl.axes[1]} slice"
+                + (f" at {sl.label()}" if sl.fixed else "")
+                + ": the joint limits of the design exclude it"
+            )
         grow = False
         for k, (edges, values) in enumerate(
             (((mask[:, 0], mask[:, -1]), us), ((mask[0], mask[-1]), vs))
@@ -246,7 +252,7 @@ def _sampled_slice_bounds(design: Design, sl: MapSlice) -> FloatArray:
             f"the {sl.axes[0]}-{sl.axes[1]} slice reaches beyond the search window: check "
             "the joint limits"
         )
-    for _ in range(TIGHTEN):
+    for count in [SEARCH] * (TIGHTEN - 1) + [COARSE]:
         cols, rows = np.flatnonzero(mask.any(axis=0)), np.flatnonzero(mask.any(axis=1))
         du, dv = us[1] - us[0], vs[1] - vs[0]
         lo_u, hi_u = us[cols[0]] - du, us[cols[-1]] + du
@@ -255,8 +261,11 @@ def _sampled_slice_bounds(design: Design, sl: MapSlice) -> FloatArray:
             lo_u, hi_u = max(lo_u, -math.pi), min(hi_u, math.pi)
         if angle[1]:
             lo_v, hi_v = max(lo_v, -math.pi), min(hi_v, math.pi)
-        us, vs = np.linspace(lo_u, hi_u, COARSE), np.linspace(lo_v, hi_v, COARSE)
-        mask = slice_reachable(design, sl, us[None, :], vs[:, None])
+        u_new, v_new = np.linspace(lo_u, hi_u, count), np.linspace(lo_v, hi_v, count)
+        m_new = slice_reachable(design, sl, u_new[None, :], v_new[:, None])
+        if not m_new.any():  # thinner than the new cells: keep the last samples
+            break
+        us, vs, mask = u_new, v_new, m_new
     cols, rows = np.flatnonzero(mask.any(axis=0)), np.flatnonzero(mask.any(axis=1))
     return np.array([us[cols[0]], us[cols[-1]], vs[rows[0]], vs[rows[-1]]])
 

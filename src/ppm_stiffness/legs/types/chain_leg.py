@@ -719,22 +719,33 @@ class ChainLeg(LegModel):
     def constraint(self, poses: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """The closure error along the wrenches reciprocal to the leg's freedoms (module
         doc): residuals (..., c) [m, balanced] and wrenches (..., 6, c)."""
+        residual, wrenches, _ = self.constraint_continued(poses, None)
+        return residual, wrenches
+
+    def constraint_continued(
+        self, poses: ArrayLike, start: tuple[FloatArray, FloatArray] | None
+    ) -> tuple[FloatArray, FloatArray, tuple[FloatArray, FloatArray] | None]:
+        """:meth:`constraint` with the inverse kinematics continued from ``start``
+        (poses (n, 6) already solved and their joint coordinates (n, f); see
+        :func:`ppm_stiffness.legs.kinematics.solve`), and this call's (poses, joint
+        coordinates) to continue from next."""
         c = self.constraint_count()
         q = np.asarray(poses, dtype=float)
         shape = q.shape[:-1]
         if c == 0:
-            return np.zeros(shape + (0,)), np.zeros(shape + (6, 0))
-        state, _ = self._state(q)
+            return np.zeros(shape + (0,)), np.zeros(shape + (6, 0)), None
         freedoms, _ = self.freedoms()
         bars = self._bars()
+        flat = q.reshape(-1, 6)
+        state = kin.solve(freedoms, self.home(), flat, bars, start)
         if bars is not None:
-            return self._bar_constraint(state, q.reshape(-1, 6), bars, shape)
-        reference = q.reshape(-1, 6)[:, :3]
-        jac = kin.jacobian(freedoms, state.rotations, state.translations, reference)
+            residual, wrenches = self._bar_constraint(state, flat, bars, shape)
+            return residual, wrenches, (flat, state.q)
+        jac = kin.jacobian(freedoms, state.rotations, state.translations, flat[:, :3])
         basis = kin.constraint_basis(jac * _BALANCED_ROWS[:, None], c)
         residual = np.einsum("nic,ni->nc", basis, state.error)
         wrenches = basis * _BALANCED_ROWS[:, None]
-        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c))
+        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c)), (flat, state.q)
 
     def _bar_constraint(
         self, state: kin.ChainState, poses: FloatArray, bars: kin.Bars, shape: tuple[int, ...]
