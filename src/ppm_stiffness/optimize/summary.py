@@ -158,6 +158,10 @@ class RegionSummary:
         The design is planar (its stiffness figures are k_x, k_y, k_phi).
     margin_poses : int
         Poses of the margin sub-grid evaluated (0: no load margin asked for).
+    moving_mass : float
+        The mass of every body moving with the platform [kg]
+        (:func:`ppm_stiffness.dynamics.mass.moving_mass`, its ``total``); NaN without a
+        mass model. Not one of the region's figures: it does not depend on the pose.
     """
 
     values: dict[str, float]
@@ -168,6 +172,7 @@ class RegionSummary:
     first_loaded_failure: tuple[float, ...] | None = field(default=None)
     planar: bool = True
     margin_poses: int = 0
+    moving_mass: float = math.nan
 
     @property
     def covers(self) -> bool:
@@ -376,7 +381,17 @@ def summarize(
         first_loaded_failure=first,
         planar=design.planar,
         margin_poses=margin_count,
+        moving_mass=_moving_mass(design),
     )
+
+
+def _moving_mass(design: Design) -> float:
+    """The total moving mass [kg] of a design with a mass model, else NaN."""
+    if not design.has_mass_model:
+        return math.nan
+    from ppm_stiffness.dynamics.mass import moving_mass
+
+    return moving_mass(design)["total"]
 
 
 def summarize_candidate(
