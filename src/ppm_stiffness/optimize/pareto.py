@@ -23,7 +23,10 @@ reference directions, the most partitions whose count of directions does not exc
 the population. The population is evaluated as one batch per generation on the
 executor (:func:`~ppm_stiffness.optimize.executors.run_ordered`, one task per design,
 results in order), so the same seed gives the same front on every executor. The random
-numbers come from pymoo's generator seeded with ``seed``.
+numbers: the initial population is uniform in the box, drawn from
+``numpy.random.default_rng(SeedSequence(seed))`` (its first member the start design when
+its values lie in the box); the crossover, mutation and selection use pymoo's generator
+seeded with ``seed``.
 
 The front reported is the non-dominated set of every feasible design evaluated (an
 archive over the whole run, not only the last population), sorted by the first
