@@ -202,3 +202,36 @@ def test_moving_mass_is_the_design_files_masses_summed() -> None:
     assert moving.value(summarize(heavier, REGION, frequencies=False)) == pytest.approx(
         by_hand + 3 * 0.3, rel=1e-14
     )
+
+
+class _InterruptAfter(SerialExecutor):
+    """Ctrl-C after ``n`` tasks."""
+
+    def __init__(self, n: int) -> None:
+        self.left = n
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[no-untyped-def]
+        if self.left == 0:
+            raise KeyboardInterrupt
+        self.left -= 1
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_ctrl_c_keeps_the_front_so_far() -> None:
+    """Interrupted after 20 evaluations (the start design, the 15 other members of the
+    initial population and 4 of the first generation): the front so far is kept."""
+    result = _front(seed=3, budget=160, executor=_InterruptAfter(20))
+    assert result.interrupted and result.evaluations == 20
+    assert result.front and result.partial_note() is not None
+    with pytest.raises(KeyboardInterrupt):  # before the start design: nothing to keep
+        _front(seed=3, budget=160, executor=_InterruptAfter(0))
+
+
+def test_three_objectives_run_nsga_iii() -> None:
+    """k_x_min, k_y_min and k_phi_min: NSGA-III, a front non-dominated in all three."""
+    design = _design()
+    objectives = [*OBJECTIVE_PAIR, quantity("k_phi_min")]
+    result = optimize_front(design, _variables(design), objectives, REGION, budget=32, seed=1)
+    assert result.algorithm == "NSGA-III" and result.evaluations <= 32
+    front = result.minimised()
+    assert front.shape[1] == 3 and len(non_dominated(front)) == len(front)
