@@ -61,11 +61,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--vary",
         action="append",
-        required=True,
+        default=[],
         metavar="NAME=LO:HI",
         help="a design variable: a parameter name or glob (as `calibrate "
         "--list-parameters` prints it; a glob's matches vary together) and its range "
-        "[SI]; repeat for more",
+        "[SI]; repeat for more (at least one, or a --choose with two or more --objective)",
     )
     parser.add_argument(
         "--objective",

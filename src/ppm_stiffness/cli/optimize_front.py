@@ -39,6 +39,7 @@ from ppm_stiffness.cli.study_options import (
 
 #: (option, attribute) of the options that apply to a front only.
 FRONT_OPTIONS = (
+    ("--choose", "choose"),
     ("--pick", "pick"),
     ("--front", "front"),
     ("--front-designs", "front_designs"),
@@ -50,6 +51,14 @@ FRONT_FORMATS = (".csv", ".json")
 
 def add_front_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of a multi-objective run."""
+    parser.add_argument(
+        "--choose",
+        action="append",
+        metavar="PART=FILE:TABLE",
+        help="with two or more --objective: a catalogue choice, one entry of table TABLE "
+        "of catalogue FILE (.toml) for part PART (a parameter prefix or glob, "
+        "leg*.distal): every key of the entry sets PART.KEY; repeat for more",
+    )
     parser.add_argument(
         "--pick",
         metavar="RULE",
@@ -115,6 +124,7 @@ def _rows(result: Any, chosen: int) -> list[dict[str, Any]]:
     for i, d in enumerate(result.front):
         row: dict[str, Any] = {"row": i, "chosen": i == chosen, "evaluation": d.evaluation}
         row.update({v.name: d.parameters[v.name] for v in result.variables})
+        row.update({c.name: d.choices[c.name] for c in result.choices})
         row.update({q.name: x for q, x in zip(result.objectives, d.objectives, strict=True)})
         row.update({str(c): x for c, x in zip(result.constraints, d.constraints, strict=True)})
         rows.append(row)
@@ -124,7 +134,7 @@ def _rows(result: Any, chosen: int) -> list[dict[str, Any]]:
 def _csv(result: Any, chosen: int) -> str:
     buffer = io.StringIO()
     rows = _rows(result, chosen)
-    units = ["", "", ""] + [v.unit for v in result.variables]
+    units = ["", "", ""] + [v.unit for v in result.variables] + ["entry"] * len(result.choices)
     units += [q.unit for q in result.objectives] + [c.quantity.unit for c in result.constraints]
     writer = csv.writer(buffer, lineterminator="\n")
     note = result.partial_note()
@@ -157,6 +167,10 @@ def _payload(
             for v in result.variables
         ],
         "constraints": [str(c) for c in result.constraints],
+        "choices": [
+            {"name": c.name, "catalogue": c.source, "entries": [n for n, _ in c.entries]}
+            for c in result.choices
+        ],
         "algorithm": result.algorithm,
         "evaluations": result.evaluations,
         "budget": result.budget,
@@ -167,12 +181,14 @@ def _payload(
         "start_outside_ranges": [{"name": n, "value": v} for n, v in result.outside],
         "start": {
             "parameters": result.start.parameters,
+            "choices": result.start.choices,
             "objectives": list(result.start.objectives),
             "constraints": list(result.start.constraints),
         },
         "front": [
             {
                 "parameters": d.parameters,
+                "choices": d.choices,
                 "objectives": list(d.objectives),
                 "constraints": list(d.constraints),
                 "evaluation": d.evaluation,
@@ -198,6 +214,22 @@ def _payload(
     }
 
 
+def _check_choices(design: Any, variables: list[Any], choices: list[Any]) -> None:
+    """Refuse a parameter set by two options (a --vary and a --choose, or two
+    --choose)."""
+    from ppm_stiffness.core.errors import InputDataError
+
+    owner = {m: f"--vary {v.name}" for v in variables for m in v.matches}
+    for c in choices:
+        for key in {k for i in range(len(c.entries)) for k in c.values(i)}:
+            for m in design.addressed(key):
+                if m in owner and owner[m] != f"--choose {c.name}":
+                    raise InputDataError(
+                        f"--choose {c.name} and {owner[m]} both set parameter {m!r}"
+                    )
+                owner[m] = f"--choose {c.name}"
+
+
 def _signs(result: Any) -> Any:
     import numpy as np
 
@@ -207,6 +239,7 @@ def _signs(result: Any) -> Any:
 def run_front(args: argparse.Namespace, names: list[str]) -> int:
     """``optimize`` with objectives ``names`` (two or more)."""
     from ppm_stiffness.core.errors import InputDataError
+    from ppm_stiffness.optimize.catalogue import parse_choice
     from ppm_stiffness.optimize.executors import open_executor
     from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
     from ppm_stiffness.optimize.optimizer import outside_note, outside_ranges
@@ -221,18 +254,28 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     fronts = _check_outputs(args)
     check_workers(args)
     variables = [parse_variable(t, design, count=False) for t in args.vary]
-    check_distinct(variables)
+    choices = [parse_choice(t, design) for t in args.choose or []]
+    if variables or not choices:
+        check_distinct(variables)
+    _check_choices(design, variables, choices)
     outside = outside_ranges(design, variables)
-    front_plan(args.budget, not outside)
+    outside_choices = [c for c in choices if c.start(design) is None]
+    front_plan(args.budget, not outside and not outside_choices)
     objectives = [OBJECTIVES[n] for n in names]
     constraints = [parse_constraint(t) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
     check_quantities(design, [*objectives, *(c.quantity for c in constraints)], wrench is not None)
-    if outside:
+    if outside or outside_choices:
         import warnings
 
-        warnings.warn(outside_note(outside), UserWarning, stacklevel=1)
+        notes = [outside_note(outside)] if outside else []
+        notes += [
+            f"the start design is not a candidate: its {c.name} is no entry of {c.source}"
+            for c in outside_choices
+        ]
+        for note in notes:
+            warnings.warn(note, UserWarning, stacklevel=1)
 
     start = time.perf_counter()
     with (
@@ -250,6 +293,7 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
             constraints=constraints,
             executor=executor,
             progress=advance,
+            choices=choices,
         )
     wall = time.perf_counter() - start
     chosen = choose(result, rule)
@@ -370,16 +414,20 @@ def _print(
         )
     for v in result.variables:
         table.add_column(escape(f"{v.name} [{v.unit}]"), justify="right")
+    for c in result.choices:
+        table.add_column(escape(c.name))
     table.add_row(
         "start",
         *(figure_cell(x) for x in result.start.objectives),
         *(figure_cell(result.start.parameters[v.name]) for v in result.variables),
+        *(escape(result.start.choices[c.name] or "(none)") for c in result.choices),
     )
     for i, d in enumerate(result.front):
         table.add_row(
             f"{i}{'*' if i == chosen else ''}",
             *(figure_cell(x) for x in d.objectives),
             *(figure_cell(d.parameters[v.name]) for v in result.variables),
+            *(escape(d.choices[c.name] or "") for c in result.choices),
         )
     console.print(table)
     console.print(f"chosen design (row {chosen}, {rule}) written to {escape(args.out)}")

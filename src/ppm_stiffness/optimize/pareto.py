@@ -54,6 +54,7 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import RequiredRegionModel
+from ppm_stiffness.optimize.catalogue import Choice, choice_values
 from ppm_stiffness.optimize.executors import Interrupted, SerialExecutor, run_ordered
 from ppm_stiffness.optimize.objectives import Constraint, Quantity, check_quantities
 from ppm_stiffness.optimize.optimizer import _check_start, outside_ranges
@@ -86,6 +87,12 @@ class FrontDesign:
         Each ``--constraint``'s quantity [its unit].
     evaluation : int
         Its rank among the evaluations (1: the start design).
+    choices : dict
+        Catalogue choice (part) -> the chosen entry's name (None: the start design's
+        part matches no entry).
+    settings : dict
+        Every parameter value set on the start design (name or glob -> SI value): the
+        variables' and the chosen entries'.
     """
 
     parameters: dict[str, float]
@@ -93,6 +100,8 @@ class FrontDesign:
     objectives: tuple[float, ...]
     constraints: tuple[float, ...]
     evaluation: int
+    choices: dict[str, str | None] = field(default_factory=dict)
+    settings: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -104,6 +113,8 @@ class FrontResult:
     objectives : list of Quantity
     variables : list of Variable
     constraints : list of Constraint
+    choices : list of Choice
+        The catalogue choices (discrete variables).
     start : FrontDesign
         The start design (its parameters None where a glob's matches differ).
     front : list of FrontDesign
@@ -125,6 +136,7 @@ class FrontResult:
     objectives: list[Quantity]
     variables: list[Variable]
     constraints: list[Constraint]
+    choices: list[Choice]
     start: FrontDesign
     front: list[FrontDesign]
     feasible: FloatArray
@@ -144,7 +156,7 @@ class FrontResult:
     def design(self, index: int, design: Design, region: RequiredRegionModel) -> Design:
         """Front design ``index`` as a design file's design: ``design`` with its
         parameters and ``region`` as its ``[workspace.required]``."""
-        return with_region(apply_values(design, self.front[index].parameters), region)
+        return with_region(apply_values(design, self.front[index].settings), region)
 
     def partial_note(self) -> str | None:
         """One line saying that the result is partial (None when it is not)."""
@@ -306,11 +318,27 @@ def hypervolume_2d(values: ArrayLike, reference: Sequence[float]) -> float:
     return float(area)
 
 
+def settings(
+    variables: Sequence[Variable], choices: Sequence[Choice], key: Sequence[float]
+) -> dict[str, float]:
+    """The parameter values of one design of the search: the continuous variables'
+    (the key's first values) and the chosen catalogue entries' (its last, rounded)."""
+    d = len(variables)
+    out = assignments(variables, key[:d])
+    out.update(choice_values(choices, key[d:]))
+    return out
+
+
 class _Archive:
     """Every design evaluated: key -> (rank, summary), with the budget's count."""
 
-    def __init__(self, objectives: Sequence[Quantity], constraints: Sequence[Constraint]):
-        self.objectives, self.constraints = objectives, constraints
+    def __init__(
+        self,
+        objectives: Sequence[Quantity],
+        constraints: Sequence[Constraint],
+        choices: Sequence[Choice] = (),
+    ):
+        self.objectives, self.constraints, self.choices = objectives, constraints, choices
         self.summaries: dict[tuple[float, ...], tuple[int, RegionSummary]] = {}
         self.evaluations = 0
 
@@ -321,12 +349,18 @@ class _Archive:
     def record(
         self, variables: Sequence[Variable], key: tuple[float, ...], rank: int, s: RegionSummary
     ) -> FrontDesign:
+        d = len(variables)
         return FrontDesign(
-            parameters=assignments(variables, key),
+            parameters=assignments(variables, key[:d]),
             summary=s,
             objectives=tuple(q.value(s) for q in self.objectives),
             constraints=tuple(c.quantity.value(s) for c in self.constraints),
             evaluation=rank,
+            choices={
+                c.name: c.entry_name(int(round(x)))
+                for c, x in zip(self.choices, key[d:], strict=True)
+            },
+            settings=settings(variables, self.choices, key),
         )
 
     def feasible(self) -> list[tuple[tuple[float, ...], int, RegionSummary]]:
@@ -368,6 +402,24 @@ def _algorithm(size: int, n_objectives: int) -> tuple[str, object]:
     return "NSGA-III", make
 
 
+def _round_choices(x: FloatArray, d: int, counts: FloatArray) -> FloatArray:
+    """``x`` (n, d + c) with its last c columns (the choices) rounded to entry indices."""
+    if counts.size:
+        x[:, d:] = np.clip(np.round(x[:, d:]), 0.0, counts - 1.0)
+    return x
+
+
+def _choice_repair(d: int, counts: FloatArray) -> object:
+    """A pymoo repair that keeps the choices' columns on integers (entry indices)."""
+    from pymoo.core.repair import Repair
+
+    class RoundChoices(Repair):
+        def _do(self, problem: object, x: FloatArray, **kwargs: object) -> FloatArray:
+            return _round_choices(np.asarray(x, dtype=float), d, counts)
+
+    return RoundChoices()
+
+
 def _import_pymoo() -> None:
     try:
         import pymoo  # noqa: F401
@@ -389,6 +441,7 @@ def optimize_front(
     constraints: Sequence[Constraint] = (),
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    choices: Sequence[Choice] = (),
 ) -> FrontResult:
     """The Pareto front of ``objectives`` over ``region`` (module doc).
 
@@ -412,6 +465,9 @@ def optimize_front(
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
         Called with the number of designs evaluated as they finish.
+    choices : sequence of Choice
+        Catalogue choices (:func:`~ppm_stiffness.optimize.catalogue.parse_choice`):
+        integer variables, the entry's index, rounded by a repair step.
 
     Returns
     -------
@@ -434,8 +490,15 @@ def optimize_front(
 
     if len(objectives) < 2 or len({q.name for q in objectives}) < len(objectives):
         raise InputDataError("a Pareto front needs two or more different objectives")
-    check_distinct(variables)
-    outside = outside_ranges(design, variables)
+    if variables:
+        check_distinct(variables)
+    elif not choices:
+        raise InputDataError("give at least one --vary NAME=LO:HI or --choose")
+    outside: list[tuple[str, float | None]] = [
+        (v.name, value) for v, value in outside_ranges(design, variables)
+    ]
+    chosen_start = [c.start(design) for c in choices]
+    outside += [(c.name, None) for c, i in zip(choices, chosen_start, strict=True) if i is None]
     size, generations = front_plan(budget, not outside)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     quantities = (*objectives, *(c.quantity for c in constraints))
@@ -448,7 +511,7 @@ def optimize_front(
         args = [
             (
                 design,
-                None if k is None else assignments(variables, k),
+                None if k is None else settings(variables, choices, k),
                 region,
                 w,
                 margin,
@@ -465,23 +528,32 @@ def optimize_front(
     for q in objectives:
         _check_start(design, start, region, w, q)
     scales = [abs(q.value(start)) or 1.0 for q in objectives]
-    archive = _Archive(objectives, constraints)
+    archive = _Archive(objectives, constraints, choices)
     starts = [v.start(design) for v in variables]
-    start_key = None if outside else tuple(float(s) for s in starts if s is not None)
+    start_key = None
+    if not outside:
+        start_key = tuple(float(x) for x in [*starts, *chosen_start] if x is not None)
     archive.evaluations = 1
     if start_key is not None:
         archive.summaries[start_key] = (1, start)
 
-    lo = np.array([v.lo for v in variables])
-    hi = np.array([v.hi for v in variables])
+    d = len(variables)
+    counts = np.array([len(c.entries) for c in choices], dtype=float)
+    lo = np.concatenate([[v.lo for v in variables], np.full(len(choices), -0.5)])
+    hi = np.concatenate([[v.hi for v in variables], counts - 0.5])
     rng = np.random.default_rng(np.random.SeedSequence(seed))
-    init = lo + rng.random((size, len(variables))) * (hi - lo)
+    init = _round_choices(lo + rng.random((size, lo.size)) * (hi - lo), d, counts)
     if start_key is not None:
         init[0] = start_key
     name, make = _algorithm(size, len(objectives))
-    algorithm = make(pop_size=size, sampling=init, eliminate_duplicates=True)  # type: ignore[operator]
+    algorithm = make(  # type: ignore[operator]
+        pop_size=size,
+        sampling=init,
+        eliminate_duplicates=True,
+        repair=_choice_repair(d, counts),
+    )
     n_g = 2 + len(constraints)
-    problem = Problem(n_var=len(variables), n_obj=len(objectives), n_ieq_constr=n_g, xl=lo, xu=hi)
+    problem = Problem(n_var=lo.size, n_obj=len(objectives), n_ieq_constr=n_g, xl=lo, xu=hi)
     algorithm.setup(problem, termination=("n_gen", generations + 1), seed=seed, verbose=False)
     history = [(1, 1 if np.all(constraint_values(objectives, constraints, start) <= 0) else 0)]
     interrupted = False
@@ -489,6 +561,8 @@ def optimize_front(
     try:
         while algorithm.has_next():
             pop = algorithm.ask()
+            if pop is None or len(pop) == 0:  # no new design left (few discrete choices)
+                break
             keys = [tuple(float(x) for x in row) for row in np.asarray(pop.get("X"), dtype=float)]
             todo = [k for k in dict.fromkeys(keys) if k not in archive.summaries]
             if archive.evaluations + len(todo) > budget:
@@ -525,11 +599,16 @@ def optimize_front(
         objectives=tuple(q.value(start) for q in objectives),
         constraints=tuple(c.quantity.value(start) for c in constraints),
         evaluation=1,
+        choices={
+            c.name: None if i is None else c.entry_name(i)
+            for c, i in zip(choices, chosen_start, strict=True)
+        },
     )
     return FrontResult(
         objectives=list(objectives),
         variables=list(variables),
         constraints=list(constraints),
+        choices=list(choices),
         start=start_record,
         front=front,
         feasible=values,
@@ -539,6 +618,6 @@ def optimize_front(
         budget=budget,
         algorithm=name,
         interrupted=interrupted,
-        outside=[(v.name, value) for v, value in outside],
+        outside=outside,
         history=history,
     )
