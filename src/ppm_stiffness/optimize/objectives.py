@@ -19,10 +19,10 @@ name                       value                                          unit  
 ``load-margin``            min over the margin sub-grid of the load        1         maximum
                            margin of --wrench
 ``moving-mass``            the mass of every body moving with the          kg        minimum
-                           platform: platform, links, carriages (a mass
-                           model; :func:`ppm_stiffness.dynamics.mass.
-                           moving_mass`); a rotor's reflected inertia
-                           is not a mass and does not count
+                           platform: platform, links (a parallelogram's
+                           two bars), carriages (a mass model); a rotor's
+                           reflected inertia is not a mass and does not
+                           count
 =========================  =============================================  ========  =======
 
 For a planar design the stiffness objectives keep the paper's decoupled k_x, k_y, k_phi
