@@ -122,3 +122,27 @@ def test_front_options_refused_with_one_objective(
     assert main([*argv, "--out", str(tmp_path / "b.toml"), "--pick", "knee"]) == 2
     assert "--pick: only with two or more --objective" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_writes_the_front_so_far(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from ppm_stiffness.optimize.executors import SerialExecutor
+
+    calls = {"n": 0}
+    submit = SerialExecutor.submit
+
+    def interrupting(self, fn, /, *args, **kwargs):  # type: ignore[no-untyped-def]
+        calls["n"] += 1
+        if calls["n"] > 12:
+            raise KeyboardInterrupt
+        return submit(self, fn, *args, **kwargs)
+
+    monkeypatch.setattr(SerialExecutor, "submit", interrupting)
+    out, table = tmp_path / "chosen.toml", tmp_path / "f.csv"
+    assert main([*FRONT, "--out", str(out), "--front", str(table), "--json"]) == 130
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["interrupted"] and doc["evaluations"] == 12
+    partial = "# partial: interrupted after 12 of 24 evaluations; the front so far"
+    assert out.read_text(encoding="utf-8").startswith(partial)
+    assert table.read_text(encoding="utf-8").startswith(partial)
