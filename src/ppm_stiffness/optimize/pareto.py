@@ -46,6 +46,7 @@ import math
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -337,8 +338,10 @@ class _Archive:
         objectives: Sequence[Quantity],
         constraints: Sequence[Constraint],
         choices: Sequence[Choice] = (),
+        variables: Sequence[Variable] = (),
     ):
         self.objectives, self.constraints, self.choices = objectives, constraints, choices
+        self.variables = variables
         self.summaries: dict[tuple[float, ...], tuple[int, RegionSummary]] = {}
         self.evaluations = 0
 
@@ -484,9 +487,7 @@ def optimize_front(
         Ctrl-C before any feasible design.
     """
     _import_pymoo()
-    from pymoo.core.evaluator import Evaluator
     from pymoo.core.problem import Problem
-    from pymoo.problems.static import StaticProblem
 
     if len(objectives) < 2 or len({q.name for q in objectives}) < len(objectives):
         raise InputDataError("a Pareto front needs two or more different objectives")
@@ -528,7 +529,7 @@ def optimize_front(
     for q in objectives:
         _check_start(design, start, region, w, q)
     scales = [abs(q.value(start)) or 1.0 for q in objectives]
-    archive = _Archive(objectives, constraints, choices)
+    archive = _Archive(objectives, constraints, choices, variables)
     starts = [v.start(design) for v in variables]
     start_key = None
     if not outside:
@@ -555,35 +556,9 @@ def optimize_front(
     n_g = 2 + len(constraints)
     problem = Problem(n_var=lo.size, n_obj=len(objectives), n_ieq_constr=n_g, xl=lo, xu=hi)
     algorithm.setup(problem, termination=("n_gen", generations + 1), seed=seed, verbose=False)
-    history = [(1, 1 if np.all(constraint_values(objectives, constraints, start) <= 0) else 0)]
-    interrupted = False
-    ran = -1
-    try:
-        while algorithm.has_next():
-            pop = algorithm.ask()
-            if pop is None or len(pop) == 0:  # no new design left (few discrete choices)
-                break
-            keys = [tuple(float(x) for x in row) for row in np.asarray(pop.get("X"), dtype=float)]
-            todo = [k for k in dict.fromkeys(keys) if k not in archive.summaries]
-            if archive.evaluations + len(todo) > budget:
-                break
-            try:
-                results = evaluate(list(todo))
-            except Interrupted as stop:
-                for i in sorted(stop.done):
-                    archive.add(todo[i], stop.done[i])
-                raise
-            for k, s in zip(todo, results, strict=True):
-                archive.add(k, s)
-            summaries = [archive.summaries[k][1] for k in keys]
-            f = np.array([scaled_objectives(objectives, s, scales) for s in summaries])
-            g = np.array([constraint_values(objectives, constraints, s) for s in summaries])
-            Evaluator().eval(StaticProblem(problem, F=f, G=g), pop)
-            algorithm.tell(infills=pop)
-            ran += 1
-            history.append((archive.evaluations, len(archive.front(variables)[0])))
-    except Interrupted:
-        interrupted = True
+    feasible_start = bool(np.all(constraint_values(objectives, constraints, start) <= 0))
+    history = [(1, 1 if feasible_start else 0)]
+    ran, interrupted = _evolve(algorithm, problem, archive, evaluate, budget, scales, history)
     front, values = archive.front(variables)
     if not front:
         if interrupted:
@@ -621,3 +596,51 @@ def optimize_front(
         outside=outside,
         history=history,
     )
+
+
+def _evolve(
+    algorithm: Any,
+    problem: Any,
+    archive: _Archive,
+    evaluate: Callable[[list[tuple[float, ...] | None]], list[RegionSummary]],
+    budget: int,
+    scales: Sequence[float],
+    history: list[tuple[int, int]],
+) -> tuple[int, bool]:
+    """pymoo's ask-and-tell loop: each generation's new designs evaluated as one batch
+    (``evaluate``), recorded in ``archive``, told back as F and G; ``history`` gets
+    (evaluations, front size) after each. Stops when pymoo's termination is met, when
+    the next generation would pass the budget, or when pymoo has no new design.
+    Returns (generations run, interrupted by Ctrl-C)."""
+    from pymoo.core.evaluator import Evaluator
+    from pymoo.problems.static import StaticProblem
+
+    objectives, constraints = archive.objectives, archive.constraints
+    ran = -1  # the initial population is not a generation
+    try:
+        while algorithm.has_next():
+            pop = algorithm.ask()
+            if pop is None or len(pop) == 0:  # no new design left (few discrete choices)
+                break
+            keys = [tuple(float(x) for x in row) for row in np.asarray(pop.get("X"), dtype=float)]
+            todo = [k for k in dict.fromkeys(keys) if k not in archive.summaries]
+            if archive.evaluations + len(todo) > budget:
+                break
+            try:
+                results = evaluate(list(todo))
+            except Interrupted as stop:
+                for i in sorted(stop.done):
+                    archive.add(todo[i], stop.done[i])
+                raise
+            for k, summary in zip(todo, results, strict=True):
+                archive.add(k, summary)
+            summaries = [archive.summaries[k][1] for k in keys]
+            f = np.array([scaled_objectives(objectives, x, scales) for x in summaries])
+            g = np.array([constraint_values(objectives, constraints, x) for x in summaries])
+            Evaluator().eval(StaticProblem(problem, F=f, G=g), pop)
+            algorithm.tell(infills=pop)
+            ran += 1
+            history.append((archive.evaluations, len(archive.front(archive.variables)[0])))
+    except Interrupted:
+        return ran, True
+    return ran, False
