@@ -231,6 +231,16 @@ def test_optimize_json_validates(capsys: pytest.CaptureFixture[str], tmp_path: P
     jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
 
 
+def test_optimize_front_json_validates(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("pymoo", reason="pymoo is in the 'pareto' extra")
+    argv = ["optimize", "--json", "--design", str(ROOT / "examples/symmetric_3ppr.toml")]
+    argv += ["--vary", "leg*.platform_radius=0.02:0.04", "--budget", "16", *_REGION]
+    argv += ["--objective", "worst-k-translational", "--objective", "moving-mass"]
+    document = _document(capsys, [*argv, "--out", str(tmp_path / "chosen.toml")])
+    spec = json.loads((SCHEMAS / "optimize-front.schema.json").read_text(encoding="utf-8"))
+    jsonschema.validate(document, spec, cls=jsonschema.Draft202012Validator)
+
+
 def test_uncertainty_is_described_by_the_schemas(capsys: pytest.CaptureFixture[str]) -> None:
     """Review finding: the bands were unchecked (no schema named ``uncertainty``); now a
     band with a wrong shape is refused."""
@@ -244,7 +254,7 @@ def test_uncertainty_is_described_by_the_schemas(capsys: pytest.CaptureFixture[s
 
 
 def test_every_schema_has_a_case() -> None:
-    covered = {name for name, _ in CASES} | {"validate", "optimize"}
+    covered = {name for name, _ in CASES} | {"validate", "optimize", "optimize-front"}
     assert {p.name.removesuffix(".schema.json") for p in SCHEMAS.glob("*.schema.json")} == covered
 
 

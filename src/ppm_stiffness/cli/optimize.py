@@ -27,6 +27,7 @@ from ppm_stiffness.cli.common import (
     parse_wrench,
     progress,
 )
+from ppm_stiffness.cli.optimize_front import FRONT_OPTIONS, add_front_arguments, run_front
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     MAP_GRID,
@@ -51,6 +52,7 @@ OBJECTIVE_NAMES = (
     "max-rotation",
     "first-frequency",
     "load-margin",
+    "moving-mass",
 )
 
 
@@ -59,24 +61,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--vary",
         action="append",
-        required=True,
+        default=[],
         metavar="NAME=LO:HI",
         help="a design variable: a parameter name or glob (as `calibrate "
         "--list-parameters` prints it; a glob's matches vary together) and its range "
-        "[SI]; repeat for more",
+        "[SI]; repeat for more (at least one, or a --choose with two or more --objective)",
     )
     parser.add_argument(
         "--objective",
-        default="worst-k-translational",
+        action="append",
         choices=OBJECTIVE_NAMES,
-        help="worst-k-translational: min over the region of the worst translational "
+        help="repeat for a Pareto front of two or more objectives (pymoo: the 'pareto' "
+        "extra); worst-k-translational: min over the region of the worst translational "
         "principal stiffness (planar: min(k_x, k_y)) [N/m], maximised; "
         "worst-k-rotational: of the worst rotational one (planar: k_phi) [N·m/rad], "
         "maximised; max-displacement: max displacement of the tool point under --wrench "
         "(planar: |(dx, dy)|) [m], minimised; max-rotation: max rotation under --wrench "
         "(planar: |phi_z|) [rad], minimised; first-frequency: min first natural "
         "frequency [Hz] (a mass model), maximised; load-margin: min load margin of "
-        "--wrench over the region's corner poses [1], maximised (default "
+        "--wrench over the region's corner poses [1], maximised; moving-mass: the mass "
+        "of every body moving with the platform [kg] (a mass model), minimised (default "
         "worst-k-translational)",
     )
     parser.add_argument(
@@ -99,8 +103,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_wrench_argument(parser)
     add_execution_arguments(parser)
     parser.add_argument(
-        "--out", metavar="FILE", required=True, help="write the best design (.toml)"
+        "--out",
+        metavar="FILE",
+        required=True,
+        help="write the best design (.toml); with two or more --objective the design "
+        "--pick chooses from the front",
     )
+    add_front_arguments(parser)
     parser.add_argument(
         "--convergence", metavar="FIG", help="write the convergence picture (.png, .svg, .pdf)"
     )
@@ -184,6 +193,12 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.optimize.summary import FIGURE_UNITS, PAPER_FIGURES, figure_names
     from ppm_stiffness.optimize.variables import check_distinct, parse_variable
 
+    names = args.objective or ["worst-k-translational"]
+    if len(names) > 1:
+        return run_front(args, names)
+    given = [o for o, attr in FRONT_OPTIONS if getattr(args, attr) is not None]
+    if given:
+        raise InputDataError(f"{', '.join(given)}: only with two or more --objective")
     design = load_design_arg(args)
     check_output_path(args.out, "--out", (".toml",), overwrite=args.overwrite)
     check_output_path(args.convergence, "--convergence", FIGURE_FORMATS, overwrite=args.overwrite)
@@ -199,7 +214,7 @@ def run(args: argparse.Namespace) -> int:
     check_distinct(variables)
     outside = outside_ranges(design, variables)
     population_plan(args.budget, len(variables), not outside)
-    objective = OBJECTIVES[args.objective]
+    objective = OBJECTIVES[names[0]]
     constraints = [parse_constraint(t) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)

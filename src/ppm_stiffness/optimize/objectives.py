@@ -18,6 +18,11 @@ name                       value                                          unit  
                            frequency (a mass model; loaded under --wrench)
 ``load-margin``            min over the margin sub-grid of the load        1         maximum
                            margin of --wrench
+``moving-mass``            the mass of every body moving with the          kg        minimum
+                           platform: platform, links (a parallelogram's
+                           two bars), carriages (a mass model); a rotor's
+                           reflected inertia is not a mass and does not
+                           count
 =========================  =============================================  ========  =======
 
 For a planar design the stiffness objectives keep the paper's decoupled k_x, k_y, k_phi
@@ -56,8 +61,15 @@ class Quantity:
     needs_mass: bool = False
     needs_margin: bool = False
 
+    @property
+    def needs_frequencies(self) -> bool:
+        """The quantity needs the f1 figures (the moving mass needs a mass model, not f1)."""
+        return self.needs_mass and self.name != "moving-mass"
+
     def value(self, summary: RegionSummary) -> float:
         """The quantity of one summary [unit]; NaN when it has none."""
+        if self.name == "moving-mass":
+            return summary.moving_mass
         if self.name == "worst-k-translational":
             if not summary.planar:
                 return summary["k_translational_min"]
@@ -120,6 +132,15 @@ OBJECTIVES: dict[str, Quantity] = {
             True,
             "min over the margin sub-grid of the load margin of --wrench",
             needs_margin=True,
+        ),
+        Quantity(
+            "moving-mass",
+            "kg",
+            False,
+            False,
+            "the mass of every body moving with the platform: platform, links, carriages "
+            "(rotor inertia not counted)",
+            needs_mass=True,
         ),
     )
 }

@@ -377,7 +377,7 @@ def optimize_design(
     quantities = (objective, *(c.quantity for c in constraints))
     check_quantities(design, quantities, w is not None)
     margin = any(q.needs_margin for q in quantities)
-    frequencies = any(q.needs_mass for q in quantities)  # f1 only when used: it costs
+    frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
     executor = SerialExecutor() if executor is None else executor
 
     try:

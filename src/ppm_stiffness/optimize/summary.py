@@ -158,6 +158,10 @@ class RegionSummary:
         The design is planar (its stiffness figures are k_x, k_y, k_phi).
     margin_poses : int
         Poses of the margin sub-grid evaluated (0: no load margin asked for).
+    moving_mass : float
+        The mass of every body moving with the platform [kg] (:func:`_moving_mass`);
+        NaN without a mass model. Not one of the region's figures: it does not depend
+        on the pose.
     """
 
     values: dict[str, float]
@@ -168,6 +172,7 @@ class RegionSummary:
     first_loaded_failure: tuple[float, ...] | None = field(default=None)
     planar: bool = True
     margin_poses: int = 0
+    moving_mass: float = math.nan
 
     @property
     def covers(self) -> bool:
@@ -376,7 +381,30 @@ def summarize(
         first_loaded_failure=first,
         planar=design.planar,
         margin_poses=margin_count,
+        moving_mass=_moving_mass(design),
     )
+
+
+def _moving_mass(design: Design) -> float:
+    """The total moving mass [kg] of a design with a mass model, else NaN: the
+    platform's mass, every link's ``mass`` (a parallelogram's twice: its ``mass`` is
+    each of its two bars', as the mass model carries it), every actuator's carriage.
+    A rotor's inertia is not a mass and does not count.
+
+    (:func:`ppm_stiffness.dynamics.mass.moving_mass` counts a parallelogram's bars
+    once: 0.254 kg short on examples/delta.toml; this sum does not rely on it.)
+    """
+    if not design.has_mass_model or design.platform is None:
+        return math.nan
+    total = float(design.platform.mass)
+    for leg in design.legs:
+        bars = {id(e.parallelogram) for e in getattr(leg, "elements", ()) if hasattr(e, "bar_mass")}
+        for _, part in leg.parameter_items():
+            mass = getattr(part, "mass", None)
+            if isinstance(mass, float) and hasattr(part, "young_modulus"):
+                total += mass * (2.0 if id(part) in bars else 1.0)
+        total += (leg.actuator and leg.actuator.carriage_mass) or 0.0
+    return total
 
 
 def summarize_candidate(

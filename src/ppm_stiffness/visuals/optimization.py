@@ -120,3 +120,109 @@ def plot_sweep(
         fontsize=10,
     )
     return fig
+
+
+def plot_front(
+    front: ArrayLike,
+    feasible: ArrayLike,
+    start: Sequence[float],
+    chosen: int,
+    names: Sequence[str],
+    units: Sequence[str],
+    maximise: Sequence[bool],
+    rule: str,
+) -> Any:
+    """A Pareto front: for two objectives the front over the cloud of feasible designs
+    evaluated, for more a scatter matrix of every pair; the start design (a star) and
+    the chosen design (a ringed point) marked.
+
+    Parameters
+    ----------
+    front : array_like (k, m)
+        The front's objectives [their units], sorted by the first.
+    feasible : array_like (n, m)
+        The objectives of every feasible design evaluated [their units].
+    start : sequence of float (m,)
+        The start design's objectives.
+    chosen : int
+        Index in ``front`` of the chosen design.
+    names, units : sequence of str (m,)
+    maximise : sequence of bool (m,)
+    rule : str
+        How the design was chosen (the legend says it).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    f = np.asarray(front, dtype=float)
+    cloud = np.asarray(feasible, dtype=float)
+    s = np.asarray(start, dtype=float)
+    m = f.shape[1]
+    labels = [
+        f"{n} [{u}] ({'max' if up else 'min'})"
+        for n, u, up in zip(names, units, maximise, strict=True)
+    ]
+    if m == 2:
+        fig = Figure(figsize=(6.4, 4.6), layout="constrained")
+        ax = fig.subplots()
+        _front_panel(ax, f, cloud, s, chosen, 0, 1, rule, m == 2)
+        ax.set_xlabel(labels[0])
+        ax.set_ylabel(labels[1])
+        ax.set_title(_front_title(len(f), len(cloud)))
+        ax.legend(loc="best", fontsize=8)
+        return fig
+    fig = Figure(figsize=(2.6 * (m - 1), 2.4 * (m - 1)), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(m - 1, m - 1, squeeze=False))
+    for row in range(1, m):
+        for col in range(m - 1):
+            ax = axes[row - 1, col]
+            if col >= row:
+                ax.set_axis_off()
+                continue
+            _front_panel(ax, f, cloud, s, chosen, col, row, rule, False)
+            if row == m - 1:
+                ax.set_xlabel(labels[col], fontsize=8)
+            if col == 0:
+                ax.set_ylabel(labels[row], fontsize=8)
+    handles, text = axes[-1, 0].get_legend_handles_labels()
+    axes[0, -1].legend(handles, text, loc="center", fontsize=8)  # an empty panel
+    fig.suptitle(_front_title(len(f), len(cloud)))
+    return fig
+
+
+def _front_title(front: int, feasible: int) -> str:
+    return (
+        f"Pareto front: {front} design{'' if front == 1 else 's'} of {feasible} feasible evaluated"
+    )
+
+
+def _front_panel(
+    ax: Any,
+    front: np.ndarray,
+    cloud: np.ndarray,
+    start: np.ndarray,
+    chosen: int,
+    i: int,
+    j: int,
+    rule: str,
+    line: bool,
+) -> None:
+    """One panel of :func:`plot_front`: objective i across, j up."""
+    ax.scatter(cloud[:, i], cloud[:, j], s=8, color="0.75", label="feasible designs")
+    style = "-o" if line else "o"
+    ax.plot(front[:, i], front[:, j], style, ms=4, lw=1, color="C0", label="front")
+    ax.plot(start[i], start[j], "*", ms=12, color="C3", label="start design")
+    ax.plot(
+        front[chosen, i],
+        front[chosen, j],
+        "o",
+        ms=11,
+        mfc="none",
+        mew=1.8,
+        color="C2",
+        label=f"chosen ({rule})",
+    )
+    ax.grid(True, alpha=0.3)
