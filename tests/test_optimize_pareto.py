@@ -240,10 +240,15 @@ def test_three_objectives_run_nsga_iii() -> None:
 def test_moving_mass_counts_both_bars_of_a_delta_parallelogram() -> None:
     """examples/delta.toml: platform 0.4156 kg; per leg the arm 0.2825 kg and a
     parallelogram whose ``mass`` 0.08473 kg is each of its two bars' (docs/legs.md, as
-    the mass model carries it): 0.4156 + 3 x (0.2825 + 2 x 0.08473) = 1.77148 kg
-    (dynamics.mass.moving_mass gives 1.51729 kg: one bar per leg)."""
+    the mass model carries it): 0.4156 + 3 x (0.2825 + 2 x 0.08473) = 1.77148 kg, the
+    objective's and the mass model's (``modes``) one sum (it counted one bar per leg:
+    1.51729 kg)."""
+    from ppm_stiffness.dynamics.mass import moving_mass
     from ppm_stiffness.optimize.summary import _moving_mass
 
     design = pps.load_design(ROOT / "examples/delta.toml")
     by_hand = 0.4156 + 3 * (0.2825 + 2 * 0.08473)
     assert _moving_mass(design) == pytest.approx(by_hand, rel=1e-14)
+    masses = moving_mass(design)
+    assert masses["links"] == pytest.approx(3 * (0.2825 + 2 * 0.08473), rel=1e-14)
+    assert masses["total"] == _moving_mass(design)

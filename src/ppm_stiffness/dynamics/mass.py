@@ -179,16 +179,12 @@ def mass_matrix_at_pose(
 
 def moving_mass(design: Design) -> dict[str, float]:
     """The physical masses of the mass model [kg]: ``platform``, ``links`` (every
-    link's), ``carriages`` (every actuator's carriage), and ``total``."""
+    link's, a parallelogram's two bars: :meth:`LegModel.link_mass`), ``carriages``
+    (every actuator's carriage), and ``total``."""
     require_mass_model(design)
     assert design.platform is not None
-    links = carriages = 0.0
-    for leg in design.legs:
-        for _, part in leg.parameter_items():  # a chain leg's links are its elements
-            mass = getattr(part, "mass", None)
-            if isinstance(mass, float) and hasattr(part, "young_modulus"):
-                links += mass
-        carriages += (leg.actuator and leg.actuator.carriage_mass) or 0.0
+    links = sum(leg.link_mass() for leg in design.legs)
+    carriages = sum((leg.actuator and leg.actuator.carriage_mass) or 0.0 for leg in design.legs)
     platform = design.platform.mass
     return {
         "platform": platform,

@@ -433,6 +433,15 @@ class LegModel(PartModel):
         model, whose fields the table spreads) or a value; its ``type`` left out."""
         return [(key, value) for key, value in self if key != "type"]
 
+    def link_mass(self) -> float:
+        """The physical mass [kg] of the leg's links: every beam section's ``mass``."""
+        total = 0.0
+        for _, part in self.parameter_items():
+            mass = getattr(part, "mass", None)
+            if isinstance(mass, float) and hasattr(part, "young_modulus"):
+                total += mass
+        return total
+
     def field_path(self, keys: list[str]) -> list[str | int]:
         """The path through the leg's fields (and list indices) of a parameter's dotted
         keys within the leg (``["guide", "yaw"]``): the keys themselves, unless the leg

@@ -386,25 +386,15 @@ def summarize(
 
 
 def _moving_mass(design: Design) -> float:
-    """The total moving mass [kg] of a design with a mass model, else NaN: the
-    platform's mass, every link's ``mass`` (a parallelogram's twice: its ``mass`` is
-    each of its two bars', as the mass model carries it), every actuator's carriage.
-    A rotor's inertia is not a mass and does not count.
-
-    (:func:`ppm_stiffness.dynamics.mass.moving_mass` counts a parallelogram's bars
-    once: 0.254 kg short on examples/delta.toml; this sum does not rely on it.)
-    """
+    """The total moving mass [kg] of a design with a mass model, else NaN
+    (:func:`ppm_stiffness.dynamics.mass.moving_mass`: the platform's mass, every link's
+    ``mass``, a parallelogram's two bars, every actuator's carriage; a rotor's inertia
+    is not a mass and does not count)."""
     if not design.has_mass_model or design.platform is None:
         return math.nan
-    total = float(design.platform.mass)
-    for leg in design.legs:
-        bars = {id(e.parallelogram) for e in getattr(leg, "elements", ()) if hasattr(e, "bar_mass")}
-        for _, part in leg.parameter_items():
-            mass = getattr(part, "mass", None)
-            if isinstance(mass, float) and hasattr(part, "young_modulus"):
-                total += mass * (2.0 if id(part) in bars else 1.0)
-        total += (leg.actuator and leg.actuator.carriage_mass) or 0.0
-    return total
+    from ppm_stiffness.dynamics.mass import moving_mass
+
+    return moving_mass(design)["total"]
 
 
 def summarize_candidate(

@@ -677,6 +677,14 @@ class ChainLeg(LegModel):
                     items.append((f"{name}.{key}", value))
         return items
 
+    def link_mass(self) -> float:
+        """The physical mass [kg] of the leg's links: every beam link's ``mass``, and a
+        parallelogram's two bars (its ``mass`` is each bar's)."""
+        second_bars = sum(
+            e.bar_mass() for e in self.elements if isinstance(e, ParallelogramElement)
+        )
+        return super().link_mass() + second_bars
+
     def field_path(self, keys: list[str]) -> list[str | int]:
         """An element's parameter by its name (:meth:`parameter_items`): its index in
         ``elements``, then ``link`` for a beam link's section."""
