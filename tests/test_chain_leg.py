@@ -13,13 +13,14 @@ from typing import Any
 
 import numpy as np
 import pytest
+from tests.helpers import design_named, example_designs
 
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design.io import design_from_dict
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose
-from ppm_stiffness.legs.types._spatial import universal_axes
-from ppm_stiffness.model import stiffness_at_pose
+from ppm_stiffness.model import full_pose, stiffness_at_pose
+from ppm_stiffness.poses import home_pose, task_indices
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -35,63 +36,22 @@ def _relative(k1: np.ndarray, k2: np.ndarray) -> float:
     return float(np.max(np.abs(k1 - k2) / d))
 
 
-def _home(data: dict[str, Any]) -> np.ndarray:
-    w = data.get("workspace", {})
-    keys = ("centre_x", "centre_y", "centre_z", "rx", "ry", "phi")
-    return np.array([float(w.get(k, 0.0)) for k in keys])
-
-
-def ups_as_chain(data: dict[str, Any]) -> dict[str, Any]:
-    """The hexapod example with each U-P-S leg written as its joint list at home."""
-    home = _home(data)
-    parts = data["parts"]
-    rotation = pose6.rotation(home)
-    legs = []
-    for leg in data["legs"]:
-        a = np.array(leg["base_point"])
-        b = home[:3] + rotation @ np.array(leg["platform_point"])
-        length = float(np.linalg.norm(b - a))
-        n = (b - a) / length
-        e1, e2 = universal_axes(n)
-        stroke = [leg["stroke"][0] - length, leg["stroke"][1] - length]
-        legs.append(
-            {
-                "type": "chain",
-                "actuator": parts["actuator"],
-                "elements": [
-                    {
-                        "joint": "U",
-                        "name": "base_joint",
-                        "point": a.tolist(),
-                        "axis": e1.tolist(),
-                        "axis2": e2.tolist(),
-                        "springs": parts["base_joint"],
-                        "mounting_axis": leg["base_joint_axis"],
-                    },
-                    {"link": parts["cylinder"], "name": "cylinder"},
-                    {
-                        "joint": "P",
-                        "name": "guide",
-                        "point": (a + leg["cylinder_length"] * n).tolist(),
-                        "axis": n.tolist(),
-                        "actuated": True,
-                        "stroke": stroke,
-                        "springs": parts["guide"],
-                    },
-                    {"link": parts["rod"], "name": "rod"},
-                    {
-                        "joint": "S",
-                        "name": "platform_joint",
-                        "point": b.tolist(),
-                        "springs": parts["platform_joint"],
-                        "mounting_axis": (rotation @ np.array(leg["platform_joint_axis"])).tolist(),
-                    },
-                ],
-            }
-        )
-    out = {k: v for k, v in data.items() if k not in ("parts", "legs")}
-    out["legs"] = legs
+def as_joint_lists(name: str) -> dict[str, Any]:
+    """An example design with each leg written as the joint list its preset writes
+    (:meth:`LegModel.joint_list`), every other key of the file kept (parts are in
+    the legs' lists)."""
+    data = _data(f"{name}.toml")
+    design = design_named(name)
+    home = home_pose(design)
+    out = {k: copy.deepcopy(v) for k, v in data.items() if k not in ("parts", "legs")}
+    out["legs"] = [leg.joint_list(home) for leg in design.legs]
     return out
+
+
+def writes_joint_lists(design: Any) -> bool:
+    """Every leg of the design is a preset that writes its joint list."""
+    home = home_pose(design)
+    return all(leg.type != "chain" and leg.joint_list(home) is not None for leg in design.legs)
 
 
 def _random_poses(home: np.ndarray, half: np.ndarray, count: int, seed: int) -> np.ndarray:
@@ -99,27 +59,35 @@ def _random_poses(home: np.ndarray, half: np.ndarray, count: int, seed: int) -> 
     return home + rng.uniform(-1.0, 1.0, (count, 6)) * half
 
 
-HEXAPOD_HALF = np.array([0.01, 0.01, 0.01, 0.05, 0.05, 0.05])
-
-
-def test_ups_legs_written_as_joint_lists_equal_the_ups_leg_type() -> None:
-    """K, M and the joint angles of the hexapod with its legs as joint lists equal the
-    U-P-S leg type's at random poses (K to 5e-15, measured 5.9e-16): the generic chain, its
-    Newton inverse kinematics and the product-of-exponentials joint axes reproduce the
-    closed-form leg."""
-    data = _data("hexapod_6ups.toml")
-    ups = design_from_dict(copy.deepcopy(data))
-    chain = design_from_dict(ups_as_chain(data))
-    for pose in _random_poses(_home(data), HEXAPOD_HALF, 6, seed=3):
-        assert _relative(stiffness_at_pose(ups, pose), stiffness_at_pose(chain, pose)) < 5e-15
-        m1, m2 = mass_matrix_at_pose(ups, pose), mass_matrix_at_pose(chain, pose)
-        assert np.max(np.abs(m1 - m2)) < 1e-12 * np.max(np.abs(m1))
-        for leg_ups, leg_chain in zip(ups.legs, chain.legs, strict=True):
-            a, b = leg_ups.solve(pose), leg_chain.solve(pose)
+@pytest.mark.parametrize("name", example_designs(writes_joint_lists))
+def test_presets_written_as_joint_lists_equal_the_preset(name: str) -> None:
+    """K, M, the completed pose, the joint angles and the actuated travel of a design
+    whose legs are the joint lists their presets write equal the preset's at random
+    poses (the pose to the completion's 1e-12; K and M to 5e-14 of their largest
+    entries, measured 9.1e-15 and 1.2e-14 on the 3-RPS, 5.9e-16 and 6.1e-15 on the
+    hexapod): the generic chain, its Newton inverse kinematics and the
+    product-of-exponentials joint axes reproduce the closed-form legs (issue 28, item 4;
+    the P-R-S preset does not write one: a joint list's P has no second axis for its
+    guide's lateral springs)."""
+    preset = design_named(name)
+    chain = design_from_dict(as_joint_lists(name))
+    home = home_pose(preset)
+    idx = list(task_indices(preset))
+    half = np.array([0.01, 0.01, 0.01, 0.05, 0.05, 0.05])[idx]
+    rng = np.random.default_rng(3)
+    for task in home[idx] + rng.uniform(-1.0, 1.0, (6, len(idx))) * half:
+        pose = full_pose(preset, task)
+        np.testing.assert_allclose(full_pose(chain, task), pose, rtol=0, atol=1e-12)
+        assert _relative(stiffness_at_pose(preset, pose), stiffness_at_pose(chain, pose)) < 5e-14
+        m1, m2 = mass_matrix_at_pose(preset, pose), mass_matrix_at_pose(chain, pose)
+        assert np.max(np.abs(m1 - m2)) < 5e-14 * np.max(np.abs(m1))
+        for leg_preset, leg_chain in zip(preset.legs, chain.legs, strict=True):
+            a, b = leg_preset.solve(pose), leg_chain.solve(pose)
             for angle in ("base_joint_angle", "platform_joint_angle"):
-                assert abs(float(a.coordinates[angle] - b.coordinates[angle])) < 1e-12
+                if angle in a.coordinates:
+                    assert abs(float(a.coordinates[angle] - b.coordinates[angle])) < 1e-12
             # the actuated coordinate is the length's change from home
-            home_length = leg_ups.solve(_home(data)).coordinates["length"]
+            home_length = leg_preset.solve(home).coordinates["length"]
             travel = float(a.coordinates["length"] - home_length)
             assert abs(travel - float(b.coordinates["actuated"])) < 1e-12
 

@@ -433,6 +433,12 @@ class LegModel(PartModel):
         model, whose fields the table spreads) or a value; its ``type`` left out."""
         return [(key, value) for key, value in self if key != "type"]
 
+    def joint_list(self, home: FloatArray) -> dict[str, Any] | None:
+        """This leg written as a joint-list leg's table (``type = "chain"``,
+        docs/legs.md) at the design's home pose (6,), or None where the leg type does not
+        write one yet."""
+        return None
+
     def link_mass(self) -> float:
         """The physical mass [kg] of the leg's links: every beam section's ``mass``."""
         total = 0.0

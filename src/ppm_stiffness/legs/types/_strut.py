@@ -10,7 +10,7 @@ Points are relative to P, axes of F_b, with leading batch axes (..., 3), SI.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -129,4 +129,56 @@ def strut_elements(leg: StrutLeg, leg_pose: LegPose) -> Sequence[Element]:
     ]
 
 
-__all__ = ["StrutLeg", "check_stroke", "strut_elements", "strut_link_lengths", "strut_pose"]
+def _dump(part: Any) -> dict[str, Any]:
+    """A part's design-file table (its fields set)."""
+    return dict(part.model_dump(exclude_none=True))
+
+
+def strut_joint_list(leg: StrutLeg, home: FloatArray, base: dict[str, Any]) -> dict[str, Any]:
+    """The strut leg as a joint-list leg's table (``type = "chain"``, docs/legs.md) at the
+    design's home pose ``home`` (6,): ``base`` (the leg's base joint element, at A),
+    the cylinder, the actuated P at C along the home n (its stroke the travel from the
+    home length), the rod and the S at B (its ``mounting_axis`` the platform joint's
+    axis at home)."""
+    a = np.asarray(leg.base_point, dtype=float)
+    b = pose6.position(home) + leg.platform_offset(home)
+    length = float(np.linalg.norm(b - a))
+    n = (b - a) / length
+    guide: dict[str, Any] = {
+        "joint": "P",
+        "name": "guide",
+        "point": (a + leg.cylinder_length * n).tolist(),
+        "axis": n.tolist(),
+        "actuated": True,
+        "stroke": [leg.stroke[0] - length, leg.stroke[1] - length],
+    }
+    spherical: dict[str, Any] = {
+        "joint": "S",
+        "name": "platform_joint",
+        "point": b.tolist(),
+        "mounting_axis": pose6.platform_offset(home, np.asarray(leg.platform_joint_axis)).tolist(),
+    }
+    for element, part in ((guide, leg.guide), (spherical, leg.platform_joint)):
+        if part is not None:
+            element["springs"] = _dump(part)
+    return {
+        "type": "chain",
+        "actuator": _dump(leg.law()),
+        "elements": [
+            base,
+            {"link": _dump(leg.cylinder), "name": "cylinder"},
+            guide,
+            {"link": _dump(leg.rod), "name": "rod"},
+            spherical,
+        ],
+    }
+
+
+__all__ = [
+    "StrutLeg",
+    "check_stroke",
+    "strut_elements",
+    "strut_joint_list",
+    "strut_link_lengths",
+    "strut_pose",
+]

@@ -26,7 +26,7 @@ C (actuated, ``guide``) - link C->B (``rod``) - S at B (``platform_joint``).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -49,6 +49,7 @@ from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, plane_con
 from ppm_stiffness.legs.types._strut import (
     check_stroke,
     strut_elements,
+    strut_joint_list,
     strut_link_lengths,
     strut_pose,
 )
@@ -134,6 +135,19 @@ class RPSLeg(LegModel):
         base_point = leg_pose.points["A"]
         base = Joint("R", e, base_point, joint_springs(self.base_revolute), name="base_revolute")
         return [base, *strut_elements(self, leg_pose)]
+
+    def joint_list(self, home: FloatArray) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): R about e_R at A,
+        then the strut (:func:`~ppm_stiffness.legs.types._strut.strut_joint_list`)."""
+        base: dict[str, Any] = {
+            "joint": "R",
+            "name": "base_revolute",
+            "point": list(self.base_point),
+            "axis": self.revolute_direction().tolist(),
+        }
+        if self.base_revolute is not None:
+            base["springs"] = self.base_revolute.model_dump(exclude_none=True)
+        return strut_joint_list(self, home, base)
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The revolute at ``base_point`` (pose-independent)."""

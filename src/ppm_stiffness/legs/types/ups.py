@@ -33,7 +33,7 @@ Chain: U at A (``base_joint``) - link A->C (``cylinder``) - P along n at C (actu
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -56,6 +56,7 @@ from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, universal
 from ppm_stiffness.legs.types._strut import (
     check_stroke,
     strut_elements,
+    strut_joint_list,
     strut_link_lengths,
     strut_pose,
 )
@@ -131,6 +132,25 @@ class UPSLeg(LegModel):
         e1, e2 = universal_axes(unit(pts["B"] - pts["A"]))
         base = Joint("U", e1, pts["A"], joint_springs(self.base_joint), name="base_joint", axis2=e2)
         return [base, *strut_elements(self, leg_pose)]
+
+    def joint_list(self, home: FloatArray) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): U at A with its
+        axes at home (e1, e2 of the home n), then the strut
+        (:func:`~ppm_stiffness.legs.types._strut.strut_joint_list`)."""
+        a = np.asarray(self.base_point, dtype=float)
+        b = pose6.position(home) + pose6.platform_offset(home, self.attachment())
+        e1, e2 = universal_axes(unit(b - a))
+        base: dict[str, Any] = {
+            "joint": "U",
+            "name": "base_joint",
+            "point": a.tolist(),
+            "axis": e1.tolist(),
+            "axis2": e2.tolist(),
+            "mounting_axis": list(self.base_joint_axis),
+        }
+        if self.base_joint is not None:
+            base["springs"] = self.base_joint.model_dump(exclude_none=True)
+        return strut_joint_list(self, home, base)
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
         """The universal joint at ``base_point`` (pose-independent)."""
