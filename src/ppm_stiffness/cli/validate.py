@@ -286,6 +286,24 @@ def _run_hinge(args: argparse.Namespace) -> int:
     return 0
 
 
+def _print_hinge_convergence(design: Design) -> None:
+    """A design with notch hinges: the FE frame's hinge chains against the model at home
+    (docs/flexures.md, "FE frame")."""
+    from ppm_stiffness.validation.compare import has_notch_hinges, hinge_convergence
+
+    if not has_notch_hinges(design):
+        return
+    r = hinge_convergence(design)
+    console.print(
+        "notch hinges in the FE frame as chains of "
+        + "/".join(str(n) for n in r.segments)
+        + " beam members (harmonic-mean sections), at home: max|dK_ij|/sqrt(K_ii K_jj) "
+        + ", ".join(f"{d:.2e}" for d in r.differences)
+        + (f", observed order {r.order:.2f}" if r.order is not None else "")
+        + f"; Richardson limit {r.extrapolated:.2e}"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     if args.hinge is not None:
         return _run_hinge(args)
@@ -350,6 +368,7 @@ def run(args: argparse.Namespace) -> int:
             f"{name}: max {worst[name]:.2e} (tolerance {TOLERANCES[name]:.0%}) "
             f"{'ok' if worst[name] <= TOLERANCES[name] else 'FAILED'}"
         )
+    _print_hinge_convergence(design)
     t_fe = float(np.mean([r.time_fe for r in results]))
     t_vj = float(np.mean([r.time_virtual_joint for r in results]))
     console.print(

@@ -66,12 +66,17 @@ class FESettings:
         conditioning of the solve, not the model.
     check_stability : bool
         Let PyNite check the stiffness matrix for unstable degrees of freedom.
+    hinge_segments : int
+        A notch hinge (a chain leg's R with a ``hinge`` table) is built as this many
+        beam members along its profile (:mod:`ppm_stiffness.validation.hinge_chain`);
+        0 builds it as the elastic R of the virtual-joint model.
     """
 
     connector_length: float = 5e-3
     rigid_stiffness: float = 1e11
     length_unit: float = 0.1
     check_stability: bool = True
+    hinge_segments: int = 32
 
 
 def require_pynite() -> Any:
