@@ -230,6 +230,7 @@ _FRAME_OPTIONS = {
     "poses": 5,
     "radius": None,
     "angle": None,
+    "seed": 0,
 }
 
 
