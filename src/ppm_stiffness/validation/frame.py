@@ -168,9 +168,10 @@ class FrameBuilder:
         self.model.def_support(name, True, True, True, True, True, True)
         return name
 
-    def material(self, section: BeamSection | SectionModel) -> str:
-        """Material and section of a design link; returns the common name."""
-        name = self._name("link")
+    def material(self, section: BeamSection | SectionModel, prefix: str = "link") -> str:
+        """Material and section of a design link (or of another beam: a notch hinge's
+        member, ``prefix = "notch"``); returns the common name."""
+        name = self._name(prefix)
         l2, l4 = self.unit**2, self.unit**4
         self.model.add_material(
             name, section.young_modulus * l2, section.shear_modulus * l2, 0.3, 0.0

@@ -179,7 +179,7 @@ def add_hinge(
     nodes = [before] + [fb.node(q, "F") for q in points[1:-1]]
     nodes.append(fb.node(points[-1], "F") if after is None else after)
     for k, section in enumerate(segment_sections(hinge, stations(hinge, n))):
-        mat = fb.material(section)
+        mat = fb.material(section, "notch")  # not a design link (the modal FE's masses)
         fb.orient(fb.member(nodes[k], nodes[k + 1], mat, mat), e3)
     if joint.actuated and k_act > 0.0:
         _add_drive(fb, plan, (nodes[0], nodes[-1]), np.asarray(joint.point, float), e1, e3, k_act)
