@@ -36,7 +36,7 @@ def chain_compliance(hinge: FlexureHinge, n: int) -> np.ndarray:
 
 def test_harmonic_means_keep_the_rotational_and_axial_compliances_exact() -> None:
     """Harmonic-mean sections give C_phiz, C_phiy, C_phix and C_x of the chain equal to
-    the hinge's integrals for any n (measured 1e-15); the transverse C_vy falls as
+    the hinge's integrals for any n (measured 2.2e-16); the transverse C_vy falls as
     n^-2 (2.8e-1, 6.4e-2, 1.6e-2 relative with 8, 16, 32 members: ratios 4.39, 4.10)."""
     hinge = FlexureHinge(profile=NOTCH, width=5e-3, material=MATERIAL)
     exact = hinge.centre_compliance()
