@@ -9,6 +9,10 @@ and out-of-plane (phi_x, phi_y, z) blocks; other designs: the whole matrix; all:
 twist direction) and the time the FE model takes. Exit code 0 when every figure is
 within its tolerance (planar 2 %, out-of-plane 5 %, whole matrix 2 %, directions 5 %),
 1 otherwise.
+
+``--hinge FILE``: instead, each distinct notch hinge of a design (or one hinge) by a 2-D
+finite-element model, plane stress and plane strain (scikit-fem,
+:mod:`ppm_stiffness.validation.hinge_continuum`), beside the beam integrals.
 """
 
 from __future__ import annotations
@@ -93,6 +97,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(one row per pose and figure)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--hinge",
+        metavar="FILE",
+        help="instead of the frame model: each notch hinge of a design FILE (or one hinge "
+        "FILE: profile, width, material) by 2-D plane-stress and plane-strain FE models "
+        "(scikit-fem): "
+        "its K_phiz and axial K beside the beam integrals' (docs/flexures.md)",
+    )
     parser.add_argument(
         "--json", action="store_true", help="print the comparison as one JSON object (SI)"
     )
@@ -209,7 +221,93 @@ def _pose_json(pose: np.ndarray) -> dict[str, float]:
     return out
 
 
+#: The frame-model options that --hinge does not take (the defaults they must keep).
+_FRAME_OPTIONS = {
+    "design": None,
+    "csv": None,
+    "json": False,
+    "region": False,
+    "poses": 5,
+    "radius": None,
+    "angle": None,
+    "seed": 0,
+}
+
+
+def _run_hinge(args: argparse.Namespace) -> int:
+    """``--hinge FILE``: the continuum check of each distinct hinge (table on stdout)."""
+    from ppm_stiffness.cli.common import check_input_path
+    from ppm_stiffness.validation.hinge_continuum import (
+        continuum_stiffness,
+        hinges_in_file,
+        require_skfem,
+    )
+
+    given = [f"--{k}" for k, v in _FRAME_OPTIONS.items() if getattr(args, k) != v]
+    if given:
+        raise InputDataError(f"--hinge checks hinges alone: give it without {', '.join(given)}")
+    require_skfem()
+    hinges = hinges_in_file(check_input_path(args.hinge, "--hinge"))
+    table = Table(
+        title="notch hinges: Euler-Bernoulli integrals (EB) vs 2-D FE, plane stress and "
+        "plane strain (scikit-fem, quadratic triangles, Richardson limit over 3 meshes; p: "
+        "observed order); a hinge much wider than thick lies between the two",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    for name in ("hinge", "stiffness", "EB", "FE", "EB/FE-1", "p"):
+        table.add_column(name, justify="left" if name in ("hinge", "stiffness") else "right")
+    with progress("FE hinge", len(hinges), enabled=not args.quiet) as advance:
+        for name, hinge in hinges:
+            stress = continuum_stiffness(hinge)
+            strain = continuum_stiffness(hinge, state="strain")
+            rows = [
+                (f"K_{what}, plane {state}", r)
+                for what in ("phiz", "x")
+                for state, r in (("stress", stress), ("strain", strain))
+            ]
+            for k, (what, r) in enumerate(rows):
+                eb, fe, order = (
+                    (r.rotational_eb, r.rotational, r.order_rotational)
+                    if "phiz" in what
+                    else (r.axial_eb, r.axial, r.order_axial)
+                )
+                table.add_row(
+                    escape(name) if k == 0 else "",
+                    what,
+                    eng(eb, 4),
+                    eng(fe, 4),
+                    f"{eb / fe - 1:+.4f}",
+                    "-" if order is None else f"{order:.2f}",
+                )
+            advance(1)
+    console.print(table)
+    console.print("units: K_phiz N·m/rad, K_x N/m (hinge axes: docs/conventions.md)")
+    return 0
+
+
+def _print_hinge_convergence(design: Design) -> None:
+    """A design with notch hinges: the FE frame's hinge chains against the model at home
+    (docs/flexures.md, "FE frame")."""
+    from ppm_stiffness.validation.compare import has_notch_hinges, hinge_convergence
+
+    if not has_notch_hinges(design):
+        return
+    r = hinge_convergence(design)
+    console.print(
+        "notch hinges in the FE frame as chains of "
+        + "/".join(str(n) for n in r.segments)
+        + " beam members (harmonic-mean sections), at home: max|dK_ij|/sqrt(K_ii K_jj) "
+        + ", ".join(f"{d:.2e}" for d in r.differences)
+        + (f", observed order {r.order:.2f}" if r.order is not None else "")
+        + f"; Richardson limit {r.extrapolated:.2e}"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.hinge is not None:
+        return _run_hinge(args)
     from ppm_stiffness.validation.compare import (
         TOLERANCES,
         describe_box,
@@ -271,6 +369,7 @@ def run(args: argparse.Namespace) -> int:
             f"{name}: max {worst[name]:.2e} (tolerance {TOLERANCES[name]:.0%}) "
             f"{'ok' if worst[name] <= TOLERANCES[name] else 'FAILED'}"
         )
+    _print_hinge_convergence(design)
     t_fe = float(np.mean([r.time_fe for r in results]))
     t_vj = float(np.mean([r.time_virtual_joint for r in results]))
     console.print(

@@ -25,8 +25,11 @@ fe_model
 compare
     Per-block and per-direction comparison of the two matrices, seeded reachable
     poses over the task coordinates, timings.
+hinge_continuum
+    One notch hinge's in-plane stiffnesses by a 2-D plane-stress (or plane-strain)
+    finite-element model in scikit-fem, beside the beam integrals (``validate --hinge``).
 
-Importing this package does not import PyNite; :func:`frame.require_pynite`
+Importing this package does not import PyNite (nor scikit-fem); :func:`frame.require_pynite`
 raises :class:`MissingExtraError` with an installation hint when it is absent.
 """
 

@@ -375,3 +375,86 @@ def csv_rows(comparisons: Iterable[PoseComparison]) -> list[dict[str, float | st
         for name, value in c.differences.items():
             rows.append({**pose, "block": name, "max_rel_diff": value})
     return rows
+
+
+def has_notch_hinges(design: Design) -> bool:
+    """Whether a chain leg of ``design`` has an R joint with a ``hinge`` table."""
+    from ppm_stiffness.legs.types.chain_leg import ChainLeg, JointElement
+
+    return any(
+        isinstance(e, JointElement) and e.hinge is not None
+        for leg in design.legs
+        if isinstance(leg, ChainLeg)
+        for e in leg.elements
+    )
+
+
+#: FE settings of :func:`hinge_convergence` (its doc).
+HINGE_SETTINGS = FESettings(rigid_stiffness=1e12)
+
+
+@dataclass(frozen=True)
+class HingeConvergence:
+    """The FE frame's notch hinges as chains of n beam members, against the model.
+
+    Attributes
+    ----------
+    segments : tuple of int
+        Members per hinge, each twice the one before.
+    differences : tuple of float
+        ``max |K_fe - K_vj|_ij / sqrt(K_vj_ii K_vj_jj)`` for each n.
+    order : float or None
+        Observed order: log2 of the ratio of the last two increments of K_fe (same
+        measure); None with fewer than three meshes.
+    extrapolated : float
+        The same measure for the Richardson limit of the last two meshes at order 2,
+        ``K_2n + (K_2n - K_n) / 3``.
+    """
+
+    segments: tuple[int, ...]
+    differences: tuple[float, ...]
+    order: float | None
+    extrapolated: float
+
+
+def hinge_convergence(
+    design: Design,
+    pose: ArrayLike | None = None,
+    segments: Sequence[int] = (8, 16, 32),
+    settings: FESettings | None = None,
+) -> HingeConvergence:
+    """K of the FE frame with its notch hinges as ``n`` members each
+    (:mod:`ppm_stiffness.validation.hinge_chain`) for each n of ``segments``, against the
+    virtual-joint K, at ``pose`` (the home pose when None).
+
+    ``settings`` default to :data:`HINGE_SETTINGS`: rigid parts 10 times stiffer than
+    the frame's default, so that their own compliance (7.6e-5 of K on the 3-RRR flexure
+    stage at the default 1e11 N/m) stays below the hinge chains' Richardson limit.
+
+    Raises
+    ------
+    InputDataError
+        Fewer than two meshes, or a count that does not double.
+    """
+    from dataclasses import replace
+
+    counts = tuple(int(n) for n in segments)
+    if len(counts) < 2 or any(b != 2 * a for a, b in zip(counts, counts[1:], strict=False)):
+        raise InputDataError(f"hinge segments: two or more counts, each doubling, got {counts}")
+    p = home_pose(design) if pose is None else np.asarray(pose, dtype=float)
+    k = stiffness_at_pose(design, p)
+    scale = np.sqrt(np.outer(np.diag(k), np.diag(k)))
+    base = settings or HINGE_SETTINGS
+    ks = [
+        fe_stiffness_at_pose(design, p, settings=replace(base, hinge_segments=n)).stiffness
+        for n in counts
+    ]
+
+    def measure(a: FloatArray, b: FloatArray) -> float:
+        return float(np.max(np.abs(a - b) / scale))
+
+    order = None
+    if len(ks) >= 3:
+        order = float(np.log2(measure(ks[-2], ks[-3]) / measure(ks[-1], ks[-2])))
+    limit = ks[-1] + (ks[-1] - ks[-2]) / 3.0
+    return HingeConvergence(counts, tuple(measure(x, k) for x in ks), order, measure(limit, k))

@@ -19,6 +19,9 @@ to the platform:
   for the first joint) to a new node at the same point (the node after it):
   moment-only members for its rotations, axial springs through auxiliary nodes for
   its translations, nothing for its passive freedoms (:mod:`.joints`);
+* a **notch hinge** (a chain leg's R with a ``hinge`` table, no beam link beside it) is
+  the notch itself, ``FESettings.hinge_segments`` beam members from its base-side end to
+  its platform-side end (:mod:`.hinge_chain`), not the model's lumped elastic R;
 * a link that does not start at the previous joint's point, or a joint away from the
   previous link's end, is joined by a stiff member (a rigid body in the chain);
 * the **platform**: one node per distinct platform point (the point of each leg's last
@@ -58,6 +61,7 @@ from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import leg_label
 from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis
+from ppm_stiffness.legs.flexure_hinge import FlexureHinge
 from ppm_stiffness.legs.types._parallelogram import RIGID_PART
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, validate_pose
 from ppm_stiffness.validation.frame import (
@@ -72,6 +76,7 @@ from ppm_stiffness.validation.frame import (
     require_pynite,
     unit_scales,
 )
+from ppm_stiffness.validation.hinge_chain import add_hinge, notch_ends, notch_points
 from ppm_stiffness.validation.joints import (
     SAME_POINT,
     Placement,
@@ -129,9 +134,42 @@ def _same(a: FloatArray, b: FloatArray) -> bool:
     return bool(np.linalg.norm(a - b) <= SAME_POINT)
 
 
-def _end_point(chain: Sequence[Element]) -> FloatArray:
+#: A leg's notch hinges built as beam chains: chain index -> the hinge.
+Hinges = dict[int, FlexureHinge]
+
+
+def _end_point(chain: Sequence[Element], hinges: Hinges) -> FloatArray:
     last = chain[-1]
+    if isinstance(last, Joint) and len(chain) - 1 in hinges:
+        return _point(notch_ends(last, hinges[len(chain) - 1])[1])
     return _point(last.end if isinstance(last, Link) else last.point)
+
+
+def _leg_hinges(design: Design, leg: int, chain: Sequence[Element], segments: int) -> Hinges:
+    """The chain's notch hinges built as beam chains (:mod:`.hinge_chain`): every R
+    joint of a chain leg with a ``hinge`` table, when ``segments`` > 0 and no beam link
+    touches it (a link from the notch's centre would overlap the notch's members; such
+    a hinge stays an elastic R, as in the virtual-joint model)."""
+    from ppm_stiffness.legs.types.chain_leg import ChainLeg, JointElement
+
+    model = design.legs[leg]
+    if segments <= 0 or not isinstance(model, ChainLeg):
+        return {}
+    by_name = {
+        model.element_name(k): e.hinge
+        for k, e in enumerate(model.elements)
+        if isinstance(e, JointElement) and e.hinge is not None
+    }
+    out: Hinges = {}
+    for n, element in enumerate(chain):
+        if not isinstance(element, Joint) or element.name not in by_name:
+            continue
+        beside = [chain[m] for m in (n - 1, n + 1) if 0 <= m < len(chain)]
+        if not any(isinstance(e, Link) for e in beside):
+            hinge = by_name[element.name]
+            assert hinge is not None
+            out[n] = hinge
+    return out
 
 
 def _platform_parents(points: list[FloatArray]) -> list[int]:
@@ -181,12 +219,27 @@ def _bend(plan: Placement, a: FloatArray, b: FloatArray) -> FloatArray | None:
     raise DesignError("FE model: no room to join a platform point to P clear of the legs")
 
 
-def _plan_structure(chains: Sequence[Sequence[Element]], plan: Placement) -> None:
-    """Record every structural member (links, rigid offsets) and node position of the
-    chains (the platform is added by :func:`build_model`)."""
-    for chain in chains:
+def _plan_structure(
+    chains: Sequence[Sequence[Element]], plan: Placement, hinges: Sequence[Hinges], segments: int
+) -> None:
+    """Record every structural member (links, rigid offsets, notch chains) and node
+    position of the chains (the platform is added by :func:`build_model`)."""
+    for chain, notches in zip(chains, hinges, strict=True):
         pos: FloatArray | None = None
-        for element in chain:
+        for n, element in enumerate(chain):
+            if isinstance(element, Joint) and n in notches:
+                points = notch_points(element, notches[n], segments)
+                if pos is not None and not _same(points[0], pos):
+                    plan.add_segment(pos, points[0])
+                    plan.add_point(0.5 * (pos + points[0]))
+                # its ends only: the notch's line (a planned member) keeps auxiliary
+                # nodes off its inner nodes, which would otherwise block the platform's
+                # member from its far end (they lie within the margin of its start)
+                plan.add_segment(points[0], points[-1])
+                plan.add_point(points[0])
+                plan.add_point(points[-1])
+                pos = points[-1]
+                continue
             if isinstance(element, Link):
                 start, end = _point(element.start), _point(element.end)
                 if pos is not None and not _same(start, pos):
@@ -214,10 +267,13 @@ def _add_leg(
     platform_node: str,
     label: str,
     members: tuple[list[Link], list[Joint]] = ([], []),
+    hinges: Hinges | None = None,
 ) -> None:
     """Add one leg's chain from the ground to its platform node (module doc); an
     element modelled by an equivalent chain (a parallelogram) is built from its own
-    ``members`` instead (:func:`_add_bars`)."""
+    ``members`` instead (:func:`_add_bars`), a notch hinge in ``hinges`` as a chain of
+    beam members from its base-side end to its platform-side end (:mod:`.hinge_chain`)."""
+    notches = hinges or {}
     if not chain or not isinstance(chain[0], Joint):
         raise DesignError(f"FE model, {label}: the chain must start with a joint at the base")
     current: str | None = None
@@ -245,7 +301,12 @@ def _add_leg(
             fb.link(current, tip, element.section)
             current, pos = tip, end
         else:
-            point = _point(element.point)
+            notch = notches.get(n)
+            point, end = (
+                (_point(element.point), _point(element.point))
+                if notch is None
+                else (_point(q) for q in notch_ends(element, notch))
+            )
             if current is None:
                 before = fb.ground(point)
             elif not _same(point, pos):
@@ -253,8 +314,12 @@ def _add_leg(
                 fb.rigid(current, before)
             else:
                 before = current
-            current = add_joint(fb, plan, before, element, k_act, name, out)
-            pos = point
+            if notch is None:
+                current = add_joint(fb, plan, before, element, k_act, name, out)
+            else:
+                segments = fb.settings.hinge_segments
+                current = add_hinge(fb, plan, before, element, notch, segments, k_act, name, out)
+            pos = end
 
 
 def _add_bars(
@@ -338,11 +403,12 @@ def build_model(
     for i, chain in chains.items():
         if not chain:
             raise DesignError(f"FE model, {leg_label(i)}: empty chain")
+    hinges = {i: _leg_hinges(design, i, chain, st.hinge_segments) for i, chain in chains.items()}
     # the platform: distinct platform points (P first), their stiff members
     ends: list[FloatArray] = [np.zeros(3)]
     end_of: dict[int, int] = {}
     for i, chain in chains.items():
-        q = _end_point(chain)
+        q = _end_point(chain, hinges[i])
         found = next((j for j, r in enumerate(ends) if _same(q, r)), None)
         if found is None:
             ends.append(q)
@@ -350,7 +416,7 @@ def build_model(
         end_of[i] = found
     parents = _platform_parents(ends[1:])
     plan = Placement(st.connector_length)
-    _plan_structure(list(chains.values()), plan)
+    _plan_structure(list(chains.values()), plan, list(hinges.values()), st.hinge_segments)
     for links, _ in members.values():
         for link in links:
             plan.add_segment(_point(link.start), _point(link.end))
@@ -373,7 +439,16 @@ def build_model(
             fb.rigid(nodes[j + 1], corner)
             fb.rigid(corner, nodes[parent + 1])
     for i, chain in chains.items():
-        _add_leg(fb, plan, chain, float(k_act[i]), nodes[end_of[i]], leg_label(i), members[i])
+        _add_leg(
+            fb,
+            plan,
+            chain,
+            float(k_act[i]),
+            nodes[end_of[i]],
+            leg_label(i),
+            members[i],
+            hinges[i],
+        )
     return fb, nodes[0]
 
 

@@ -66,12 +66,17 @@ class FESettings:
         conditioning of the solve, not the model.
     check_stability : bool
         Let PyNite check the stiffness matrix for unstable degrees of freedom.
+    hinge_segments : int
+        A notch hinge (a chain leg's R with a ``hinge`` table) is built as this many
+        beam members along its profile (:mod:`ppm_stiffness.validation.hinge_chain`);
+        0 builds it as the elastic R of the virtual-joint model.
     """
 
     connector_length: float = 5e-3
     rigid_stiffness: float = 1e11
     length_unit: float = 0.1
     check_stability: bool = True
+    hinge_segments: int = 32
 
 
 def require_pynite() -> Any:
@@ -163,9 +168,10 @@ class FrameBuilder:
         self.model.def_support(name, True, True, True, True, True, True)
         return name
 
-    def material(self, section: BeamSection | SectionModel) -> str:
-        """Material and section of a design link; returns the common name."""
-        name = self._name("link")
+    def material(self, section: BeamSection | SectionModel, prefix: str = "link") -> str:
+        """Material and section of a design link (or of another beam: a notch hinge's
+        member, ``prefix = "notch"``); returns the common name."""
+        name = self._name(prefix)
         l2, l4 = self.unit**2, self.unit**4
         self.model.add_material(
             name, section.young_modulus * l2, section.shear_modulus * l2, 0.3, 0.0

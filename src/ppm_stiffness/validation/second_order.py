@@ -201,14 +201,16 @@ def platform_shear_term(design: Design, pose: FloatArray, leg_wrenches: FloatArr
     members carry it as end moments, which P-Delta leaves out as well).
     """
     from ppm_stiffness.model import solve_legs
-    from ppm_stiffness.validation.fe_model import _end_point, _platform_parents
+    from ppm_stiffness.validation.fe_model import _end_point, _leg_hinges, _platform_parents
     from ppm_stiffness.validation.joints import SAME_POINT
 
     leg_poses = solve_legs(design, pose)
     points: list[FloatArray] = []
     forces: list[FloatArray] = []
+    segments = FESettings().hinge_segments  # the FE's platform points (a notch's far end)
     for i, leg in enumerate(design.legs):
-        q = _end_point(leg.chain(leg_poses[i]))
+        chain = leg.chain(leg_poses[i])
+        q = _end_point(chain, _leg_hinges(design, i, chain, segments))
         f = -np.asarray(leg_wrenches[i, 3:], dtype=float)  # on the platform
         if np.linalg.norm(q) <= SAME_POINT:
             continue  # a leg at P: no member
