@@ -12,6 +12,7 @@ import pytest
 from pydantic import ValidationError
 
 from ppm_stiffness.core.beam import BeamSection, cantilever_compliance
+from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.legs.flexure_hinge import FlexureHinge, torsion_constant
 
 E, NU, B = 71.7e9, 0.33, 5e-3  # Al 7075-T6, 5 mm wide
@@ -210,9 +211,11 @@ def test_a_single_hinge_leg_is_the_hinge_compliance_transported(
 
 def test_a_hinge_in_a_design_is_an_elastic_r_with_five_springs() -> None:
     """examples/6rus_flexure.toml with its crank drive's bearing replaced by a notch
-    hinge (a piezo-lever stage's base hinge: drive in parallel): the chain's R at home
-    has the hinge's elastic rotation and its five springs 1 / C_ii along the joint
-    frame e1 = axis (hinge z), e2 = axis2 (hinge x, along the notch), e3 (hinge y)."""
+    hinge (a piezo-lever stage's base hinge: drive in parallel) and its crank rigid:
+    the chain's R at home has the hinge's elastic rotation and its five springs 1 / C_ii
+    along the joint frame e1 = axis (hinge z), e2 = axis2 (hinge x, along the notch),
+    e3 (hinge y). With the crank a beam beside the hinge the design is refused (its span
+    would start at the notch's centre)."""
     from helpers import design_named
     from ppm_stiffness.design import design_from_dict
     from ppm_stiffness.legs.chain import Joint
@@ -225,7 +228,14 @@ def test_a_hinge_in_a_design_is_an_elastic_r_with_five_springs() -> None:
         along = np.subtract(far["point"], crank["point"])
         notch.append(along / np.linalg.norm(along))
         crank.update(springs=None, hinge=HINGE, axis2=tuple(notch[-1]))
+        leg["elements"][1]["link"] = "rigid"  # a beam link beside a hinge is refused
     design = design_from_dict(data)
+    leg = data["legs"][0]
+    leg["elements"][1]["link"] = design_named("6rus_flexure").model_dump()["legs"][0]["elements"][
+        1
+    ]["link"]
+    with pytest.raises(DesignError, match="a beam link beside a notch hinge is not modelled"):
+        design_from_dict(data)
     leg_pose = solve_legs(design, full_pose(design))[0]
     joint = next(e for e in design.legs[0].chain(leg_pose) if isinstance(e, Joint))
     c = np.diag(FlexureHinge(**HINGE).centre_compliance())

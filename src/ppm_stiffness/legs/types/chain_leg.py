@@ -311,6 +311,16 @@ def _is_vector(v: Any) -> bool:
     )
 
 
+def _beam_beside_hinge(link: object, joint: object) -> bool:
+    """A beam link (not rigid) next to a joint with a notch ``hinge``."""
+    return (
+        isinstance(link, LinkElement)
+        and link.link != "rigid"
+        and isinstance(joint, JointElement)
+        and joint.hinge is not None
+    )
+
+
 class ChainLeg(LegModel):
     """A leg written as its joints and links (module doc).
 
@@ -366,6 +376,15 @@ class ChainLeg(LegModel):
                 f"elements: at most one actuated joint (none: a passive constraining "
                 f"leg), got {len(actuated)}"
             )
+        for i, (a, b) in enumerate(zip(elements, elements[1:], strict=False)):
+            pair = ((a, b), (b, a))
+            if any(_beam_beside_hinge(link, joint) for link, joint in pair):
+                raise ValueError(
+                    f"elements: {self.element_name(i)} and {self.element_name(i + 1)}: a "
+                    "beam link beside a notch hinge is not modelled (its span would start "
+                    "at the notch's centre and count the notch's half-length twice): make "
+                    'it "rigid" (the rigid bodies end at the notch\'s ends)'
+                )
         names = [e.name for e in elements if e.name]
         if len(set(names)) != len(names):
             raise ValueError("elements: element names must differ")
