@@ -8,7 +8,9 @@ help_minus_bare_s=... command_help_s=... slowest_command=NAME
 slowest_command_help_s=... slowest_over_help_s=...`` (``command_help_s`` is
 ``ppm-stiffness map --help``; the target is ``slowest_over_help_s`` <= 0.1).
 
-Run: ``.venv/bin/python benchmarks/bench_cli.py [--repeat N]``.
+``--smoke``: one run of the bare interpreter, ``--help``, ``map --help`` and ``deflect
+--help`` only (the other commands skipped; a check that the script runs).
+Run: ``.venv/bin/python benchmarks/bench_cli.py [--repeat N] [--smoke]``.
 """
 
 from __future__ import annotations
@@ -32,19 +34,23 @@ LINES = {
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--smoke", action="store_true", help="one run, 2 commands")
     args = parser.parse_args()
+    commands = ["map", "deflect"] if args.smoke else list(COMMANDS)
+    lines = {k: v for k, v in LINES.items() if k in ("bare_python_s", "help_s", *commands)}
+    repeat = 1 if args.smoke else args.repeat
     print("load average before: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
-    times: dict[str, list[float]] = {key: [] for key in LINES}
-    for _ in range(args.repeat):
-        for key, cmd in LINES.items():
+    times: dict[str, list[float]] = {key: [] for key in lines}
+    for _ in range(repeat):
+        for key, cmd in lines.items():
             start = time.perf_counter()
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
             times[key].append(time.perf_counter() - start)
     print("load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
     med = {key: statistics.median(v) for key, v in times.items()}
-    for name in COMMANDS:
+    for name in commands:
         print(f"{name} --help: {med[name]:.3f} s ({med[name] - med['help_s']:+.3f} s)")
-    slowest = max(COMMANDS, key=lambda name: med[name])
+    slowest = max(commands, key=lambda name: med[name])
     print(
         f"bare_python_s={med['bare_python_s']:.3f} help_s={med['help_s']:.3f} "
         f"help_minus_bare_s={med['help_s'] - med['bare_python_s']:.3f} "

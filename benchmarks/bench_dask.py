@@ -20,7 +20,11 @@ measures the allocator as Dask leaves it. The Dask workers' minor page faults pe
 are printed with each Dask round: a figure the machine's load does not change.
 
 Last line: ``serial_s=... processes2_speedup=... dask2_speedup=... startup_s=...``.
-Run: ``.venv/bin/python benchmarks/bench_dask.py [--designs 256] [--repeats 3]``.
+``--smoke`` (a check that the script runs): 2 designs over a 5 x 5 x 4 region, one
+round, serial and 2 local processes only: no Dask cluster is started (its start-up
+alone costs several seconds of CPU time), ``dask2_speedup`` and ``startup_s`` print
+``skipped``.
+Run: ``.venv/bin/python benchmarks/bench_dask.py [--designs 256] [--repeats 3] [--smoke]``.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).parents[1]
 GRID = (25, 25, 16)  # 10,000 poses
+SMOKE_GRID = (5, 5, 4)
 
 
 def _free_port() -> int:
@@ -46,7 +51,9 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _sweep(executor: Executor, designs: int) -> tuple[float, list[object]]:
+def _sweep(
+    executor: Executor, designs: int, grid: tuple[int, int, int] = GRID
+) -> tuple[float, list[object]]:
     import ppm_stiffness as pps
     from ppm_stiffness.optimize.region import make_region
     from ppm_stiffness.optimize.sweep import sweep_designs
@@ -54,7 +61,7 @@ def _sweep(executor: Executor, designs: int) -> tuple[float, list[object]]:
 
     design = pps.load_design(ROOT / "examples/3rrr.toml")
     variable = parse_variable(f"leg*.platform_radius=0.05:0.07:{designs}", design, True)
-    region = make_region((-0.01, 0.01), (-0.01, 0.01), (-0.1, 0.1), GRID)
+    region = make_region((-0.01, 0.01), (-0.01, 0.01), (-0.1, 0.1), grid)
     start = time.perf_counter()
     result = sweep_designs(design, [variable], region, executor=executor, frequencies=False)
     return time.perf_counter() - start, [s.figures() for s in result.summaries]
@@ -85,11 +92,33 @@ def _start_cluster(dask: str, port: int) -> list[subprocess.Popen[bytes]]:
     return [worker, scheduler]
 
 
+def _smoke() -> int:
+    """Serial and 2 local processes, 2 designs of 100 poses, one round (module doc)."""
+    from ppm_stiffness._allocator import tune_allocator
+    from ppm_stiffness.optimize.executors import SerialExecutor, process_executor
+
+    print(f"load average before: {_load()}; cpus {os.cpu_count()}; tuned {tune_allocator()}")
+    with process_executor(2) as pool:
+        serial_s, serial = _sweep(SerialExecutor(), 2, SMOKE_GRID)
+        pool_s, pooled = _sweep(pool, 2, SMOKE_GRID)
+    print(f"load average after: {_load()}")
+    same = pooled == serial
+    print("results identical to serial" if same else "RESULTS DIFFER FROM SERIAL")
+    print(
+        f"serial_s={serial_s:.3f} processes2_speedup={serial_s / pool_s:.2f} "
+        "dask2_speedup=skipped startup_s=skipped"
+    )
+    return 0 if same else 1
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--designs", type=int, default=256)
     parser.add_argument("--repeats", type=int, default=3, help="rounds (medians kept)")
+    parser.add_argument("--smoke", action="store_true", help="2 designs, no Dask cluster")
     args = parser.parse_args()
+    if args.smoke:
+        return _smoke()
     dask = shutil.which("dask", path=str(Path(sys.executable).parent)) or shutil.which("dask")
     if dask is None:
         print("the dask command line is not installed: pip install -e '.[dask]'")

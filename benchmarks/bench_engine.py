@@ -25,7 +25,10 @@ definition_poses_per_s=N ratio=R hexapod_cpu_poses_per_s=N tripod_cpu_poses_per_
 single_pose_us=N max_rel_diff=X [baseline_poses_per_s=N baseline_cpu_poses_per_s=N
 speedup=R]``, where ``tripod`` is the 3-PRS, ``rps`` the 3-RPS and ``ratio`` the
 hexapod's rate over the definition's.
-Run: ``.venv/bin/python benchmarks/bench_engine.py [--quick] [--baseline SRC] [--chunk N]``.
+``--smoke``: 64 poses (32 for the definition), one timed run, 3 single poses, no
+baseline (a check that the script runs; its figures mean nothing).
+Run: ``.venv/bin/python benchmarks/bench_engine.py [--quick | --smoke] [--baseline SRC]
+[--chunk N]``.
 """
 
 from __future__ import annotations
@@ -52,11 +55,14 @@ REPEATS = 5
 
 def design_legs(name: str) -> tuple[list[Any], np.ndarray, list[str]]:
     """The legs of an example file, its home pose (6,) and its task coordinates."""
-    from ppm_stiffness.design.io import apply_parts
+    from ppm_stiffness.design.validation import apply_parts
     from ppm_stiffness.legs.registry import leg_types
 
     path = EXAMPLES / f"{name}.toml"
-    data = apply_parts(tomllib.loads(path.read_text()), str(path))
+    applied = apply_parts(tomllib.loads(path.read_text()))
+    if applied.issues:
+        raise ValueError(f"{path}: {applied.issues}")
+    data = applied.merged
     types = leg_types()
     legs = [types[leg["type"]](**leg) for leg in data["legs"]]
     ws = data["workspace"]
@@ -169,6 +175,7 @@ def compare(baseline: str, n: int) -> tuple[dict[str, float], dict[str, float]]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer poses (< 1 min)")
+    parser.add_argument("--smoke", action="store_true", help="tiniest sizes (runs or not)")
     parser.add_argument("--baseline", help="src folder of another tree to compare with")
     parser.add_argument("--chunk", type=int, help="poses per chunk (default engine.CHUNK)")
     parser.add_argument("--kernel", type=int, help=argparse.SUPPRESS)
@@ -181,7 +188,10 @@ def main(argv: list[str] | None = None) -> int:
 
     if args.chunk:
         engine.CHUNK = args.chunk
-    n, n_def = (8192, 1000) if args.quick else (40960, 4000)
+    repeats = 1 if args.smoke else REPEATS
+    if args.smoke:
+        args.baseline = None
+    n, n_def = (64, 32) if args.smoke else (8192, 1000) if args.quick else (40960, 4000)
     print(
         f"machine: {os.cpu_count()} cores, numpy {np.__version__}, python "
         f"{sys.version.split()[0]}, load {os.getloadavg()[0]:.1f}; chunk {engine.CHUNK}"
@@ -190,7 +200,9 @@ def main(argv: list[str] | None = None) -> int:
     for label, name in (("hexapod", "hexapod_6ups"), ("tripod", "3prs"), ("rps", "3rps")):
         legs, poses = sample_poses(name, n)
         wall, cpu = rates(
-            lambda legs=legs, poses=poses: engine_path(legs, poses, engine.CHUNK), poses.shape[0]
+            lambda legs=legs, poses=poses: engine_path(legs, poses, engine.CHUNK),
+            poses.shape[0],
+            repeats,
         )
         found[label], found[f"{label}_cpu"] = wall, cpu
         print(
@@ -198,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
             f"(CPU time: {cpu:,.0f} poses/s)"
         )
     legs, poses = sample_poses("hexapod_6ups", n_def, seed=1)
-    wall, cpu = rates(lambda: definition_path(legs, poses), poses.shape[0], 3)
+    wall, cpu = rates(lambda: definition_path(legs, poses), poses.shape[0], min(3, repeats))
     found["definition"] = wall
     fast, ref = engine_path(legs, poses, engine.CHUNK), definition_path(legs, poses)
     scale = np.max(np.abs(ref * BALANCE[:, None] * BALANCE), axis=(1, 2))
@@ -210,7 +222,9 @@ def main(argv: list[str] | None = None) -> int:
         f"{found['hexapod'] / wall:.1f}x; largest relative difference of K "
         f"(length-balanced) {found['max_rel_diff']:.1e}"
     )
-    found["single_pose_us"] = single_pose_us(legs, poses, 201 if args.quick else 1001)
+    found["single_pose_us"] = single_pose_us(
+        legs, poses, 3 if args.smoke else 201 if args.quick else 1001
+    )
     print(f"one pose (n = 1), engine path on the hexapod: {found['single_pose_us']:.0f} us")
     extra = ""
     if args.baseline:

@@ -46,7 +46,10 @@ batched_cpu_poses_per_s=N max_rel_diff=X max_rel_diff_k=X peak_mb_1e7=N (peak_mb
 --memory-grid N)
 [general_poses_per_s=N general_vs_reduced=R] [planar_<design>_poses_per_s=N
 general_<design>_poses_per_s=N ...] map_fixed_ms=X``.
-Run: ``.venv/bin/python benchmarks/bench_map.py [--design FILE] [--quick]``.
+``--smoke``: a 10 x 10 map run once, a loop of 5 poses, a 10 x 10 memory run, 100
+scattered poses, 20 per design for the context, 2 fixed-cost calls (a check that the
+script runs; ``peak_mb_grid10``).
+Run: ``.venv/bin/python benchmarks/bench_map.py [--design FILE] [--quick | --smoke]``.
 """
 
 from __future__ import annotations
@@ -274,13 +277,17 @@ def main(argv: list[str] | None = None) -> int:
         help="N x N poses of the peak-memory run (default 3163: > 10^7 poses)",
     )
     parser.add_argument("--fixed-only", action="store_true", help="only map_fixed_ms")
+    parser.add_argument("--smoke", action="store_true", help="tiniest sizes (runs or not)")
     args = parser.parse_args(argv)
+    repeats = 1 if args.smoke else 3
+    if args.smoke:
+        args.memory_grid = 10
     if args.fixed_only:
         design = load_design(args.design) if args.design else default_design()
         print(f"design {design.name}; {load_text()}")
         print(f"map_fixed_ms={time_fixed(design):.2f}")
         return 0
-    grid, n_loop = (300, 200) if args.quick else (1000, 2000)
+    grid, n_loop = (10, 5) if args.smoke else (300, 200) if args.quick else (1000, 2000)
     design = load_design(args.design) if args.design else default_design()
     cores = os.cpu_count()
     print(
@@ -288,7 +295,7 @@ def main(argv: list[str] | None = None) -> int:
         f"design {design.name} ({design.architecture}); {load_text()}"
     )
 
-    seconds, cpu_seconds, smap = time_map(design, grid)
+    seconds, cpu_seconds, smap = time_map(design, grid, repeats)
     n_map = grid * grid
     batched_rate = n_map / seconds
     cpu_rate = n_map / cpu_seconds
@@ -298,7 +305,7 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"batched map {smap.axes[0]}-{smap.axes[1]} at {slice_text} (SI), {grid} x {grid} = "
         f"{n_map} poses ({kind} path; {', '.join(smap.quantities)}): {seconds:.3f} s "
-        f"(median of 3), {batched_rate:,.0f} poses/s ({cpu_rate:,.0f} poses/s of CPU "
+        f"(median of {repeats}), {batched_rate:,.0f} poses/s ({cpu_rate:,.0f} poses/s of CPU "
         f"time), {int(smap.reachable.sum())} in the workspace"
     )
 
@@ -315,10 +322,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"ratio batched / loop: {ratio:,.0f}x")
     extra = ""
     if reduced:
-        red_s, gen_s = time_paths(design, grid)
+        red_s, gen_s = time_paths(design, grid, repeats)
         general_rate, reduced_rate = n_map / gen_s, n_map / red_s
         print(
-            f"same map, runs alternated (median of 3): reduced form {reduced_rate:,.0f} "
+            f"same map, runs alternated (median of {repeats}): reduced form {reduced_rate:,.0f} "
             f"poses/s, planar engine (any architecture) {general_rate:,.0f} poses/s, "
             f"ratio {general_rate / reduced_rate:.3f}"
         )
@@ -337,14 +344,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     context = ""
     if not args.design:
-        n_ctx = 20_000 if args.quick else 100_000
+        n_ctx = 100 if args.smoke else 20_000 if args.quick else 100_000
         print(
             f"context: scattered poses (evaluate_poses, random phi, {n_ctx}): "
             f"{time_scattered(n_ctx * 5):,.0f} poses/s; general 22-spring model batched "
             f"with numpy ({n_ctx // 5} poses, K only): {time_general_numpy(n_ctx // 5):,.0f} "
             "poses/s"
         )
-        n_gen = 4000 if args.quick else 20_000
+        n_gen = 20 if args.smoke else 4000 if args.quick else 20_000
         rates = {}
         for name in GENERAL_DESIGNS:
             other = (
@@ -360,8 +367,9 @@ def main(argv: list[str] | None = None) -> int:
                 f"reference path {rates[f'general_{name}']:,.0f} poses/s ({n_gen} poses)"
             )
         context = " " + " ".join(f"{k}_poses_per_s={v:.0f}" for k, v in rates.items())
-    fixed_ms = time_fixed(design)
-    print(f"a map call's fixed cost (2 x 2 grid, median of 30): {fixed_ms:.2f} ms")
+    calls = 2 if args.smoke else 30
+    fixed_ms = time_fixed(design, calls)
+    print(f"a map call's fixed cost (2 x 2 grid, median of {calls}): {fixed_ms:.2f} ms")
     memory_key = "peak_mb_1e7" if args.memory_grid == 3163 else f"peak_mb_grid{args.memory_grid}"
     print(f"after the runs: {load_text()}")
     print(

@@ -23,7 +23,10 @@ coordinates), locked actuators, measured in one run; the machine's load
 The last line is ``f1_map_poses_per_s=N f1_map_cpu_poses_per_s=N
 stiffness_map_poses_per_s=N mass_matrix_poses_per_s=N loop_poses_per_s=N ratio=N
 max_rel_diff=X max_rel_diff_m=X``.
-Run: ``.venv/bin/python benchmarks/bench_modes.py [--design FILE] [--grid N] [--loop N]``.
+``--smoke``: a 4 x 4 grid, a loop of 3 poses, one run of each map (a check that the
+script runs).
+Run: ``.venv/bin/python benchmarks/bench_modes.py [--design FILE] [--grid N] [--loop N]
+[--smoke]``.
 """
 
 from __future__ import annotations
@@ -86,12 +89,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--design", default=os.path.join(EXAMPLES, "hexapod_6ups.toml"))
     parser.add_argument("--grid", type=int, default=100, help="N x N grid (default 100)")
     parser.add_argument("--loop", type=int, default=200, help="poses of the loop (200)")
+    parser.add_argument("--smoke", action="store_true", help="4 x 4 grid, 3 poses, 1 run")
     args = parser.parse_args(argv)
+    repeats = 1 if args.smoke else 5
+    if args.smoke:
+        args.grid, args.loop = 4, 3
     design = load_design(args.design)
     print(f"{design.name}: {args.grid} x {args.grid} grid; before the runs: {load_text()}")
-    stiffness_map(design, grid=10, quantities=["f1"])  # warm up imports and caches
-    wall, cpu, smap = time_map(design, args.grid, ["f1"], 5)
-    wall_k, _, _ = time_map(design, args.grid, ["translational_min"], 5)
+    stiffness_map(design, grid=min(10, args.grid), quantities=["f1"])  # warm up imports
+    wall, cpu, smap = time_map(design, args.grid, ["f1"], repeats)
+    wall_k, _, _ = time_map(design, args.grid, ["translational_min"], repeats)
     n = smap.reachable.size
     tasks, flat = grid_tasks(design, smap)
     poses, _ = full_poses(design, tasks)
@@ -114,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
     rate = n / wall
     print(
         f"f1 map: {n} poses ({np.mean(smap.reachable):.1%} valid) in {wall:.3f} s wall, "
-        f"{cpu:.3f} s CPU (median of 5); translational_min alone {wall_k:.3f} s"
+        f"{cpu:.3f} s CPU (median of {repeats}); translational_min alone {wall_k:.3f} s"
     )
     print(f"after the runs: {load_text()}")
     print(

@@ -15,7 +15,8 @@ figure is robust to other processes on a shared machine.
 
 The load average is printed before and after (the machine may be shared). The last
 line is ``pose_us=N k_us=N eigenscrews_us=N decouple_us=N matrix_us=N modes_us=N``.
-Run: ``.venv/bin/python benchmarks/bench_pose.py [--design FILE] [--repeats N]``.
+``--smoke``: one batch of each (a check that the script runs).
+Run: ``.venv/bin/python benchmarks/bench_pose.py [--design FILE] [--repeats N] [--smoke]``.
 """
 
 from __future__ import annotations
@@ -58,7 +59,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--design", help="design file (default: the built-in 3-PPR)")
     parser.add_argument("--repeats", type=int, default=50, help="batches of 20 calls")
+    parser.add_argument("--smoke", action="store_true", help="one batch of each")
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.repeats = 1
     design = pps.load_design(args.design) if args.design else pps.default_design()
     pose = workspace_centre(design)
     print(

@@ -10,7 +10,13 @@ figure evaluates 1000 completed poses of the same box in one call of the batched
 engine (``legs.engine``: ``reduce_chain`` + ``platform_stiffness``, the way the maps
 use the model) and divides by the number of poses.
 
-    .venv/bin/python benchmarks/bench_validation.py [--repeat N] [--design FILE ...]
+    .venv/bin/python benchmarks/bench_validation.py [--repeat N] [--design FILE ...] [--smoke]
+
+After each design a line ``design=LABEL fe_ms=X vj_ms=X vj_batched_us=X fe_over_vj=R
+fe_over_vj_batched=R`` (mean times per pose; LABEL: ``builtin`` or the file's stem).
+``--smoke``: the built-in design only
+(unless ``--design``), the home pose and one seeded pose, one run each, 20 batched
+poses (a check that the script runs).
 
 Needs the extra ``validate`` (PyNite).
 """
@@ -22,6 +28,7 @@ import platform
 import time
 from collections.abc import Callable
 from functools import partial
+from pathlib import Path
 
 import numpy as np
 
@@ -81,8 +88,10 @@ def _pose_text(pose: np.ndarray) -> str:
     )
 
 
-def bench_design(design: Design, repeat: int) -> None:
-    poses = validation_poses(design, 5, seed=0, region=not design.planar)
+def bench_design(
+    design: Design, label: str, repeat: int, n_poses: int = 5, n_batch: int = 1000
+) -> None:
+    poses = validation_poses(design, n_poses, seed=0, region=not design.planar)
     stiffness_at_pose(design, poses[0])  # warm-up
     fe0 = fe_stiffness_at_pose(design, poses[0])
     print(
@@ -109,7 +118,7 @@ def bench_design(design: Design, repeat: int) -> None:
             f"{tv * 1e3:6.3f} {tf / tv:5.0f} {figures}"
         )
     fe_mean, vj_mean = float(np.mean(t_fe)), float(np.mean(t_vj))
-    vj_batch = batched_vj_time_per_pose(design)
+    vj_batch = batched_vj_time_per_pose(design, n_batch)
     print(
         f"mean time per pose: FE {fe_mean * 1e3:.1f} ms, virtual joints "
         f"{vj_mean * 1e3:.3f} ms (single pose), ratio FE/VJ = {fe_mean / vj_mean:.0f}"
@@ -119,8 +128,13 @@ def bench_design(design: Design, repeat: int) -> None:
         f"{np.mean(c_vj) * 1e3:.3f} ms (single pose)"
     )
     print(
-        f"virtual joints batched over 1000 poses: {vj_batch * 1e6:.1f} us per pose, "
+        f"virtual joints batched over {n_batch} poses: {vj_batch * 1e6:.1f} us per pose, "
         f"ratio FE/VJ = {fe_mean / vj_batch:.0f}"
+    )
+    print(
+        f"design={label} fe_ms={fe_mean * 1e3:.2f} "
+        f"vj_ms={vj_mean * 1e3:.4f} vj_batched_us={vj_batch * 1e6:.2f} "
+        f"fe_over_vj={fe_mean / vj_mean:.0f} fe_over_vj_batched={fe_mean / vj_batch:.0f}"
     )
 
 
@@ -132,15 +146,20 @@ def main() -> None:
         action="append",
         help="design file (repeatable; default: the built-in design and the hexapod)",
     )
+    parser.add_argument("--smoke", action="store_true", help="tiniest sizes (runs or not)")
     args = parser.parse_args()
+    designs = args.design or ([None] if args.smoke else DEFAULT_DESIGNS)
+    sizes = {"n_poses": 1, "n_batch": 20} if args.smoke else {}
+    repeat = 1 if args.smoke else args.repeat
     pynite = require_pynite()
     print(
         f"python {platform.python_version()}, numpy {np.__version__}, "
         f"PyNite {pynite.__version__}, {platform.machine()}"
     )
-    for path in args.design or DEFAULT_DESIGNS:
+    for path in designs:
         design = default_design() if path is None else load_design(path)
-        bench_design(design, args.repeat)
+        label = "builtin" if path is None else Path(path).stem
+        bench_design(design, label, repeat, **sizes)
 
 
 if __name__ == "__main__":

@@ -117,3 +117,34 @@ def test_dask_workers_are_tuned_by_the_plugin() -> None:
             client = executor._client  # type: ignore[attr-defined]
             states = list(client.run(_worker_state).values())
     assert states == [(True, "65536")]
+
+
+# a library process (no command line): counts the allocator's tunings and reads its state
+# after a small map, then after two large ones of the built-in design
+_MAP_CHILD = """
+import json
+import ppm_stiffness._allocator as allocator
+from ppm_stiffness.design import default_design
+from ppm_stiffness.maps.workspace import stiffness_map
+calls = []
+tune = allocator._tune
+allocator._tune = lambda: calls.append(1) or tune()
+design = default_design()
+stiffness_map(design, grid=20)
+small = [len(calls), allocator._state]
+side = int(allocator.LARGE_MAP_POSES**0.5) + 1
+for _ in range(2):
+    stiffness_map(design, grid=side)
+print(json.dumps([small, [len(calls), allocator._state]]))
+"""
+
+
+@needs_glibc
+def test_a_large_map_from_the_library_tunes_once() -> None:
+    environ = {k: v for k, v in os.environ.items() if k != OPT_OUT}
+    out = subprocess.run(
+        [sys.executable, "-c", _MAP_CHILD], env=environ, capture_output=True, text=True, check=True
+    )
+    small, large = json.loads(out.stdout)
+    assert small == [0, None]  # a 20 x 20 map leaves the allocator alone
+    assert large == [1, True]  # two maps of > LARGE_MAP_POSES poses: tuned once

@@ -18,13 +18,24 @@ from ppm_stiffness.cli import main
 for argv in json.loads(sys.argv[1]):
     with contextlib.redirect_stdout(io.StringIO()):
         assert main(argv) == 0, argv
-print(json.dumps(sorted(m.split(".")[0] for m in sys.modules)))
+full = len(sys.argv) > 2
+print(json.dumps(sorted(m if full else m.split(".")[0] for m in sys.modules)))
 """
 
 
 def _modules_after(*argvs: list[str]) -> set[str]:
+    """Top-level packages imported after running ``argvs`` in one fresh process."""
+    return _run_child(list(argvs), [])
+
+
+def _modules_after_full(*argvs: list[str]) -> set[str]:
+    """Full names of the modules imported after running ``argvs`` in a fresh process."""
+    return _run_child(list(argvs), ["full"])
+
+
+def _run_child(argvs: list[list[str]], extra: list[str]) -> set[str]:
     run = subprocess.run(
-        [sys.executable, "-c", _CHILD, json.dumps(list(argvs))],
+        [sys.executable, "-c", _CHILD, json.dumps(argvs), *extra],
         capture_output=True,
         text=True,
         check=True,
@@ -45,14 +56,24 @@ def test_command_help_imports_no_heavy_library() -> None:
     assert "numpy" in loaded  # the check sees what the commands import
 
 
-#: Commands whose ``--help`` needs constants of library modules that import the design
-#: schema (pydantic): deflect (statics.deflection's modes and methods).
-SCHEMA_AT_HELP = {"deflect"}
-
-
 def test_command_help_does_not_load_the_design_schema() -> None:
     # the design schema (pydantic models) is the largest import of the library (about
-    # 0.1 s): the other commands' --help must not need it (issue 22, item 5)
-    for name in sorted(set(COMMANDS) - SCHEMA_AT_HELP):
+    # 0.1 s): no command's --help needs it (issue 22, item 5), deflect included (its
+    # modes and methods come from statics.modes, not statics.deflection: issue 32, item 6)
+    for name in sorted(COMMANDS):
         loaded = _modules_after([name, "--help"])
         assert "pydantic" not in loaded, name
+
+
+def test_deflect_help_imports_no_deflection_module() -> None:
+    # deflect --help lists the modes and methods without importing the computation
+    loaded = _modules_after_full(["deflect", "--help"])
+    computation = {
+        "ppm_stiffness.statics.deflection",
+        "ppm_stiffness.statics.measurements",
+        "ppm_stiffness.statics.moving_deflection",
+        "ppm_stiffness.visuals.deflection",
+        "ppm_stiffness.design",
+    }
+    assert not loaded & computation, sorted(loaded & computation)
+    assert "ppm_stiffness.statics.modes" in loaded  # the check sees what deflect imports

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich import box
@@ -45,28 +45,13 @@ from ppm_stiffness.core.conventions import BALANCE, TWIST_COMPONENTS, FloatArray
 from ppm_stiffness.core.decoupling import DECOUPLED_TOLERANCE
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
-from ppm_stiffness.design import Design
-from ppm_stiffness.statics.deflection import (
-    CURVE_MODES,
-    DIRECTION,
-    METHODS,
-    DeflectionCurve,
-    deflection_curve,
-    deflection_path,
-    direction_wrench,
-    mode_wrench,
-)
-from ppm_stiffness.statics.measurements import (
-    Measurements,
-    check_displacement_scale,
-    check_mode,
-    cli_order,
-    measured_poses,
-    read_measurements,
-    rms_differences,
-)
-from ppm_stiffness.statics.moving_deflection import CurveStop, MovingDeflection
-from ppm_stiffness.visuals.deflection import round_off_as_zero
+from ppm_stiffness.statics.modes import CURVE_MODES, DIRECTION, METHODS
+
+if TYPE_CHECKING:  # at run time imported where used: --help needs none of them
+    from ppm_stiffness.design import Design
+    from ppm_stiffness.statics.deflection import DeflectionCurve
+    from ppm_stiffness.statics.measurements import Measurements
+    from ppm_stiffness.statics.moving_deflection import CurveStop, MovingDeflection
 
 #: Default largest load of each mode [N or N·m] ("direction": 10 N, 0.5 N·m for a pure
 #: moment).
@@ -104,6 +89,8 @@ def _twist_table(title: str, unit: str, loads: np.ndarray, twists: np.ndarray) -
     """The deflections (n, 6) [rad, m] at each load as a table in deg and mm, the
     components that are round-off along the curve printed as 0
     (:func:`~ppm_stiffness.visuals.deflection.round_off_as_zero`, the figure's rule)."""
+    from ppm_stiffness.visuals.deflection import round_off_as_zero
+
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     t = _load_table(f"{title} (axes of F_b): rotations phi \\[deg], displacements \\[mm]", unit)
     for name in TWIST_COMPONENTS:
@@ -333,6 +320,7 @@ def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
     if meas.poses is None:
         return
     from ppm_stiffness.poses import format_pose
+    from ppm_stiffness.statics.measurements import measured_poses
 
     at = measured_poses(design, meas)
     off = np.flatnonzero(np.any(np.abs(at - pose) > POSE_MATCH, axis=1))
@@ -351,6 +339,18 @@ def compute(
     """The curve (and measurements) the command's options ask for; with ``--geometry
     moving`` also both curves of :func:`~ppm_stiffness.statics.moving_deflection
     .moving_deflection` (the first is then its frozen curve)."""
+    from ppm_stiffness.statics.deflection import (
+        deflection_curve,
+        deflection_path,
+        direction_wrench,
+        mode_wrench,
+    )
+    from ppm_stiffness.statics.measurements import (
+        check_displacement_scale,
+        check_mode,
+        read_measurements,
+    )
+
     design = load_deflect_design(args)
     pose = pose_from_args(args, design)
     meas = None
@@ -427,6 +427,8 @@ def write_csv(
     ``moving`` the moving-geometry curve's six components and ``K_F_vs_K`` after them
     (``moving_`` columns), a cell empty where a curve has stopped (such a file is not a
     measurement file)."""
+    from ppm_stiffness.statics.measurements import cli_order
+
     if moving is not None:
         _write_both_csv(curve, moving, path)
         return
@@ -681,6 +683,8 @@ def _print_actuators(curve: DeflectionCurve) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.statics.measurements import rms_differences
+
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
     check_output_path(args.plot, "--plot", FIGURE_FORMATS, overwrite=args.overwrite)
     design = load_deflect_design(args)

@@ -51,6 +51,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ppm_stiffness._allocator import LARGE_MAP_POSES, tune_allocator
 from ppm_stiffness.core.conventions import DEFAULT_REFERENCE_FORCE, FloatArray
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
@@ -223,6 +224,8 @@ def stiffness_map(
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
         raise InputDataError("the tool point has 3 finite coordinates [m, platform frame]")
     u, v = slice_grid(design, sl, grid, bounds)
+    if u.size * v.size >= LARGE_MAP_POSES:
+        tune_allocator()  # once per process (ppm_stiffness._allocator)
     w = None if wrench is None else validate_wrench(wrench)
     k_locked = locked_actuator_stiffness(design)
     ref: float | None = None

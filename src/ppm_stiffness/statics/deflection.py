@@ -62,6 +62,7 @@ from ppm_stiffness.statics.loading import (
     check_small_rotation,
     validate_wrench,
 )
+from ppm_stiffness.statics.modes import CURVE_MODES, DIRECTION, METHODS, MODES
 
 __all__ = [
     "CURVE_MODES",
@@ -80,13 +81,6 @@ __all__ = [
     "threshold_force",
 ]
 
-#: The loading modes of the paper's Fig. 9 (wrenches at the tool point, axes of F_b:
-#: they mean the same for a planar and a spatial design).
-MODES = ("planar-force", "moment", "vertical-force")
-#: The mode of a load along any wrench direction (:func:`direction_wrench`).
-DIRECTION = "direction"
-#: Every mode a curve may have: Fig. 9's, a direction, and multiples of a wrench.
-CURVE_MODES = MODES + (DIRECTION, "wrench")
 #: Unit of the load for each mode ("wrench": a dimensionless scale of a given wrench;
 #: "direction": N, or N·m for a pure moment, :func:`direction_load_unit`).
 LOAD_UNITS = {
@@ -96,8 +90,6 @@ LOAD_UNITS = {
     DIRECTION: "N",
     "wrench": "1",
 }
-#: Ways to compute the path (module doc).
-METHODS = ("integrate", "closed-form", "linear")
 
 #: Relative tolerance of the path integration (DOP853).
 INTEGRATION_RTOL = 1e-10
