@@ -199,7 +199,7 @@ def test_analyze_prints_the_hinge_table(
 
     from ppm_stiffness.cli import main
 
-    assert main(["analyze", "--design", str(stage_path), "--wrench", "1,0,0,0,0,0.01"]) == 0
+    assert main(["analyze", "--design", str(stage_path)]) == 0
     out = capsys.readouterr().out
     assert "Range of motion (notch hinges" in out and "leg1.platform_hinge" in out
     docs = []
@@ -242,3 +242,57 @@ def test_bad_safety_factor_is_refused(
     assert main(["analyze", *argv]) == 2
     captured = capsys.readouterr()
     assert message in captured.err and captured.out == ""
+
+
+def test_the_stages_loaded_states_are_refused(
+    stage_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its drives act in parallel with the base hinges: the actuator forces would count
+    the hinge's share of the joint's moment as the drive's (k_h / k = 1.8e-4 of it
+    here), so the loaded states (actuator forces, deflections) and the moving geometry
+    refuse it, as an actuated ``elastic`` joint (tests/test_elastic_joints.py)."""
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.design import load_design
+    from ppm_stiffness.statics.loading import actuator_forces
+
+    design = load_design(stage_path)
+    with pytest.raises(DesignError, match="drive in parallel with a flexure"):
+        actuator_forces(design, [0.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+    assert design.legs[0].moving_geometry_gap() is not None
+    argv = ["analyze", "--design", str(stage_path), "--wrench", "1,0,0,0,0,0"]
+    assert main([*argv, "--geometry", "moving"]) == 2
+    assert "drive in parallel with a flexure" in capsys.readouterr().err
+
+
+def test_analyze_under_a_wrench_gives_each_hinges_stress(
+    tmp_path: Path, stage_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The stage with plain driven base joints (no hinge in parallel, so that its loaded
+    states apply): ``analyze --wrench`` (at a tool point off P) prints and returns each
+    hinge's stress, equal to the library's under the wrench moved to P, and its
+    utilisation stress / (yield / SF)."""
+    import json
+
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.design import design_from_dict, load_design
+    from ppm_stiffness.design.io import save_design
+    from ppm_stiffness.statics.hinge_stress import hinge_summary
+
+    data = load_design(stage_path).model_dump()
+    for leg in data["legs"]:
+        leg["elements"][0].update(hinge=None, axis2=None)
+    design = design_from_dict(data)
+    path = tmp_path / "plain_drives.toml"
+    save_design(design, path)
+    argv = ["analyze", "--design", str(path), "--wrench", "1,-2,0,0,0,0.01"]
+    assert main([*argv, "--tool-point", "5,0,0", "--safety-factor", "2", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)["hinge_stress"]
+    assert [h["name"] for h in doc["hinges"][:2]] == ["elbow_hinge", "platform_hinge"]
+    at_p = np.array([0.0, 0.0, 0.01 + 0.005 * -2.0, 1.0, -2.0, 0.0])
+    ref = hinge_summary(design, None, at_p, 2.0)
+    for mine, theirs in zip(doc["hinges"], ref["hinges"], strict=True):
+        assert mine["stress"] == pytest.approx(theirs["stress"], rel=1e-12)
+        assert mine["utilisation"] == pytest.approx(mine["stress"] / (503e6 / 2.0), rel=1e-14)
+    assert main(argv) == 0
+    printed = hinge_summary(design, None, np.array([0.0, 0.0, 0.01, 1.0, -2.0, 0.0]))
+    assert f" {printed['hinges'][0]['stress'] / 1e6:.4g} " in capsys.readouterr().out
