@@ -245,12 +245,13 @@ def test_bad_safety_factor_is_refused(
 
 
 def test_the_stages_loaded_states_are_refused(
-    stage_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, stage_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """Its drives act in parallel with the base hinges: the actuator forces would count
     the hinge's share of the joint's moment as the drive's (k_h / k = 1.8e-4 of it
     here), so the loaded states (actuator forces, deflections) and the moving geometry
-    refuse it, as an actuated ``elastic`` joint (tests/test_elastic_joints.py)."""
+    refuse it, as an actuated ``elastic`` joint (tests/test_elastic_joints.py); so do
+    ``deflect`` and ``report`` (its loaded case), writing nothing."""
     from ppm_stiffness.cli import main
     from ppm_stiffness.design import load_design
     from ppm_stiffness.statics.loading import actuator_forces
@@ -262,6 +263,13 @@ def test_the_stages_loaded_states_are_refused(
     argv = ["analyze", "--design", str(stage_path), "--wrench", "1,0,0,0,0,0"]
     assert main([*argv, "--geometry", "moving"]) == 2
     assert "drive in parallel with a flexure" in capsys.readouterr().err
+    deflect = ["deflect", "--design", str(stage_path), "--mode", "moment", "--max", "0.1"]
+    assert main(deflect) == 2
+    assert "drive in parallel with a flexure" in capsys.readouterr().err
+    report = tmp_path / "stage.html"
+    assert main(["report", "--design", str(stage_path), "--out", str(report)]) == 2
+    assert "drive in parallel with a flexure" in capsys.readouterr().err
+    assert not report.exists()
 
 
 def test_analyze_under_a_wrench_gives_each_hinges_stress(
@@ -296,3 +304,19 @@ def test_analyze_under_a_wrench_gives_each_hinges_stress(
     assert main(argv) == 0
     printed = hinge_summary(design, None, np.array([0.0, 0.0, 0.01, 1.0, -2.0, 0.0]))
     assert f" {printed['hinges'][0]['stress'] / 1e6:.4g} " in capsys.readouterr().out
+
+
+def test_a_chain_that_did_not_close_has_no_constraint_basis() -> None:
+    """``map`` on the stage samples its slice's bounds far out, where a chain leg's
+    closure fails and its Jacobian is NaN: the constraint basis is NaN there (the pose
+    not completed) and exact elsewhere (was: LinAlgError "SVD did not converge", a
+    traceback from ``ppm-stiffness map --design examples/flexure_3rrr.toml``)."""
+    from ppm_stiffness.legs.kinematics import constraint_basis
+
+    jac = np.zeros((2, 6, 3))
+    jac[:, 2, 0] = jac[:, 3, 1] = jac[:, 4, 2] = 1.0  # rz, x, y: a planar chain's
+    jac[1, 0, 0] = np.nan
+    basis = constraint_basis(jac, 3)
+    assert np.all(np.isnan(basis[1]))
+    np.testing.assert_allclose(basis[0].T @ jac[0], 0.0, atol=1e-15)
+    np.testing.assert_allclose(basis[0].T @ basis[0], np.eye(3), atol=1e-15)
