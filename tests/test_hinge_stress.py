@@ -320,3 +320,10 @@ def test_a_chain_that_did_not_close_has_no_constraint_basis() -> None:
     assert np.all(np.isnan(basis[1]))
     np.testing.assert_allclose(basis[0].T @ jac[0], 0.0, atol=1e-15)
     np.testing.assert_allclose(basis[0].T @ basis[0], np.eye(3), atol=1e-15)
+
+
+def test_the_shipped_stage_is_the_generators(stage_path: Path) -> None:
+    """examples/flexure_3rrr.toml is what scripts/chain_examples.py writes (its header
+    states every value and source)."""
+    shipped = ROOT / "examples" / "flexure_3rrr.toml"
+    assert shipped.read_text(encoding="utf-8") == stage_path.read_text(encoding="utf-8")
