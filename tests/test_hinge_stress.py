@@ -327,3 +327,20 @@ def test_the_shipped_stage_is_the_generators(stage_path: Path) -> None:
     states every value and source)."""
     shipped = ROOT / "examples" / "flexure_3rrr.toml"
     assert shipped.read_text(encoding="utf-8") == stage_path.read_text(encoding="utf-8")
+
+
+def test_hinges_without_a_yield_strength_have_no_range(
+    tmp_path: Path, stage_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Without a yield strength (optional in a hinge's material) ``analyze`` runs and
+    prints no hinge table; ``--safety-factor`` is then refused, naming the key."""
+    from ppm_stiffness.cli import main
+
+    text = stage_path.read_text(encoding="utf-8")
+    path = tmp_path / "no_yield.toml"
+    path.write_text(text.replace(", yield_strength = 5.03e+08", ""), encoding="utf-8")
+    assert "yield_strength" not in path.read_text(encoding="utf-8").split("[[legs]]")[1]
+    assert main(["analyze", "--design", str(path)]) == 0
+    assert "Range of motion" not in capsys.readouterr().out
+    assert main(["analyze", "--design", str(path), "--safety-factor", "2"]) == 2
+    assert "has no yield_strength" in capsys.readouterr().err

@@ -400,15 +400,24 @@ def hinge_table(
 ) -> dict[str, Any] | None:
     """The hinge stress and range of a design with notch hinges (frozen, linear;
     :func:`ppm_stiffness.statics.hinge_stress.hinge_summary`), the wrench moved from the
-    tool point to P; None without hinges (``--safety-factor`` then refused)."""
+    tool point to P; None without hinges or without every hinge's yield strength
+    (``--safety-factor`` then refused)."""
     from ppm_stiffness.model import full_pose, tool_offset
-    from ppm_stiffness.statics.hinge_stress import has_hinges, hinge_summary
+    from ppm_stiffness.statics.hinge_stress import (
+        has_hinges,
+        has_yield_strengths,
+        hinge_summary,
+    )
 
     if not has_hinges(design):
         if safety_factor is not None:
             raise InputDataError(
                 "--safety-factor: the design has no notch hinge (a joint's hinge table)"
             )
+        return None
+    if not has_yield_strengths(design):  # no stress limit: no range of motion
+        if safety_factor is not None:
+            raise InputDataError("--safety-factor: a notch hinge's material has no yield_strength")
         return None
     sf = 1.0 if safety_factor is None else safety_factor
     if not (np.isfinite(sf) and sf > 0.0):

@@ -309,6 +309,16 @@ def has_hinges(design: Design) -> bool:
     )
 
 
+def has_yield_strengths(design: Design) -> bool:
+    """Whether every notch hinge of the design has its material's yield strength."""
+    return all(
+        e.hinge.material.yield_strength is not None
+        for leg in design.legs
+        for e in getattr(leg, "elements", [])
+        if getattr(e, "hinge", None) is not None
+    )
+
+
 #: Twist component of each pose coordinate (order (phi; v), ``core/conventions.py``).
 TWIST_INDEX = {"x": 3, "y": 4, "z": 5, "rx": 0, "ry": 1, "rz": 2}
 
