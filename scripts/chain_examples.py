@@ -1,6 +1,6 @@
 """Write the chain-leg example designs (examples/6rus.toml, 6rus_flexure.toml,
-spherical_3rrr.toml, tricept.toml, delta.toml); :func:`flexure_3rrr` gives the flexure
-stage of issue 29 item 4 (not yet shipped in examples/: tests/test_flexure_hinge.py).
+spherical_3rrr.toml, tricept.toml, delta.toml, flexure_3rrr.toml: the flexure stage of
+issue 29 item 4, tests/test_flexure_hinge.py and tests/test_hinge_stress.py).
 
 Every number comes from a stated dimension or catalogue-class estimate below (estimates
 of the right order, not one vendor's values): sections from the bar and tube
@@ -545,6 +545,7 @@ def main() -> None:
     (ROOT / "examples" / "tricept.toml").write_text(tricept(), encoding="utf-8")
     (ROOT / "examples" / "delta.toml").write_text(delta(), encoding="utf-8")
     (ROOT / "examples" / "6rus_flexure.toml").write_text(six_rus_flexure(), encoding="utf-8")
+    (ROOT / "examples" / "flexure_3rrr.toml").write_text(flexure_3rrr(), encoding="utf-8")
 
 
 if __name__ == "__main__":

@@ -153,6 +153,36 @@ def flexure_jointed(design: Design) -> bool:
     )
 
 
+def within_required(design: Design, spans: Any, widen: float = 1.0) -> np.ndarray:
+    """Half-spans of random poses around home, one per task coordinate: ``spans``, but
+    for a flexure-jointed design no wider than ``widen`` times the half-widths of its
+    required region where it states one (the range its flexures and drives give: a
+    piezo-driven stage's is microns, not the millimetres the tests draw for linkages)."""
+    out = np.array(spans, dtype=float)
+    region = design.workspace.required
+    if not flexure_jointed(design) or region is None:
+        return out
+    ranges = region.ranges()
+    for i, name in enumerate(design.task_coordinates):
+        if name in ranges:
+            lo, hi = ranges[name]
+            out[..., i] = np.minimum(out[..., i], widen * (hi - lo) / 2.0)
+    return out
+
+
+def drive_in_parallel(design: Design) -> bool:
+    """A leg's drive acts in parallel with a flexure (its actuated joint is elastic or a
+    notch hinge): its loaded states, actuator forces and deflections are refused
+    (``statics/structures.py``, ``ChainLeg.moving_geometry_gap``); only its frozen
+    stiffness, maps, modes and hinge stress apply."""
+    return any(
+        getattr(e, "actuated", False)
+        and (getattr(e, "elastic", None) is not None or getattr(e, "hinge", None) is not None)
+        for leg in design.legs
+        for e in getattr(leg, "elements", [])
+    )
+
+
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from helpers import example_designs, flexure_jointed
+from helpers import example_designs, flexure_jointed, within_required
 from ppm_stiffness.core import pose as P
 from ppm_stiffness.core.conventions import stiffness_b_from_stiffness_a
 from ppm_stiffness.design import Design, design_from_dict, design_to_dict
@@ -401,8 +401,10 @@ def _named(name: str) -> Design:
 
 
 def _task_scale(design: Design) -> np.ndarray:
-    """A size per task coordinate: 10 mm or 0.05 rad."""
-    return np.array([0.05 if n in ("rx", "ry", "rz") else 0.01 for n in design.task_coordinates])
+    """A size per task coordinate: 10 mm or 0.05 rad (within a flexure stage's required
+    region: :func:`helpers.within_required`)."""
+    scale = np.array([0.05 if n in ("rx", "ry", "rz") else 0.01 for n in design.task_coordinates])
+    return within_required(design, scale)
 
 
 def _uniform_links(name: str) -> dict[str, Any]:

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from helpers import design_named, example_designs, flexure_jointed
+from helpers import design_named, example_designs, flexure_jointed, within_required
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.refusals import Refusal
@@ -212,7 +212,7 @@ def test_batched_mass_matrix_equals_the_single_pose_one_on_every_shipped_example
     rng = np.random.default_rng(11)
     scale = np.array([0.05 if n in ("rx", "ry", "rz") else 0.01 for n in design.task_coordinates])
     if flexure_jointed(design):  # its flexures' range
-        scale *= 0.05
+        scale = within_required(design, scale * 0.05)
     tasks = task_values(design, home_pose(design)) + scale * rng.uniform(-1, 1, (7, scale.size))
     poses, ok = full_poses(design, tasks)
     poses = poses[ok]

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import ppm_stiffness as pps
+from helpers import within_required
 from ppm_stiffness.analysis import ENVELOPE_KEYS, dump_json
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import length_balanced
@@ -179,11 +180,13 @@ def test_old_names_warn_and_still_work() -> None:
 
 
 def _poses(design: pps.Design) -> np.ndarray:
-    """Five task-coordinate poses near home (1 mm, 0.5 deg) and one 10 m away."""
+    """Five task-coordinate poses near home (1 mm, 0.5 deg; within a flexure stage's
+    required region) and one 10 m away."""
     home = task_values(design, pps.home_pose(design))
     scale = np.array(
         [1e-3 if c in ("x", "y", "z") else np.radians(0.5) for c in design.task_coordinates]
     )
+    scale = within_required(design, scale)
     near = home + np.random.default_rng(27).uniform(-1.0, 1.0, (5, home.size)) * scale
     far = home.copy()
     lengths = [c in ("x", "y", "z") for c in design.task_coordinates]

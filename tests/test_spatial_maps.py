@@ -28,6 +28,7 @@ from helpers import (
     flexure_jointed,
     is_spatial,
     poses_around_workspace,
+    within_required,
 )
 from ppm_stiffness.cli import main
 from ppm_stiffness.core import solver
@@ -63,6 +64,7 @@ SLICES = [
     ("6rus", None, {"z": 0.215}),
     ("6rus", ("rx", "rz"), {"y": 0.005}),
     ("6rus_flexure", None, {"z": 0.213}),
+    ("flexure_3rrr", None, {"rz": 1e-4}),
     ("spherical_3rrr", None, {}),
     ("spherical_3rrr", ("ry", "rz"), {"rx": 0.2}),
     ("tricept", None, {"ry": 0.05}),
@@ -124,8 +126,9 @@ def random_task_poses(design: Design, n: int, seed: int) -> np.ndarray:
         half[:] = 1.2
     if max(idx) < 3:  # translations only (a Delta): +-0.25 m, beyond its arms' strokes
         half[:] = 0.25
-    if flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad
-        half *= 0.05
+    if flexure_jointed(design):  # its flexures' range: +-1.2 mm, +-9 mrad; a piezo
+        # stage's: twice its required region (beyond it, its drives' strokes refuse)
+        half = within_required(design, half * 0.05, widen=2.0)
     return home_pose(design)[idx] + rng.uniform(-1.0, 1.0, (n, len(idx))) * half
 
 

@@ -69,6 +69,7 @@ POSE_OPTIONS = {
         *("--x", "0.8", "--y", "-0.5", "--z", "213"),
         *("--rx", "0.2", "--ry", "-0.15", "--rz", "0.3"),
     ],
+    "flexure_3rrr": ["--x", "0.008", "--y", "-0.005", "--rz", "0.01"],
     "spherical_3rrr": ["--rx", "15", "--ry", "-10", "--rz", "20"],
     "tricept": ["--z", "565", "--rx", "4", "--ry", "-3"],
     "delta": ["--x", "30", "--y", "-20", "--z", "-790"],
@@ -185,10 +186,12 @@ def test_mechanism_command_draws_the_spatial_model(
     match = [int(np.argmin(np.linalg.norm(b - v, axis=1))) for v in ring[:-1]]
     assert sorted(match) == _rim([leg.attachment()[:2] for leg in design.legs])
     np.testing.assert_allclose(ring[:-1], b[match], rtol=0, atol=1e-12)
-    # each leg's last link ends there
+    # each leg's last link ends there (its last rigid connection for a leg of rigid
+    # links, the flexure stage's)
     for i in range(1, len(design.legs) + 1):
-        last = max(int(g.split("-")[2]) for g in lines if g.startswith(f"link-{i}-"))
-        np.testing.assert_allclose(_data(lines[f"link-{i}-{last}"])[-1], b[i - 1], atol=1e-12)
+        kind = "link" if any(g.startswith(f"link-{i}-") for g in lines) else "rigid"
+        last = max(int(g.split("-")[2]) for g in lines if g.startswith(f"{kind}-{i}-"))
+        np.testing.assert_allclose(_data(lines[f"{kind}-{i}-{last}"])[-1], b[i - 1], atol=1e-12)
     # the base polygon through the base points
     base = _data(lines["base-polygon"])[:-1]
     a = np.array([leg.base_feature(leg.solve(pose)).point for leg in design.legs], dtype=float)

@@ -70,6 +70,7 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "3rps": (8e-4, 8e-4, 8e-4),  # 2.65e-4, 2.67e-4; 2.60e-4
     "6rus": (1e-4, 4e-5, 4e-5),  # 3.87e-5, 1.32e-5; 1.19e-5
     "6rus_flexure": (4e-5, 4e-5, 4e-5),  # 1.34e-5, 1.34e-5; 1.33e-5
+    "flexure_3rrr": (2.5e-4, 2.5e-4, 2.5e-4),  # 7.60e-5, 7.60e-5; 7.61e-5
     "spherical_3rrr": (6e-5, 6e-5, 1.5e-5),  # 1.92e-5, 1.86e-5; 3.98e-6
     "tricept": (2.5e-3, 6e-4, 6e-4),  # 7.90e-4, 1.85e-4; 1.82e-4
     "delta": (4e-4, 3e-4, 3e-4),  # 1.11e-4, 7.94e-5; 7.33e-5
@@ -90,7 +91,8 @@ ASYMMETRY_BOUNDS = {
     "6rus": 8e-7,
     "delta": 1.5e-7,
     "6rus_flexure": 8e-7,
-}  # measured: the Delta 3.75e-8, the flexure 6-RUS 1.1e-7
+    "flexure_3rrr": 4e-8,
+}  # measured: the Delta 3.75e-8, the flexure 6-RUS 1.1e-7, the 3-RRR stage 9.3e-9
 
 
 @pytest.fixture(scope="module", params=SPATIAL)

@@ -565,6 +565,14 @@ ANALYSIS_UNITS = {
     "moving_geometry.load_margin.factor": "1 (times the wrench)",
     "moving_geometry.load_margin.mode": "rad, m (a twist of unit length-balanced norm)",
     "first_frequency": "Hz",
+    "hinge_stress.hinges.allowed_stress": "Pa (yield strength / safety_factor)",
+    "hinge_stress.hinges.stress": "Pa (under the wrench, frozen)",
+    "hinge_stress.hinges.stress_per_unit": "Pa per rad (per m) of the direction's unit",
+    "hinge_stress.hinges.range": "rad or m (the direction's unit; both senses)",
+    "hinge_stress.hinges.utilisation": "1 (stress / allowed_stress)",
+    "hinge_stress.hinges.wrench_range": "1 (times the wrench)",
+    "hinge_stress.directions.range": "rad or m (its unit; the smallest over the hinges)",
+    "hinge_stress.directions.drive_inputs": "rad or m per unit of the direction",
 }
 
 

@@ -74,6 +74,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "legs displaced and gives the loaded tangent K_F, its difference from the frozen "
         "K and the load margin",
     )
+    parser.add_argument(
+        "--safety-factor",
+        type=float,
+        default=None,
+        metavar="SF",
+        help="a design with notch hinges: allowed stress = yield strength / SF in the "
+        "hinge table (stress, utilisation, range of motion; default 1: the range to yield)",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
 
@@ -88,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
             args.design is not None
             or args.wrench is not None
             or args.geometry != "frozen"
+            or args.safety_factor is not None
             or any(
                 getattr(args, k) is not None for k in (*POSE_OPTIONS, "tool_point", "tolerances")
             )
@@ -95,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputDataError(
                 "--matrix cannot be combined with --design, a pose ("
                 + ", ".join(f"--{k}" for k in POSE_OPTIONS)
-                + "), --wrench, --tool-point, --geometry or --tolerances"
+                + "), --wrench, --tool-point, --geometry, --safety-factor or --tolerances"
             )
         k = validate_stiffness_matrix(
             read_matrix_csv(args.matrix), args.matrix, PRINTED_SYMMETRY_TOLERANCE
@@ -119,6 +128,9 @@ def run(args: argparse.Namespace) -> int:
         result = analyze_design(design, pose, wrench, args.method, tool, args.geometry).to_dict()
         if variables is not None:
             result["uncertainty"] = pose_uncertainty(args, design, variables, pose, tool, wrench)
+        hinges = hinge_table(design, pose, wrench, tool, args.safety_factor)
+        if hinges is not None:
+            result["hinge_stress"] = hinges
         title = design.name
     if args.json:
         print(json_document("analyze", lead(result), ANALYSIS_UNITS))
@@ -126,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
         print_tables(result, title)
         if "uncertainty" in result:
             print_pose_uncertainty(result["uncertainty"])
+        if "hinge_stress" in result:
+            print_hinge_table(result["hinge_stress"])
     return 0
 
 
@@ -379,3 +393,86 @@ def print_geometry(result: dict[str, Any]) -> None:
         f"antisymmetric part {100 * mg['asymmetry']:.3g} % (length-balanced Frobenius norms)"
     )
     c.print(f"load margin: {escape(mg['load_margin']['description'])}")
+
+
+def hinge_table(
+    design: Any, pose: Any, wrench: Any, tool: Any, safety_factor: float | None
+) -> dict[str, Any] | None:
+    """The hinge stress and range of a design with notch hinges (frozen, linear;
+    :func:`ppm_stiffness.statics.hinge_stress.hinge_summary`), the wrench moved from the
+    tool point to P; None without hinges or without every hinge's yield strength
+    (``--safety-factor`` then refused)."""
+    from ppm_stiffness.model import full_pose, tool_offset
+    from ppm_stiffness.statics.hinge_stress import (
+        has_hinges,
+        has_yield_strengths,
+        hinge_summary,
+    )
+
+    if not has_hinges(design):
+        if safety_factor is not None:
+            raise InputDataError(
+                "--safety-factor: the design has no notch hinge (a joint's hinge table)"
+            )
+        return None
+    if not has_yield_strengths(design):  # no stress limit: no range of motion
+        if safety_factor is not None:
+            raise InputDataError("--safety-factor: a notch hinge's material has no yield_strength")
+        return None
+    sf = 1.0 if safety_factor is None else safety_factor
+    if not (np.isfinite(sf) and sf > 0.0):
+        raise InputDataError(f"--safety-factor {sf:g}: must be a positive number")
+    at_p = None
+    if wrench is not None:
+        offset = tool_offset(full_pose(design, pose), tool)
+        at_p = np.concatenate([wrench[:3] + np.cross(offset, wrench[3:]), wrench[3:]])
+    return hinge_summary(design, pose, at_p, sf)
+
+
+def print_hinge_table(data: dict[str, Any]) -> None:
+    """Two tables: the stage's range of motion along each input direction (the first
+    hinge to reach yield / SF), and each hinge's allowed stress, its smallest range over
+    the drives and, under a wrench, its stress and utilisation."""
+    sf = data["safety_factor"]
+    t = Table(
+        title=escape(f"Range of motion (notch hinges, frozen, linear; yield / SF, SF = {sf:g})"),
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    for name in ("input", "range (±)", "limiting hinge"):
+        t.add_column(name, justify="right" if name == "range (±)" else "left")
+    for d in data["directions"]:
+        t.add_row(d["name"], f"{eng(d['range'])} {d['unit']}", d["limiting_hinge"])
+    console.print(t)
+    console.print(
+        "  a drive's input is its free displacement (the others held); a platform "
+        "direction is made by the drives, the other task coordinates held at 0"
+    )
+    drives = [d for d in data["directions"] if d["name"].startswith("drive")]
+    loaded = "stress" in data["hinges"][0]
+    h = Table(
+        title="Hinges: allowed stress, range (smallest over the drives), under the wrench",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    h.add_column("hinge", no_wrap=True)
+    h.add_column("allowed MPa", justify="right")
+    if drives:
+        h.add_column(f"drives {drives[0]['unit']}", justify="right")
+    if loaded:
+        for name in ("stress MPa", "util.", "x wrench"):
+            h.add_column(name, justify="right")
+    for row in data["hinges"]:
+        cells = [f"leg{row['leg']}.{row['name']}", f"{row['allowed_stress'] / 1e6:.4g}"]
+        if drives:
+            cells.append(eng(min(row["range"][d["name"]] for d in drives)))
+        if loaded:
+            cells += [
+                f"{row['stress'] / 1e6:.4g}",
+                eng(row["utilisation"]),
+                eng(row["wrench_range"]),
+            ]
+        h.add_row(*cells)
+    console.print(h)

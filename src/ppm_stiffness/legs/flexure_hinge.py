@@ -257,14 +257,18 @@ def _nodes(segments: list[Segment], panels: int, points: int) -> tuple[FloatArra
 
 
 class FlexureHinge(PartModel):
-    """A notch flexure hinge: its profile, width b [m] (along the rotation axis z) and
-    material. Compliances in hinge axes, order (phi; v), SI (module doc)."""
+    """A notch flexure hinge: its profile, width b [m] (along the rotation axis z),
+    material and optional stress concentration factor. Compliances in hinge axes, order
+    (phi; v), SI (module doc)."""
 
-    UNITS: ClassVar[dict[str, str]] = _LENGTHS
+    UNITS: ClassVar[dict[str, str]] = {**_LENGTHS, "stress_concentration": "1"}
 
     profile: Profile
     width: Positive
     material: HingeMaterial
+    #: K_t in in-plane bending (>= 1); None: the built-in one of a circular notch or a
+    #: leaf (:func:`ppm_stiffness.statics.hinge_stress.stress_concentration`).
+    stress_concentration: Annotated[float, Field(ge=1.0, allow_inf_nan=False)] | None = None
 
     @property
     def length(self) -> float:

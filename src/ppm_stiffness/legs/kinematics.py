@@ -390,9 +390,15 @@ def solve(
 def constraint_basis(jac_balanced: FloatArray, count: int) -> FloatArray:
     """The ``count`` balanced unit wrenches (n, 6, count) reciprocal to a chain's
     freedoms (the left singular vectors of its balanced Jacobian (n, 6, f) beyond its
-    rank)."""
-    u, _, _ = np.linalg.svd(jac_balanced, full_matrices=True)
-    return np.asarray(u[..., 6 - count :])
+    rank); NaN where the Jacobian is not finite (a chain that did not close: the SVD
+    would not converge)."""
+    jac = np.asarray(jac_balanced, dtype=float)
+    finite = np.all(np.isfinite(jac), axis=(-2, -1))
+    out = np.full(jac.shape[:-1] + (count,), np.nan)
+    if np.any(finite):
+        u, _, _ = np.linalg.svd(jac[finite], full_matrices=True)
+        out[finite] = u[..., 6 - count :]
+    return out
 
 
 def rank(jac: FloatArray) -> int:

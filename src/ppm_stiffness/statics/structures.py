@@ -170,8 +170,9 @@ def _engine_terms(design: Design, leg_poses: list[LegPose], k: int) -> LegTerms:
 
 def refuse_parallel_flexures(design: Design) -> None:
     """Refuse a design whose actuated joint is elastic (a drive in parallel with a
-    flexure) for the loaded states: their actuator forces and laws would take the
-    flexure's share of the joint's generalised force as the drive's.
+    flexure: an ``elastic`` joint or a notch ``hinge``) for the loaded states: their
+    actuator forces and laws would take the flexure's share of the joint's generalised
+    force as the drive's.
 
     Raises
     ------
@@ -179,7 +180,8 @@ def refuse_parallel_flexures(design: Design) -> None:
     """
     for i, leg in enumerate(design.legs):
         for element in getattr(leg, "elements", []):
-            if getattr(element, "actuated", False) and getattr(element, "elastic", None):
+            flexure = getattr(element, "elastic", None) or getattr(element, "hinge", None)
+            if getattr(element, "actuated", False) and flexure is not None:
                 raise DesignError(
                     f"leg {i + 1}: its actuated joint is elastic (a drive in parallel with a "
                     "flexure): loaded states, actuator forces and deflections are not "

@@ -923,7 +923,15 @@ class ChainLeg(LegModel):
     def moving_geometry_gap(self) -> str | None:
         """A parallelogram's chain (two P joints and a U) is exact to first order only:
         its bars' own swing under their axial loads (their geometric stiffness) is not
-        in it, so the moving geometry (K_F, the load margin) refuses it."""
+        in it, so the moving geometry (K_F, the load margin) refuses it. A drive in
+        parallel with a flexure (an actuated ``elastic`` joint or notch ``hinge``) is
+        refused too: the loaded states would count the flexure's share of the joint's
+        generalised force as the drive's (``statics/structures.py``)."""
+        if any(e.actuated and (e.elastic or e.hinge is not None) for e in self.joints()):
+            return (
+                "the moving geometry does not model a drive in parallel with a flexure "
+                "(its actuated joint is elastic or a notch hinge)"
+            )
         if self._parallelogram() is None:
             return None
         return (
