@@ -216,13 +216,12 @@ def _lame(hinge: FlexureHinge, state: Literal["stress", "strain"]) -> tuple[floa
     return e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), g
 
 
-def mesh_stiffness(
-    hinge: FlexureHinge,
-    rows: int,
-    aspect: float = 1.0,
-    state: Literal["stress", "strain"] = "stress",
-) -> MeshResult:
-    """K_phiz and K_x of ``hinge`` on one mesh of ``rows`` rows (module doc)."""
+def _solve(
+    hinge: FlexureHinge, rows: int, aspect: float, state: Literal["stress", "strain"]
+) -> tuple[Any, FloatArray, FloatArray, int, int, FloatArray]:
+    """The mesh's basis, its columns (x, h), the notch's end columns and the
+    displacements (N, 2) under a unit end moment and a unit axial force per unit width
+    (module doc)."""
     skfem = require_skfem()
     from skfem.helpers import dot
     from skfem.models.elasticity import linear_elasticity
@@ -250,11 +249,42 @@ def mesh_stiffness(
     displacement = np.zeros_like(loads)
     for k in range(2):
         displacement[:, k] = skfem.solve(*skfem.condense(stiffness, loads[:, k], D=clamped))
+    return basis, columns, depths, i0, i1, displacement
+
+
+def mesh_stiffness(
+    hinge: FlexureHinge,
+    rows: int,
+    aspect: float = 1.0,
+    state: Literal["stress", "strain"] = "stress",
+) -> MeshResult:
+    """K_phiz and K_x of ``hinge`` on one mesh of ``rows`` rows (module doc)."""
+    basis, columns, _, i0, i1, displacement = _solve(hinge, rows, aspect, state)
     a, b = float(columns[i0]), float(columns[i1])
     rot = _section(basis, b, displacement[:, 0])[0] - _section(basis, a, displacement[:, 0])[0]
     ext = _section(basis, b, displacement[:, 1])[1] - _section(basis, a, displacement[:, 1])[1]
     width = hinge.width
     return MeshResult(rows, int(basis.N), width / rot, width / ext)
+
+
+def waist_stress_factor(hinge: FlexureHinge, rows: int = 16, aspect: float = 1.0) -> float:
+    """The in-plane bending stress at a symmetric notch's waist surface under a pure
+    moment, over the beam value 6 M / (b t^2): the stress concentration factor K_t by
+    the plane-stress model (the axial strain's central difference along the waist's
+    surface, where the surface is parallel to x, times E: a free surface carries
+    sigma_xx alone)."""
+    thickness = getattr(hinge.profile, "thickness", None)
+    if thickness is None:
+        raise InputDataError("continuum model: the waist stress needs a profile's thickness")
+    basis, _, _, _, _, displacement = _solve(hinge, rows, aspect, "stress")
+    ux_basis = basis.split_bases()[0]
+    ux = displacement[basis.split_indices()[0], 0]
+    centre, t = hinge.length / 2.0, float(thickness)
+    step = 1e-3 * t
+    y = 0.5 * t * (1.0 - 1e-9)  # just inside the surface
+    probes = ux_basis.probes(np.array([[centre - step, centre + step], [y, y]]))
+    strain = float(np.diff(probes @ ux)[0]) / (2.0 * step)
+    return abs(hinge.material.young_modulus * strain) / (6.0 / t**2)
 
 
 def continuum_stiffness(
