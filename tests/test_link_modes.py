@@ -1,0 +1,147 @@
+"""The legs' own modes (Craig-Bampton, issue 30): :mod:`ppm_stiffness.dynamics.legmodes`.
+
+A strut alone against the pinned-pinned beam's closed form, the FE's static shapes
+against the condensed model's mass, Rayleigh-Ritz convergence, and the stiff-link limit.
+The whole-frame FE comparison is in tests/test_modal_validation.py (its fixture).
+Residuals measured when the tolerances were set are given next to each assertion."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+
+from ppm_stiffness.core.beam import BeamSection
+from ppm_stiffness.design import Design, design_from_dict, design_to_dict
+from ppm_stiffness.dynamics.condensation import leg_mass_matrix
+from ppm_stiffness.dynamics.legmodes import (
+    design_leg_modes,
+    fixed_interface_modes,
+    reduced_frequencies,
+    reduced_matrices,
+)
+from ppm_stiffness.dynamics.mass import mass_matrix_at_pose
+from ppm_stiffness.dynamics.modes import natural_frequencies
+from ppm_stiffness.legs.chain import Joint, Link, LinkMass
+from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, stiffness_at_pose
+from ppm_stiffness.poses import full_pose
+from test_dynamics import _with_masses
+
+#: A steel rod 20 x 2 mm (the hexapod's), uniform over the whole strut.
+SECTION = BeamSection(2.1e11, 8.1e10, 1.13e-4, 9.27e-9, 4.64e-9, 4.64e-9)
+
+
+def _strut(length: float = 0.3, cylinder: float = 0.17, per_length: float = 0.9) -> list[Any]:
+    """A uniform U-P-S strut along z (same section and mass per length [kg/m] on both
+    sides of the prismatic joint, ideal joints, a rigid guide), its S at P."""
+    base = np.array([0.02, 0.01, -length])
+    guide = base + np.array([0.0, 0.0, cylinder])
+    top = np.array([0.02, 0.01, 0.0])
+    ez = np.array([0.0, 0.0, 1.0])
+    return [
+        Joint("U", np.array([1.0, 0.0, 0.0]), base, axis2=np.array([0.0, 1.0, 0.0])),
+        Link(base, guide, SECTION, mass=LinkMass(per_length * cylinder)),
+        Joint("P", ez, guide, actuated=True),
+        Link(guide, top, SECTION, mass=LinkMass(per_length * (length - cylinder))),
+        Joint("S", ez, top),
+    ]
+
+
+def test_a_uniform_ups_strut_held_at_the_platform_is_pinned_pinned() -> None:
+    """Platform held, a uniform U-P-S strut bends as a pinned-pinned beam across its
+    prismatic joint: f_k = k^2 (pi / (2 L^2)) sqrt(E I / (rho A)), both planes of each
+    pair. 12 elements per link: f1 2.5e-7 high (h^4 convergence; 8 elements: 1.3e-6),
+    f2/f1 = 4 within 5e-6 (measured 4.6e-6 with 16)."""
+    length, per_length = 0.3, 0.9
+    chain = _strut(length, per_length=per_length)
+    bending = SECTION.young_modulus * SECTION.inertia_y
+    exact = math.pi / (2 * length**2) * math.sqrt(bending / per_length)
+    modes = fixed_interface_modes(chain, 3e7, 1, elements=12)
+    f = modes.frequencies[0]
+    assert f.shape == (2,)  # one requested, the pair kept whole
+    assert f == pytest.approx([exact, exact], rel=1e-6)
+    more = fixed_interface_modes(chain, 3e7, 6, elements=16).frequencies[0] / exact
+    assert more == pytest.approx([1, 1, 4, 4, 9, 9], rel=1e-5)  # measured 5.8e-6 (k = 3)
+
+
+def test_the_fe_static_shapes_are_the_condensed_models() -> None:
+    """The leg FE's constraint shapes Psi carry the condensed leg mass matrix (links as
+    uniform beams and as bodies riding on their shape, a centre behind the guide):
+    Psi^T M_x Psi = leg_mass_matrix within 1e-8 of its largest entry (measured 7e-10:
+    the SVD of the constraint and the springs' range of 1e7)."""
+    from helpers import design_named
+
+    for design in (design_named("hexapod_6ups"), design_named("3prr")):
+        p = full_pose(design, None)
+        k_act = actuator_stiffness_vector(design, None)
+        for leg, lp, k in zip(design.legs, solve_legs(design, p), k_act, strict=True):
+            chain = leg.chain(lp)
+            fe = fixed_interface_modes(chain, float(k), 2).condensed_mass[0]
+            ref = leg_mass_matrix(chain, float(k))
+            assert np.max(np.abs(fe - ref)) <= 1e-8 * np.max(np.abs(ref))
+
+
+def _uniform_hexapod(scale: float = 1.0) -> Design:
+    """The hexapod with uniform struts of tests/test_modal_validation.py; its links'
+    E and G and its joints' springs (the legs' other internal flexibility) times
+    ``scale``, its actuators' and masses as they are."""
+    design = _with_masses(
+        "hexapod_6ups",
+        platform={"mass": 1.766, "shape": "cylinder", "radius": 0.12, "height": 0.012},
+        masses={"cylinder": {"mass": 0.45}, "rod": {"mass": 0.40}},
+    )
+    if scale == 1.0:
+        return design
+    data = design_to_dict(design)
+    for name in ("cylinder", "rod"):
+        for key in ("young_modulus", "shear_modulus"):
+            data["parts"][name][key] *= scale
+    for name, keys in {
+        "base_joint": ("radial", "axial", "torsion"),
+        "platform_joint": ("radial", "axial"),
+        "guide": ("roll", "pitch", "yaw", "lateral", "vertical"),
+    }.items():
+        for key in keys:
+            data["parts"][name][key] *= scale
+    return design_from_dict(data)
+
+
+def _frequencies(design: Design, count: int) -> np.ndarray:
+    p = full_pose(design, None)
+    k = actuator_stiffness_vector(design, None)
+    big_k, big_m = stiffness_at_pose(design, p, k), mass_matrix_at_pose(design, p, k)
+    if count == 0:
+        return natural_frequencies(big_k, big_m)
+    legs = design_leg_modes(design, p, k, count)
+    return reduced_frequencies(*reduced_matrices(big_k, big_m, legs))[0]
+
+
+def test_adding_modes_converges_from_above() -> None:
+    """Rayleigh-Ritz: each added pair of modes lowers every frequency or keeps it, and
+    all stay above the leg FE's own result (all its modes); the first pair removes
+    nearly all of the condensation's error (f1 198.15 -> 150.330 Hz, then -0.013 Hz
+    with three more pairs, 150.313 Hz with all)."""
+    design = _uniform_hexapod()
+    runs = [_frequencies(design, c) for c in (0, 2, 4, 8)]
+    full = _frequencies(design, 200)
+    for before, after in zip(runs, runs[1:], strict=False):
+        assert np.all(after <= before * (1 + 1e-12))
+    assert np.all(runs[-1] >= full * (1 - 1e-8))  # its round-off: 2e-9 (f6)
+    first, rest = runs[0][0] - runs[1][0], runs[1][0] - full[0]
+    assert rest < 1e-3 * first  # measured 3.6e-4 of it
+
+
+def test_stiff_links_tend_to_the_condensed_frequencies() -> None:
+    """Links (E, G) and joint springs stiffened by s, the same masses and actuators:
+    the legs' own modes rise as sqrt(s) and the frequencies with link modes tend to the
+    condensed ones, the gap falling as 1 / s (Guyan's error (f1 / f_leg)^2): measured
+    1.27e-3 at s = 10^3, 1.27e-4 at 10^4 (0.24 at 1)."""
+    gaps = []
+    for scale in (1e3, 1e4):
+        design = _uniform_hexapod(scale)
+        condensed, with_modes = _frequencies(design, 0), _frequencies(design, 4)
+        gaps.append(np.max(np.abs(with_modes / condensed - 1)))
+    assert gaps[1] <= 2e-4
+    assert gaps[1] == pytest.approx(gaps[0] / 10, rel=0.05)
