@@ -17,15 +17,22 @@ from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.design import Design, design_from_dict, design_to_dict
 from ppm_stiffness.dynamics.condensation import leg_mass_matrix
 from ppm_stiffness.dynamics.legmodes import (
+    LinkModeWarning,
     design_leg_modes,
     fixed_interface_modes,
     reduced_frequencies,
     reduced_matrices,
+    stack_leg_modes,
 )
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose
 from ppm_stiffness.dynamics.modes import natural_frequencies
 from ppm_stiffness.legs.chain import Joint, Link, LinkMass
-from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, stiffness_at_pose
+from ppm_stiffness.model import (
+    actuator_stiffness_vector,
+    solve_legs,
+    stiffness_at_pose,
+    stiffness_at_tool_point,
+)
 from ppm_stiffness.poses import full_pose
 from test_dynamics import _with_masses
 
@@ -115,7 +122,7 @@ def _frequencies(design: Design, count: int) -> np.ndarray:
     if count == 0:
         return natural_frequencies(big_k, big_m)
     legs = design_leg_modes(design, p, k, count)
-    return reduced_frequencies(*reduced_matrices(big_k, big_m, legs))[0]
+    return reduced_frequencies(*reduced_matrices(big_k, big_m, *stack_leg_modes(legs)))[0]
 
 
 def test_adding_modes_converges_from_above() -> None:
@@ -145,3 +152,111 @@ def test_stiff_links_tend_to_the_condensed_frequencies() -> None:
         gaps.append(np.max(np.abs(with_modes / condensed - 1)))
     assert gaps[1] <= 2e-4
     assert gaps[1] == pytest.approx(gaps[0] / 10, rel=0.05)
+
+
+# --- the user's control -------------------------------------------------------------------
+
+
+def test_no_link_modes_is_the_static_condensation_bit_for_bit() -> None:
+    """``link_modes=0`` gives the condensed model's frequencies and shapes exactly (the
+    pair K, M at home at the tool point through :func:`mode_shapes`, as before issue
+    30) and its JSON without the new keys,
+    on every shipped design with a mass model (discovered)."""
+    import warnings
+
+    from helpers import design_named, example_designs
+    from ppm_stiffness.dynamics.analysis import modal_analysis
+    from ppm_stiffness.dynamics.modes import mode_shapes
+
+    names = example_designs(lambda d: d.has_mass_model, paper=True)
+    assert len(names) >= 10
+    for name in names:
+        design = design_named(name)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", LinkModeWarning)  # the CLI's, not the library's
+            result = modal_analysis(design, link_modes=0)
+        p, tool = full_pose(design, None), design.tool_point
+        k_t = stiffness_at_tool_point(stiffness_at_pose(design, p), p, tool)
+        before = mode_shapes(k_t, stiffness_at_tool_point(mass_matrix_at_pose(design, p), p, tool))
+        assert np.array_equal(result.frequencies, before.frequencies), name
+        assert np.array_equal(result.modes.shapes, before.shapes), name
+        data = result.to_dict()
+        assert "link_modes" not in data and "platform_share" not in data["modes"][0]
+
+
+def test_slow_legs_are_warned_without_link_modes() -> None:
+    """The uniform-strut hexapod's struts bend at 180 Hz, 0.91 times the condensed f1 =
+    198 Hz: a warning naming both (``modes --link-modes 0`` gives it); none for legs
+    ten times faster than f1."""
+    import warnings
+
+    from ppm_stiffness.dynamics.analysis import modal_analysis
+    from ppm_stiffness.dynamics.legmodes import warn_slow_legs
+
+    design = _uniform_hexapod()
+    p, k = full_pose(design, None), actuator_stiffness_vector(design, None)
+    f1 = modal_analysis(design, link_modes=0).frequencies[0]
+    with pytest.warns(LinkModeWarning, match=r"180\.4 Hz, 0\.91 times the condensed f1 = 198"):
+        warn_slow_legs(design, p, k, f1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LinkModeWarning)
+        warn_slow_legs(design, p, k, 18.0)  # f_leg,1 = 10.02 f1
+    result = modal_analysis(design, link_modes=2)
+    assert result.to_dict()["link_modes"] == 2
+    assert result.frequencies[0] == pytest.approx(150.330, abs=1e-3)
+
+
+@pytest.mark.parametrize("bad", [-1, True, 1.5])
+def test_a_bad_number_of_link_modes_is_refused(bad: Any) -> None:
+    from ppm_stiffness.core.errors import InputDataError
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    with pytest.raises(InputDataError, match="link modes: a non-negative integer"):
+        resolve_link_modes(bad)
+
+
+def test_modes_cli_link_modes(capsys: pytest.CaptureFixture[str]) -> None:
+    """``modes --link-modes N``: the JSON carries ``link_modes`` and each mode's
+    platform share (the built-in design: its platform carries 55 % of the first mode's
+    kinetic energy); with 0, the warning where a leg is slow (its struts bend at 108.8
+    Hz, 3.6 times its condensed f1); a negative N is refused with one line and exit
+    code 2."""
+    import json
+
+    from ppm_stiffness.cli import main
+
+    assert main(["modes", "--json", "--link-modes", "4"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["link_modes"] == 4
+    assert data["modes"][0]["platform_share"] == pytest.approx(0.55, abs=0.005)
+    assert main(["modes", "--json", "--link-modes", "0"]) == 0
+    out, err = capsys.readouterr()
+    assert "link_modes" not in json.loads(out)
+    assert "warning: a leg's own first frequency (platform held) is 108.8 Hz, 3.56" in err
+    assert main(["modes", "--link-modes", "-1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--link-modes -1" in err
+
+
+def test_batched_over_poses_is_the_single_pose_analysis() -> None:
+    """``first_frequencies(..., link_modes=N)``: the legs' FE batched over poses gives
+    the single-pose analysis's f1 at each pose (measured 7.1e-14 relative); the
+    condensed f1 is 30 to 34 % higher there."""
+    from ppm_stiffness.dynamics.analysis import modal_analysis
+    from ppm_stiffness.dynamics.batch import first_frequencies
+
+    design = _uniform_hexapod()
+    poses = np.array(
+        [
+            [0.0, 0.0, 0.2, 0.0, 0.0, 0.0],
+            [0.008, -0.005, 0.195, 0.03, -0.02, 0.04],
+            [-0.01, 0.004, 0.21, -0.04, 0.01, -0.03],
+        ]
+    )
+    k_act = actuator_stiffness_vector(design, None)
+    k = np.array([stiffness_at_pose(design, p, k_act) for p in poses])
+    f1, ok = first_frequencies(design, poses, k, k_act, link_modes=8)
+    assert ok.all()
+    single = [modal_analysis(design, p, link_modes=8).frequencies[0] for p in poses]
+    assert f1 == pytest.approx(single, rel=1e-11)
+    assert np.all(f1 < 0.8 * first_frequencies(design, poses, k, k_act)[0])  # condensed

@@ -452,13 +452,19 @@ def design_leg_modes(
     return out
 
 
-def reduced_matrices(
-    stiffness: ArrayLike, mass: ArrayLike, legs: Sequence[LegModes]
-) -> tuple[FloatArray, FloatArray]:
-    """The Craig-Bampton K_r and M_r (n, 6 + k, 6 + k) (module doc) from the condensed
-    K and M (n, 6, 6) or (6, 6) at P and the legs' modes."""
+def stack_leg_modes(legs: Sequence[LegModes]) -> tuple[FloatArray, FloatArray]:
+    """Every leg's omega^2 (n, k) and coupling (n, 6, k) side by side."""
     omega2 = np.concatenate([leg.omega2 for leg in legs], axis=-1)
     coupling = np.concatenate([leg.coupling for leg in legs], axis=-1)
+    return omega2, coupling
+
+
+def reduced_matrices(
+    stiffness: ArrayLike, mass: ArrayLike, omega2: FloatArray, coupling: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The Craig-Bampton K_r and M_r (n, 6 + k, 6 + k) (module doc) from the condensed
+    K and M (n, 6, 6) or (6, 6), the modes' omega^2 (n, k) and their coupling (n, 6,
+    k), all at one reference point (:func:`stack_leg_modes`)."""
     n, k = omega2.shape
     size = 6 + k
     kr = np.zeros((n, size, size))
@@ -493,3 +499,33 @@ def reduced_frequencies(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
         if np.all(lam >= 0.0):
             out[j] = np.sqrt(lam) / (2.0 * math.pi)
     return out
+
+
+class LinkModeWarning(UserWarning):
+    """A leg's own first frequency is near the machine's f1 and its modes are left out
+    (``link_modes`` 0): the condensed f1 is too high (module doc)."""
+
+
+def warn_slow_legs(
+    design: object, pose: ArrayLike, actuator_stiffness: ArrayLike, f1: float
+) -> None:
+    """Warn (:class:`LinkModeWarning`) where a leg's first fixed-interface frequency
+    is below :data:`LINK_MODE_WARNING_RATIO` times the condensed ``f1`` [Hz] (one
+    pose (6,))."""
+    import warnings
+
+    legs = design_leg_modes(design, pose, actuator_stiffness, 1)
+    lowest = [float(leg.frequencies[0, 0]) for leg in legs if leg.omega2.shape[-1]]
+    if not lowest or not math.isfinite(f1):
+        return
+    f_leg = min(lowest)
+    if f_leg < LINK_MODE_WARNING_RATIO * f1:
+        warnings.warn(
+            f"a leg's own first frequency (platform held) is {f_leg:.4g} Hz, "
+            f"{f_leg / f1:.3g} times the condensed f1 = {f1:.4g} Hz (below "
+            f"{LINK_MODE_WARNING_RATIO:g}): without link modes f1 is too high by up to "
+            f"about (f1 / f_leg)^2; use link modes (--link-modes, default "
+            f"{DEFAULT_LINK_MODES})",
+            LinkModeWarning,
+            stacklevel=3,
+        )
