@@ -260,3 +260,25 @@ def test_batched_over_poses_is_the_single_pose_analysis() -> None:
     single = [modal_analysis(design, p, link_modes=8).frequencies[0] for p in poses]
     assert f1 == pytest.approx(single, rel=1e-11)
     assert np.all(f1 < 0.8 * first_frequencies(design, poses, k, k_act)[0])  # condensed
+
+
+def test_a_mode_without_platform_motion_is_the_legs_alone() -> None:
+    """A leg mode that does not couple to the twist (C = 0) and lies below the
+    platform's: its frequency is its own, it has no shape, its direction is "legs
+    only" and the platform carries none of its energy; the platform's six modes keep
+    theirs (a unit M and a diagonal K: f = sqrt(k) / 2 pi, platform share 1)."""
+    from ppm_stiffness.dynamics.modes import LEG_MODE_DIRECTION, reduced_mode_shapes
+
+    k = np.diag([4.0, 9.0, 16.0, 25.0, 36.0, 49.0, 1.0]) * (2 * np.pi) ** 2
+    modes = reduced_mode_shapes(k, np.eye(7), np.eye(6))
+    assert modes.frequencies == pytest.approx([1, 2, 3, 4, 5, 6], rel=1e-14)
+    assert modes.directions[0] == LEG_MODE_DIRECTION
+    assert modes.shares[0] == 0 and not modes.shapes[0].any()
+    assert modes.platform_shares == pytest.approx([0, 1, 1, 1, 1, 1], abs=1e-15)
+    assert modes.directions[1:] == (
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+        "x translation",
+        "y translation",
+    )
