@@ -4,7 +4,10 @@ frequency that ``analyze`` adds.
 
 K is the locked actuators' stiffness, or the loaded tangent one under a wrench
 (:func:`ppm_stiffness.statics.loading.loaded_state`); M is built with the same
-actuator stiffnesses (:mod:`ppm_stiffness.dynamics.mass`). Both are expressed at the
+actuator stiffnesses (:mod:`ppm_stiffness.dynamics.mass`). Each leg's own lowest
+modes with the platform held are added (``link_modes`` per leg, default
+:data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`; 0: the static
+condensation alone; :mod:`ppm_stiffness.dynamics.legmodes`). Both are expressed at the
 tool point (P unless the design or the caller sets one): the frequencies do not depend
 on it, the mode shapes are the tool point's twists. SI: Hz, kg, kg·m^2, rad, m.
 """
