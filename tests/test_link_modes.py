@@ -73,6 +73,25 @@ def test_a_uniform_ups_strut_held_at_the_platform_is_pinned_pinned() -> None:
     assert more == pytest.approx([1, 1, 4, 4, 9, 9], rel=1e-5)  # measured 5.8e-6 (k = 3)
 
 
+def test_a_link_clamped_at_both_ends_has_the_beta_roots() -> None:
+    """A link from an actuated prismatic joint along it (rigid across: a clamp) to the
+    platform (held: a clamp) bends as a clamped-clamped beam: f1 = (beta_1 L)^2 /
+    (2 pi L^2) sqrt(E I / (rho A)), beta_1 L = 4.7300407449. 32 elements: 3.3e-7 high
+    (24: 1.0e-6)."""
+    length, per_length = 0.3, 0.9
+    base, top = np.array([0.02, 0.01, -length]), np.array([0.02, 0.01, 0.0])
+    axis = np.array([0.0, 0.0, 1.0])
+    chain = [
+        Joint("P", axis, base, actuated=True),
+        Link(base, top, SECTION, mass=LinkMass(per_length * length)),
+    ]
+    bending = SECTION.young_modulus * SECTION.inertia_y
+    root = 4.730040744862704
+    exact = root**2 / (2 * math.pi * length**2) * math.sqrt(bending / per_length)
+    f = fixed_interface_modes(chain, 3e7, 1, elements=32).frequencies[0]
+    assert f == pytest.approx([exact, exact], rel=1e-6)
+
+
 def test_the_fe_static_shapes_are_the_condensed_models() -> None:
     """The leg FE's constraint shapes Psi carry the condensed leg mass matrix (links as
     uniform beams and as bodies riding on their shape, a centre behind the guide):
