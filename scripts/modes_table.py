@@ -44,12 +44,29 @@ def design_of(file: str | None) -> Design:
 
 
 def row(name: str, design: Design) -> str:
-    """One markdown row of the table."""
-    result = modal_analysis(design).to_dict()
+    """One markdown row of the table (the legs condensed statically)."""
+    result = modal_analysis(design, link_modes=0).to_dict()
     masses = result["masses"]
     freqs = ", ".join(f"{f:.1f}" for f in result["frequencies"])
     cells = [name, *(f"{masses[k]:.4g}" for k in ("platform", "links", "carriages")), freqs]
     return "| " + " | ".join([*cells, result["modes"][0]["direction"]]) + " |"
+
+
+def link_row(name: str, design: Design) -> str:
+    """One markdown row of the table with the legs' own modes (the default number per
+    leg): f1..f6, the first mode's direction and platform share, and the legs' own
+    lowest frequency with the platform held."""
+    from ppm_stiffness.dynamics.legmodes import design_leg_modes
+    from ppm_stiffness.model import actuator_stiffness_vector
+    from ppm_stiffness.poses import full_pose
+
+    result = modal_analysis(design).to_dict()
+    p, k = full_pose(design, None), actuator_stiffness_vector(design, None)
+    f_leg = min(float(leg.frequencies[0, 0]) for leg in design_leg_modes(design, p, k, 1))
+    freqs = ", ".join(f"{f:.1f}" for f in result["frequencies"])
+    first = result["modes"][0]
+    share = f"{100 * first['platform_share']:.2g} %"
+    return f"| {name} | {freqs} | {first['direction']} | {share} | {f_leg:.1f} |"
 
 
 def _without_leg_masses(data: Any) -> Any:
@@ -71,8 +88,8 @@ def platform_alone(design: Design) -> Design:
 
 def platform_alone_change(design: Design) -> str:
     """Each frequency of the platform alone against the full model's, in %."""
-    full = modal_analysis(design)["frequencies"]
-    alone = modal_analysis(platform_alone(design))["frequencies"]
+    full = modal_analysis(design, link_modes=0).frequencies
+    alone = modal_analysis(platform_alone(design), link_modes=0).frequencies
     return ", ".join(f"{100 * (a / f - 1):+.0f}" for a, f in zip(alone, full, strict=True))
 
 
@@ -81,6 +98,13 @@ def main() -> None:
     print("| --- | --- | --- | --- | --- | --- |")
     for name, file in DESIGNS:
         print(row(name, design_of(file)), flush=True)
+    print()
+    print(
+        "| design | f₁ … f₆ [Hz] with link modes | first mode | its platform share | f_leg,1 [Hz] |"
+    )
+    print("| --- | --- | --- | --- | --- |")
+    for name, file in DESIGNS:
+        print(link_row(name, design_of(file)), flush=True)
     print()
     print("Platform alone against the full model, each frequency in %:")
     for name, file in DESIGNS:

@@ -167,7 +167,9 @@ def test_f1_objective_is_the_minimum_of_the_modes_f1(name: str, loaded: bool) ->
     wrench = WRENCH if loaded else None
     summary = summarize(design, region, wrench)
     poses = region_poses(region).reshape(-1, len(design.task_coordinates))
-    f1 = np.array([modal_analysis(design, p, wrench).to_dict()["frequencies"][0] for p in poses])
+    # the objective is the condensed f1 (maps and optimize do not take the legs' own
+    # modes yet, issue 30): against modal_analysis without them
+    f1 = np.array([modal_analysis(design, p, wrench, link_modes=0).frequencies[0] for p in poses])
     value = OBJECTIVES["first-frequency"].value(summary)
     # K, M at P (batched) vs at the tool point (single pose): the congruence leaves the
     # frequencies unchanged up to round-off, measured at most 4.5e-14 relative

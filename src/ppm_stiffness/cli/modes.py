@@ -38,6 +38,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_wrench_argument(parser)
     add_tool_point_argument(parser)
     add_tolerance_arguments(parser)
+    parser.add_argument(
+        "--link-modes",
+        type=int,
+        metavar="N",
+        help="each leg's own lowest modes with the platform held (Craig-Bampton), N per "
+        "leg (a degenerate pair kept whole); 0: the legs follow statically (default: 8)",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
     parser.add_argument(
         "--out",
@@ -55,9 +62,18 @@ def run(args: argparse.Namespace) -> int:
     wrench = parse_wrench(args.wrench)
     tool = tool_point_from_args(args, design)
     variables = read_tolerance_args(args, design)
+    if args.link_modes is not None and args.link_modes < 0:
+        err_console.print(f"--link-modes {args.link_modes}: a number of modes per leg, 0 or more")
+        return 2
     from ppm_stiffness.dynamics.analysis import MODES_UNITS, modal_analysis
 
-    result = modal_analysis(design, pose, wrench, tool).to_dict()
+    result = modal_analysis(design, pose, wrench, tool, args.link_modes).to_dict()
+    if args.link_modes == 0:
+        from ppm_stiffness.dynamics.legmodes import warn_slow_legs
+        from ppm_stiffness.poses import full_pose
+
+        f1 = result["frequencies"][0]
+        warn_slow_legs(design, full_pose(design, pose), result["actuator_stiffness"], f1)
     if variables is not None:
         result["uncertainty"] = modes_uncertainty(args, design, variables, pose, tool, wrench)
     if out is not None:
@@ -155,13 +171,23 @@ def print_tables(result: dict[str, Any], title: str, units: list[str]) -> None:
     )
     at = "T" if any(result["tool_point"]) else "P"
     t = Table(title=f"Natural frequencies, K v = omega^2 M v (at {at})", title_justify="left")
+    shared = "platform_share" in result["modes"][0]
     for col in ("mode", "f [Hz]", "dominant direction", "share"):
         t.add_column(col, justify="right")
+    if shared:
+        t.add_column("platform's kinetic energy", justify="right")
     for j, mode in enumerate(result["modes"], start=1):
-        t.add_row(
-            str(j), f"{mode['frequency']:.5g}", mode["direction"], f"{mode['share'] * 100:.0f} %"
-        )
+        cells = [str(j), f"{mode['frequency']:.5g}", mode["direction"]]
+        cells.append(f"{mode['share'] * 100:.0f} %")
+        if shared:
+            cells.append(f"{mode['platform_share'] * 100:.3g} %")
+        t.add_row(*cells)
     c.print(t)
+    if "link_modes" in result:
+        c.print(
+            f"with each leg's {result['link_modes']} lowest own modes (platform held; "
+            "Craig-Bampton); --link-modes 0: the legs follow statically"
+        )
     s = Table(
         title=f"Mode shapes: twists at {at} (rotations x {LENGTH_SCALE:g} m), unit norm",
         title_justify="left",

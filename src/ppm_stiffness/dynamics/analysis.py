@@ -4,7 +4,10 @@ frequency that ``analyze`` adds.
 
 K is the locked actuators' stiffness, or the loaded tangent one under a wrench
 (:func:`ppm_stiffness.statics.loading.loaded_state`); M is built with the same
-actuator stiffnesses (:mod:`ppm_stiffness.dynamics.mass`). Both are expressed at the
+actuator stiffnesses (:mod:`ppm_stiffness.dynamics.mass`). Each leg's own lowest
+modes with the platform held are added (``link_modes`` per leg, default
+:data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`; 0: the static
+condensation alone; :mod:`ppm_stiffness.dynamics.legmodes`). Both are expressed at the
 tool point (P unless the design or the caller sets one): the frequencies do not depend
 on it, the mode shapes are the tool point's twists. SI: Hz, kg, kg·m^2, rad, m.
 """
@@ -23,7 +26,7 @@ from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.core.results import DeprecatedMapping
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, moving_mass, require_mass_model
-from ppm_stiffness.dynamics.modes import Modes, mode_shapes
+from ppm_stiffness.dynamics.modes import Modes, mode_shapes, reduced_mode_shapes
 from ppm_stiffness.model import (
     actuator_stiffness_vector,
     stiffness_at_pose,
@@ -46,24 +49,60 @@ MODES_UNITS = {
     "modes.shape": "rad, m (phi_x, phi_y, phi_z, x, y, z) of the tool point, unit "
     "length-balanced norm (rotations times 0.1 m)",
     "modes.share": "1 (share of the balanced norm squared)",
+    "modes.platform_share": "1 (the platform body's share of the mode's kinetic energy)",
+    "link_modes": "fixed-interface modes per leg (Craig-Bampton; 0: static condensation)",
 }
 
 
 def modes_dict(modes: Modes) -> dict[str, Any]:
-    """The frequencies and mode shapes as plain data."""
+    """The frequencies and mode shapes as plain data (with the legs' own modes, each
+    mode's ``platform_share``)."""
+    listed: list[dict[str, Any]] = []
+    for j in range(6):
+        mode: dict[str, Any] = {
+            "frequency": float(modes.frequencies[j]),
+            "shape": modes.shapes[j].tolist(),
+            "direction": modes.directions[j],
+            "share": float(modes.shares[j]),
+        }
+        if modes.platform_shares is not None:
+            mode["platform_share"] = float(modes.platform_shares[j])
+        listed.append(mode)
     return {
         "frequencies": modes.frequencies.tolist(),
-        "modes": [
-            {
-                "frequency": float(modes.frequencies[j]),
-                "shape": modes.shapes[j].tolist(),
-                "direction": modes.directions[j],
-                "share": float(modes.shares[j]),
-            }
-            for j in range(6)
-        ],
+        "modes": listed,
         "modes_repeated": [list(g) for g in modes.repeated],
     }
+
+
+def machine_modes(
+    design: Design,
+    pose: FloatArray,
+    tool_pair: tuple[FloatArray, FloatArray],
+    p_pair: tuple[FloatArray, FloatArray],
+    actuator_stiffness: ArrayLike,
+    tool_point: ArrayLike,
+    link_modes: int,
+) -> Modes:
+    """The machine's six lowest modes: condensed (``link_modes`` 0: :func:`mode_shapes`
+    of K and M at the tool point ``tool_pair``, as before issue 30), or with each leg's
+    ``link_modes`` fixed-interface modes (:mod:`ppm_stiffness.dynamics.legmodes`),
+    solved with K and M at P (``p_pair``: the frequencies do not depend on the tool
+    point) and the twists moved to the tool point."""
+    from ppm_stiffness.core.conventions import twist_b_from_twist_a
+    from ppm_stiffness.dynamics.legmodes import (
+        design_leg_modes,
+        reduced_matrices,
+        stack_leg_modes,
+    )
+    from ppm_stiffness.dynamics.mass import platform_mass_matrix
+
+    if link_modes == 0:
+        return mode_shapes(*tool_pair)
+    legs = design_leg_modes(design, pose, actuator_stiffness, link_modes)
+    kr, mr = reduced_matrices(*p_pair, *stack_leg_modes(legs))
+    to_tool = twist_b_from_twist_a(np.eye(3), -tool_offset(pose, tool_point))
+    return reduced_mode_shapes(kr[0], mr[0], platform_mass_matrix(design, pose), to_tool)
 
 
 def _state(
@@ -119,6 +158,7 @@ class ModalAnalysis(DeprecatedMapping):
     mass_matrix: FloatArray
     masses: dict[str, float]
     modes: Modes
+    link_modes: int = 0
 
     @property
     def frequencies(self) -> FloatArray:
@@ -145,6 +185,8 @@ class ModalAnalysis(DeprecatedMapping):
         out["mass_matrix"] = self.mass_matrix.tolist()
         out["masses"] = dict(self.masses)
         out.update(modes_dict(self.modes))
+        if self.link_modes:
+            out["link_modes"] = self.link_modes
         return out
 
     def to_json(self) -> str:
@@ -159,6 +201,7 @@ def modal_analysis(
     pose: ArrayLike | None = None,
     wrench: ArrayLike | None = None,
     tool_point: ArrayLike | None = None,
+    link_modes: int | None = None,
 ) -> ModalAnalysis:
     """Natural frequencies and mode shapes at a pose, locked or under a wrench.
 
@@ -173,6 +216,10 @@ def modal_analysis(
         loaded tangent K and the tangent actuator stiffnesses are used.
     tool_point : array_like (3,), optional
         [m, platform frame]; ``design.tool_point`` if None.
+    link_modes : int, optional
+        Each leg's own modes with the platform held (Craig-Bampton,
+        :mod:`ppm_stiffness.dynamics.legmodes`); 0: the static condensation alone;
+        None: :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`.
 
     Returns
     -------
@@ -190,7 +237,10 @@ def modal_analysis(
         No mass model.
     InputDataError, UnreachablePoseError, SingularConfigurationError, EquilibriumError
     """
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
     require_mass_model(design)
+    count = resolve_link_modes(link_modes)
     p = validate_pose(design, pose)
     tool = np.asarray(design.tool_point if tool_point is None else tool_point, dtype=float)
     if tool.shape != (3,) or not np.all(np.isfinite(tool)):
@@ -211,7 +261,8 @@ def modal_analysis(
         stiffness_matrix=k_t,
         mass_matrix=m_t,
         masses=moving_mass(design),
-        modes=mode_shapes(k_t, m_t),
+        modes=machine_modes(design, p, (k_t, m_t), (k_p, m_p), k_act, tool, count),
+        link_modes=count,
     )
 
 
@@ -221,9 +272,11 @@ def first_mode(
     stiffness_tool: ArrayLike,
     actuator_stiffness: ArrayLike,
     tool_point: ArrayLike,
+    link_modes: int | None = None,
 ) -> dict[str, Any]:
     """``first_frequency`` [Hz] and ``first_mode_direction`` for ``analyze``, or {} when
-    the design has no mass model.
+    the design has no mass model (with the legs' own modes: ``link_modes`` as
+    :func:`modal_analysis`).
 
     Parameters
     ----------
@@ -235,11 +288,21 @@ def first_mode(
         The actuator stiffnesses K was built with (the mass matrix uses them too).
     tool_point : array_like (3,) [m, platform frame]
     """
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
     if not design.has_mass_model:
         return {}
-    m_p = mass_matrix_at_pose(design, pose, actuator_stiffness)
-    m_t = stiffness_at_tool_point(m_p, pose, tool_point)
-    modes = mode_shapes(stiffness_tool, m_t)
+    count = resolve_link_modes(link_modes)
+    p = np.asarray(pose, dtype=float)
+    k_t = np.asarray(stiffness_tool, dtype=float)
+    m_p = mass_matrix_at_pose(design, p, actuator_stiffness)
+    m_t = stiffness_at_tool_point(m_p, p, tool_point)
+    from ppm_stiffness.core.conventions import twist_b_from_twist_a
+
+    to_tool = twist_b_from_twist_a(np.eye(3), -tool_offset(p, tool_point))
+    k_p = to_tool.T @ k_t @ to_tool  # K_tool = T^-T K_P T^-1
+    pairs = (k_t, m_t), (k_p, m_p)
+    modes = machine_modes(design, p, *pairs, actuator_stiffness, tool_point, count)
     return {
         "first_frequency": float(modes.frequencies[0]),
         "first_mode_direction": modes.directions[0],

@@ -36,6 +36,7 @@ def first_frequencies(
     stiffness: ArrayLike,
     actuator_stiffness: ArrayLike,
     valid: ArrayLike | None = None,
+    link_modes: int = 0,
 ) -> tuple[FloatArray, BoolArray]:
     """f1 (n,) [Hz] at full poses (n, 6) from their K, and where it exists.
 
@@ -51,6 +52,10 @@ def first_frequencies(
         [N/m or N·m/rad].
     valid : array_like of bool (n,), optional
         The poses to evaluate (the others get NaN and False); all if None.
+    link_modes : int
+        Each leg's own modes with the platform held (Craig-Bampton,
+        :mod:`ppm_stiffness.dynamics.legmodes`), batched over the poses; 0 (the maps'
+        default for now): the static condensation alone.
 
     Returns
     -------
@@ -78,8 +83,37 @@ def first_frequencies(
         sub = (lambda a: a) if every else (lambda a: np.take(a, index, axis=0))
         with np.errstate(all="ignore"):
             m = mass_matrix(design, sub(q), sub(k_act))
-            f1[index] = natural_frequencies(sub(k), m)[:, 0]
+            if link_modes == 0:
+                f1[index] = natural_frequencies(sub(k), m)[:, 0]
+            else:
+                f1[index] = _with_link_modes(design, sub(q), sub(k), m, sub(k_act), link_modes)
     return f1, np.isfinite(f1)
+
+
+def _with_link_modes(
+    design: Design,
+    poses: FloatArray,
+    stiffness: FloatArray,
+    mass: FloatArray,
+    actuator_stiffness: FloatArray,
+    count: int,
+) -> FloatArray:
+    """f1 (n,) with each leg's ``count`` own modes, in chunks of poses."""
+    from ppm_stiffness.dynamics.legmodes import (
+        design_leg_modes,
+        reduced_frequencies,
+        reduced_matrices,
+        stack_leg_modes,
+    )
+    from ppm_stiffness.dynamics.mass import MASS_CHUNK
+
+    out = np.full(poses.shape[0], np.nan)
+    for lo in range(0, poses.shape[0], MASS_CHUNK):
+        hi = lo + MASS_CHUNK
+        legs = design_leg_modes(design, poses[lo:hi], actuator_stiffness[lo:hi], count)
+        kr, mr = reduced_matrices(stiffness[lo:hi], mass[lo:hi], *stack_leg_modes(legs))
+        out[lo:hi] = reduced_frequencies(kr, mr)[:, 0]
+    return out
 
 
 def refuse_failed(codes: RefusalArray, ok: BoolArray, f1_ok: BoolArray) -> RefusalArray:

@@ -51,6 +51,10 @@ class Modes:
         Its share of the mode's balanced norm squared, in (1/6, 1].
     repeated : tuple of tuple of int
         Groups of modes (0-based) sharing a repeated frequency (module doc).
+    platform_shares : ndarray (6,) or None
+        With the legs' own modes (:func:`reduced_mode_shapes`): each mode's kinetic
+        energy share carried by the platform body (0 for a mode of the legs alone);
+        None without them.
     """
 
     frequencies: FloatArray
@@ -58,6 +62,13 @@ class Modes:
     directions: tuple[str, ...]
     shares: FloatArray
     repeated: tuple[tuple[int, ...], ...] = ()
+    platform_shares: FloatArray | None = None
+
+
+#: The direction of a mode of the legs alone (their own vibration, no platform motion).
+LEG_MODE_DIRECTION = "legs only"
+#: Platform-twist kinetic energy share under which a mode is the legs' alone.
+LEG_MODE_SHARE = 1e-9
 
 
 def _check_pair(stiffness: ArrayLike, mass: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -196,9 +207,84 @@ def _closest_to_axes(vectors: FloatArray) -> FloatArray:
     """The basis ``V Q`` (6, k) of a repeated group's space whose balanced twists lie
     closest to the k coordinate axes most represented in it (module doc), in axis
     order: ``Q = U W^T`` from the SVD ``B[axes] = W S U^T`` (B the balanced ``V``)."""
+    return np.asarray(vectors @ _axes_rotation(vectors))
+
+
+def _axes_rotation(vectors: FloatArray) -> FloatArray:
+    """The orthogonal Q (k, k) of :func:`_closest_to_axes` for twists (6, k)."""
     b = TWIST_BALANCE[:, None] * vectors
     k = vectors.shape[1]
     norms = np.sum(b**2, axis=1)
     axes = sorted(np.argsort(-norms, kind="stable")[:k].tolist())
     w, _, ut = np.linalg.svd(b[axes])
-    return np.asarray(vectors @ (ut.T @ w.T))
+    return np.asarray(ut.T @ w.T)
+
+
+def reduced_mode_shapes(
+    stiffness: ArrayLike,
+    mass: ArrayLike,
+    platform_mass: ArrayLike,
+    to_tool: ArrayLike | None = None,
+) -> Modes:
+    """The six lowest modes of a Craig-Bampton pair (6 + k, 6 + k) whose first six
+    coordinates are the platform twist at P (:mod:`ppm_stiffness.dynamics.legmodes`).
+
+    Shapes, directions and shares are those of each mode's twist part, moved to the
+    tool point by ``to_tool`` (6, 6) (``twist_tool = to_tool @ twist_P``; P if None),
+    as :func:`mode_shapes` (module doc); a
+    mode whose twist carries less than :data:`LEG_MODE_SHARE` of its kinetic energy
+    is the legs' alone: a zero shape, direction :data:`LEG_MODE_DIRECTION`, share 0.
+    ``platform_shares``: the platform body's kinetic energy (``platform_mass`` (6, 6)
+    at P) over the mode's.
+
+    Raises
+    ------
+    InputDataError
+        As :func:`mode_shapes`.
+    """
+    from scipy.linalg import LinAlgError, eigh
+
+    k = np.asarray(stiffness, dtype=float)
+    m = np.asarray(mass, dtype=float)
+    if not (np.all(np.isfinite(k)) and np.all(np.isfinite(m))):
+        raise InputDataError("stiffness or mass matrix not finite")
+    try:
+        lam, vecs = eigh(0.5 * (k + k.T), 0.5 * (m + m.T), subset_by_index=[0, 5])
+    except LinAlgError:
+        raise InputDataError("the mass matrix is not positive definite") from None
+    scale = float(np.max(np.abs(lam)))
+    lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
+    if np.any(lam < 0.0):
+        raise InputDataError(
+            f"the stiffness matrix is not positive definite (omega^2 = {lam.min():.3g})"
+        )
+    move = np.eye(6) if to_tool is None else np.asarray(to_tool, dtype=float)
+    groups = _groups(lam)
+    for group in groups:
+        vecs[:, group] = vecs[:, group] @ _axes_rotation(move @ vecs[:6, group])
+    m6 = 0.5 * (m[:6, :6] + m[:6, :6].T)
+    plat = np.asarray(platform_mass, dtype=float)
+    shapes = np.zeros((6, 6))
+    directions: list[str] = []
+    shares = np.zeros(6)
+    platform = np.zeros(6)
+    for j in range(6):
+        v = vecs[:, j]
+        total = float(v @ m @ v)
+        t = v[:6]
+        platform[j] = float(t @ plat @ t) / total
+        if float(t @ m6 @ t) <= LEG_MODE_SHARE * total:
+            directions.append(LEG_MODE_DIRECTION)
+            continue
+        shapes[j] = normalised_shape(move @ t)
+        i, share = dominant_direction(shapes[j])
+        directions.append(DIRECTION_NAMES[i])
+        shares[j] = share
+    return Modes(
+        frequencies=np.sqrt(lam) / (2.0 * math.pi),
+        shapes=shapes,
+        directions=tuple(directions),
+        shares=shares,
+        repeated=tuple(tuple(g) for g in groups),
+        platform_shares=np.clip(platform, 0.0, 1.0),
+    )

@@ -1,0 +1,531 @@
+"""The legs' own vibrations (Craig-Bampton): each leg's fixed-interface modes.
+
+The mass model condenses every leg statically (Guyan,
+:mod:`ppm_stiffness.dynamics.condensation`): its links move in the static shape the
+platform twist t gives them. Where a leg's own first frequency (the platform held) is
+near or below the platform's, that misses the legs' dynamics. Here each leg adds its
+own lowest modes **with the platform held** (fixed-interface modes, its joints as they
+are) as generalised coordinates eta beside t:
+
+    K_r = [[K, 0], [0, diag(omega_k^2)]],   M_r = [[M, C], [C^T, 1]]
+
+with mass-normalised modes phi_k and ``C = Psi^T M_x phi`` (6, n) the kinetic coupling
+between the condensed (constraint) shapes Psi of the leg and its modes.
+
+**The leg's FE model** (``chain_fe``): the chain of :mod:`ppm_stiffness.legs.chain`
+in relative coordinates x, as the stiffness model builds it, every link split into
+``elements`` Euler-Bernoulli elements (each with its six tip springs, the cantilever
+compliance of eq. 3c for its length): a joint contributes its constrained directions'
+springs and its freedoms (passive: no stiffness; the actuated one: the actuator
+spring; elastic: their stiffnesses), a body's twist is the sum of the coordinates
+upstream of it times their screws, the platform twist is ``t = J x`` (J: every
+coordinate's screw, 6 x N). Masses: each element of a uniform link its consistent mass
+(:func:`ppm_stiffness.dynamics.links.link_mass_matrix` on its two nodes' twists); a
+link given as a body rides on the Hermite shape of the element holding its centre (a
+centre outside the link rigidly on the section of the nearer end), as the condensed
+model's body does; carriages, rotors and end masses as there. The static shapes of
+this FE are those of the condensed model (a uniform beam's shape under end loads is
+cubic, which the elements reproduce exactly), so ``Psi^T M_x Psi`` is the leg's M of
+:func:`ppm_stiffness.dynamics.condensation.leg_mass_matrix` (to round-off, a test
+checks it).
+
+**The platform held**: ``J x = 0``; x = N z over an orthonormal null-space basis N of
+J. Mechanisms with the platform held (zero stiffness: a strut's idle spin between two
+spherical joints) are left out (they exert no wrench and move nothing the springs
+see); directions without mass have infinite frequency and are left out too. The modes
+come from ``N^T M_x N z = mu N^T K_x N z`` (mu = 1 / omega^2), the largest mu first.
+A requested count that would split a degenerate pair (both bending planes of a round
+strut) is raised to keep the pair whole.
+
+Batched over leading axes (...) as the condensed model: every array of the chain
+(..., 3) or (3,).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ppm_stiffness.core.beam import cantilever_compliance
+from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.dynamics.condensation import point_inertia
+from ppm_stiffness.dynamics.links import _node_map, link_mass_matrix, section_motion
+from ppm_stiffness.legs.chain import (
+    CONSTRAINED,
+    Element,
+    Joint,
+    Link,
+    LinkMass,
+    check_chain,
+    constrained_screws,
+    elastic_stiffnesses,
+    frame_from_axis,
+    freedom_count,
+    freedom_screws,
+    link_screws,
+)
+
+#: Euler-Bernoulli elements per link of a leg's FE model. With 8 a pinned-pinned
+#: uniform strut (two links) has its first frequency 1.3e-6 high; the shipped
+#: examples' f1..f6 move by at most 8.3e-5 from 8 to 16 (docs/dynamics.md).
+ELEMENTS_PER_LINK = 8
+#: Relative gap of omega^2 under which two fixed-interface modes are one degenerate pair.
+DEGENERATE_TOLERANCE = 1e-4
+#: A mechanism of the held leg: stiffness below this fraction of its largest.
+MECHANISM_TOLERANCE = 1e-13
+
+
+@dataclass(frozen=True)
+class ChainFE:
+    """A leg's FE model in relative coordinates x (module doc), flattened batch n.
+
+    Attributes
+    ----------
+    screws : ndarray (n, 6, N)
+        Each coordinate's unit twist at P, axes of F_b (``t = screws @ x``).
+    stiffness : ndarray (n, N, N)
+        Block diagonal [SI of each coordinate].
+    mass : ndarray (n, N, N)
+        Kinetic energy ``x'^T M_x x' / 2``.
+    """
+
+    screws: FloatArray
+    stiffness: FloatArray
+    mass: FloatArray
+
+
+@dataclass(frozen=True)
+class LegModes:
+    """A leg's fixed-interface modes at n poses (module doc).
+
+    Attributes
+    ----------
+    omega2 : ndarray (n, k) [rad^2/s^2]
+        Ascending.
+    coupling : ndarray (n, 6, k)
+        ``C = Psi^T M_x phi``: the kinetic coupling of the platform twist at P (axes of
+        F_b, order (omega, v)) with each mass-normalised mode.
+    condensed_mass : ndarray (n, 6, 6)
+        ``Psi^T M_x Psi``: the leg's condensed mass matrix from this FE (a check).
+    condensed_stiffness : ndarray (n, 6, 6)
+        ``Psi^T K_x Psi``: the leg's stiffness at P from this FE (a check).
+    """
+
+    omega2: FloatArray
+    coupling: FloatArray
+    condensed_mass: FloatArray
+    condensed_stiffness: FloatArray
+
+    @property
+    def frequencies(self) -> FloatArray:
+        """The modes' frequencies (n, k) [Hz]."""
+        return np.asarray(np.sqrt(self.omega2) / (2.0 * math.pi))
+
+
+class _Builder:
+    """Accumulates a chain's coordinates and bodies (flattened batch n)."""
+
+    def __init__(self, n: int, batch: tuple[int, ...]) -> None:
+        self.n = n
+        self.batch = batch
+        self.screws: list[FloatArray] = []  # (n, 6, m)
+        self.blocks: list[FloatArray] = []  # (n, m, m) stiffness
+        self.count = 0
+        # bodies, their mass formed once every column is known: a point mass (the
+        # column count at its body, mass, point (n, 3)), a rotor (its coordinate's
+        # column, reflected inertia), a link (the link, its nodes (n, e + 1, 3), the
+        # column count at each node)
+        self.points: list[tuple[int, float, FloatArray]] = []
+        self.rotors: list[tuple[int, float]] = []
+        self.links: list[tuple[Link, FloatArray, list[int]]] = []
+
+    def flat(self, a: ArrayLike, tail: tuple[int, ...]) -> FloatArray:
+        b = np.broadcast_to(np.asarray(a, dtype=float), self.batch + tail)
+        return b.reshape((self.n,) + tail)
+
+    def add(self, screws: FloatArray, stiffness: FloatArray) -> int:
+        """Columns (n, 6, m) with their stiffness (n, m, m); returns the first index."""
+        first = self.count
+        self.screws.append(screws)
+        self.blocks.append(stiffness)
+        self.count += screws.shape[-1]
+        return first
+
+
+def _diagonal(k: FloatArray) -> FloatArray:
+    """(n, m) -> (n, m, m) diagonal."""
+    out = np.zeros(k.shape + (k.shape[-1],))
+    idx = np.arange(k.shape[-1])
+    out[..., idx, idx] = k
+    return out
+
+
+def _add_joint(b: _Builder, joint: Joint, k_act: FloatArray) -> None:
+    free = b.flat(freedom_screws(joint), (6, freedom_count(joint)))
+    elastic = elastic_stiffnesses(joint)
+    first = b.count
+    if joint.actuated:
+        k_total = k_act if elastic is None else k_act + elastic[0]
+        b.add(free[..., :1], k_total[:, None, None])
+    elif elastic is not None:
+        b.add(free, _diagonal(b.flat(elastic, (free.shape[-1],))))
+    else:
+        b.add(free, np.zeros((b.n, free.shape[-1], free.shape[-1])))
+    if joint.springs is not None:
+        c = CONSTRAINED[joint.kind]
+        k = b.flat(joint.springs, (c,))
+        keep = ~np.all(np.isinf(k), axis=0)  # rigid directions: no coordinate
+        if np.any(np.isinf(k[:, keep])):
+            k = np.where(np.isinf(k), 1e6 * np.max(np.where(np.isinf(k), 0.0, k)), k)
+        if np.any(keep):
+            cols = b.flat(constrained_screws(joint), (6, c))[..., keep]
+            b.add(cols, _diagonal(k[:, keep]))
+    if joint.mass is not None:
+        after = b.count
+        if joint.mass.mass > 0.0:
+            b.points.append((after, joint.mass.mass, b.flat(joint.point, (3,))))
+        if joint.mass.rotor > 0.0:
+            b.rotors.append((first, joint.mass.rotor))
+
+
+def _add_link(b: _Builder, link: Link, elements: int) -> None:
+    start, end = b.flat(link.start, (3,)), b.flat(link.end, (3,))
+    fractions = np.linspace(0.0, 1.0, elements + 1)
+    nodes = start[:, None, :] + fractions[None, :, None] * (end - start)[:, None, :]
+    node_cols = [b.count]  # the column count at each node (its twist map's extent)
+    for i in range(elements):
+        sub = Link(nodes[:, i], nodes[:, i + 1], link.section)
+        screws, length = link_screws(sub)
+        compliance = cantilever_compliance(link.section, length)
+        b.add(np.asarray(screws), np.asarray(np.linalg.inv(compliance), dtype=float))
+        node_cols.append(b.count)
+    b.links.append((link, nodes, node_cols))
+    if link.end_mass > 0.0:
+        b.points.append((b.count, link.end_mass, end))
+
+
+def chain_fe(
+    chain: Sequence[Element], actuator_stiffness: ArrayLike, elements: int = ELEMENTS_PER_LINK
+) -> ChainFE:
+    """A leg's FE model (module doc), its batch flattened.
+
+    Parameters
+    ----------
+    chain : sequence of Joint and Link
+        Base to platform, arrays (..., 3) or (3,), relative to P, axes of F_b.
+    actuator_stiffness : array_like (...) or scalar [N/m or N·m/rad]
+    elements : int
+        Euler-Bernoulli elements per link.
+    """
+    check_chain(chain)
+    shapes = [
+        np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1] for e in chain
+    ]
+    batch = np.broadcast_shapes(*shapes, np.shape(actuator_stiffness))
+    n = math.prod(batch)
+    b = _Builder(n, batch)
+    k_act = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), batch).reshape(n)
+    for element in chain:
+        if isinstance(element, Link):
+            _add_link(b, element, elements)
+        else:
+            _add_joint(b, element, k_act)
+    screws = np.concatenate(b.screws, axis=-1)
+    total = b.count
+    stiffness = np.zeros((n, total, total))
+    i = 0
+    for block in b.blocks:
+        m = block.shape[-1]
+        stiffness[:, i : i + m, i : i + m] = block
+        i += m
+    return ChainFE(screws=screws, stiffness=stiffness, mass=_mass(b, screws))
+
+
+def _mass(b: _Builder, screws: FloatArray) -> FloatArray:
+    total = screws.shape[-1]
+
+    def upto(c: int) -> FloatArray:
+        t = np.zeros_like(screws)
+        t[..., :c] = screws[..., :c]
+        return t
+
+    out = np.zeros((b.n, total, total))
+    for col, mass, point in b.points:
+        t = upto(col)
+        out += np.swapaxes(t, -1, -2) @ point_inertia(mass, point) @ t
+    for col, rotor in b.rotors:
+        out[:, col, col] += rotor
+    for link, nodes, cols in b.links:
+        out += _link_mass(link, nodes, [upto(c) for c in cols])
+    return np.asarray(0.5 * (out + np.swapaxes(out, -1, -2)))
+
+
+def _link_mass(link: Link, nodes: FloatArray, maps: list[FloatArray]) -> FloatArray:
+    """A link's mass matrix over x from its nodes (n, e + 1, 3) and their twist maps."""
+    body = link.mass
+    n, total = maps[0].shape[0], maps[0].shape[-1]
+    if body is None:
+        return np.zeros((n, total, total))
+    elements = nodes.shape[1] - 1
+    d = nodes[:, -1] - nodes[:, 0]
+    length = np.linalg.norm(d, axis=-1)
+    if body.centre is None and body.transverse is None:  # uniform: each element's share
+        out = np.zeros((n, total, total))
+        part = LinkMass(body.mass / elements, axial=body.axial / elements)
+        for i in range(elements):
+            sub = Link(nodes[:, i], nodes[:, i + 1], link.section, mass=part)
+            out += link_mass_matrix(sub, maps[i], maps[i + 1])
+        return out
+    # a body: on the Hermite shape of the element holding its centre
+    if body.centre is None:
+        s = 0.5 * length
+    elif body.from_end:
+        s = length - body.centre
+    else:
+        s = np.full(n, body.centre)
+    xi = s / length * elements
+    k = np.clip(np.floor(xi).astype(int), 0, elements - 1)
+    local = xi - k
+    axes = np.stack(frame_from_axis(d), axis=-1)
+    stack = np.stack(maps, axis=1)  # (n, e + 1, 6, N)
+    rows = np.arange(n)
+    g = np.concatenate(
+        [
+            _node_map(nodes[rows, k], axes) @ stack[rows, k],
+            _node_map(nodes[rows, k + 1], axes) @ stack[rows, k + 1],
+        ],
+        axis=-2,
+    )  # (n, 12, N)
+    transverse = body.mass * length**2 / 12.0 if body.transverse is None else body.transverse
+    weights = np.zeros((n, 6))
+    weights[:, :3] = body.mass
+    weights[:, 3] = body.axial
+    weights[:, 4] = weights[:, 5] = transverse
+    motion = section_motion(local, length / elements) @ g  # (n, 6, N)
+    return np.asarray(np.swapaxes(motion, -1, -2) @ (weights[:, :, None] * motion))
+
+
+def fixed_interface_modes(
+    chain: Sequence[Element],
+    actuator_stiffness: ArrayLike,
+    count: int,
+    elements: int = ELEMENTS_PER_LINK,
+) -> LegModes:
+    """The leg's ``count`` lowest modes with the platform held (module doc), more if
+    the last would split a degenerate pair; fewer if the leg has fewer with mass.
+
+    Parameters
+    ----------
+    chain : sequence of Joint and Link
+    actuator_stiffness : array_like (...) or scalar [N/m or N·m/rad]
+    count : int
+        Modes wanted (0: none; the coupling is then (n, 6, 0)).
+    elements : int
+        Euler-Bernoulli elements per link.
+
+    Returns
+    -------
+    LegModes
+        Flattened batch n; NaN at a pose whose model is not finite.
+    """
+    fe = chain_fe(chain, actuator_stiffness, elements)
+    j, k_x, m_x = fe.screws, fe.stiffness, fe.mass
+    n, total = j.shape[0], j.shape[-1]
+    good = np.asarray(
+        np.isfinite(j).all(axis=(1, 2))
+        & np.isfinite(k_x).all(axis=(1, 2))
+        & np.isfinite(m_x).all(axis=(1, 2)),
+        dtype=bool,
+    )
+    j = np.where(good[:, None, None], j, 0.0)
+    j[~good, :, :6] = np.eye(6)
+    k_x = np.where(good[:, None, None], k_x, np.eye(total))
+    m_x = np.where(good[:, None, None], m_x, 0.0)
+    u, sv, vh = np.linalg.svd(j)  # J = U S Vh, (n, 6, N)
+    v = np.swapaxes(vh, -1, -2)
+    null = v[:, :, 6:]  # (n, N, N - 6)
+    particular = v[:, :, :6] @ (np.swapaxes(u, -1, -2) / sv[:, :, None])  # J^+ (n, N, 6)
+    kz = np.swapaxes(null, -1, -2) @ k_x @ null
+    lam, w = np.linalg.eigh(0.5 * (kz + np.swapaxes(kz, -1, -2)))
+    scale = np.max(np.abs(lam), axis=-1, keepdims=True)
+    stiff = lam > MECHANISM_TOLERANCE * scale
+    inv_sqrt = np.where(stiff, 1.0 / np.sqrt(np.where(stiff, lam, 1.0)), 0.0)
+    # the static (constraint) shapes: Psi = J^+ - N Kz^+ N^T K J^+
+    kz_pinv = w @ (np.where(stiff, inv_sqrt**2, 0.0)[:, :, None] * np.swapaxes(w, -1, -2))
+    psi = particular - null @ (kz_pinv @ (np.swapaxes(null, -1, -2) @ (k_x @ particular)))
+    basis = null @ (w * inv_sqrt[:, None, :])  # (n, N, N - 6): K-orthonormal
+    a = np.swapaxes(basis, -1, -2) @ m_x @ basis
+    mu, y = np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))  # ascending
+    top = np.max(mu, axis=-1, keepdims=True)
+    massive = mu > 1e-12 * top
+    available = int(np.min(np.sum(massive, axis=-1))) if n else 0
+    want = _whole_pairs(mu, min(count, available), available)
+    mu_k = mu[:, ::-1][:, :want]
+    y_k = y[:, :, ::-1][:, :, :want]
+    phi = basis @ (y_k / np.sqrt(mu_k)[:, None, :])  # mass-normalised, (n, N, k)
+    coupling = np.swapaxes(psi, -1, -2) @ m_x @ phi
+    cm = np.swapaxes(psi, -1, -2) @ m_x @ psi
+    ck = np.swapaxes(psi, -1, -2) @ k_x @ psi
+    bad = ~good[:, None, None]
+    return LegModes(
+        omega2=np.where(good[:, None], 1.0 / mu_k, np.nan),
+        coupling=np.where(bad, np.nan, coupling),
+        condensed_mass=np.where(bad, np.nan, 0.5 * (cm + np.swapaxes(cm, -1, -2))),
+        condensed_stiffness=np.where(bad, np.nan, 0.5 * (ck + np.swapaxes(ck, -1, -2))),
+    )
+
+
+def _whole_pairs(mu: FloatArray, count: int, available: int) -> int:
+    """``count`` raised while the next mode (descending mu) repeats the last one."""
+    if count <= 0:
+        return 0
+    desc = mu[:, ::-1]
+    k = count
+    while k < available:
+        last, nxt = desc[:, k - 1], desc[:, k]
+        if np.any(np.abs(last - nxt) <= DEGENERATE_TOLERANCE * np.abs(last)):
+            k += 1
+        else:
+            break
+    return k
+
+
+#: Fixed-interface modes per leg by default (``modes --link-modes``): measured to put
+#: f1..f6 of every shipped example at home within 4e-5 of their values with all the
+#: legs' modes (4 modes: f1 within 7e-5, f1..f6 within 1.2e-3; docs/dynamics.md).
+DEFAULT_LINK_MODES = 8
+#: A warning when a leg's first fixed-interface frequency is below this multiple of
+#: the condensed f1 and its modes are left out (the error of f1 is of the order
+#: (f1 / f_leg)^2: 1 % at 10).
+LINK_MODE_WARNING_RATIO = 10.0
+
+
+def resolve_link_modes(link_modes: int | None) -> int:
+    """The number of fixed-interface modes per leg: ``link_modes``, or the default.
+
+    Raises
+    ------
+    InputDataError
+        Not a non-negative integer.
+    """
+    from ppm_stiffness.core.errors import InputDataError
+
+    if link_modes is None:
+        return DEFAULT_LINK_MODES
+    if isinstance(link_modes, bool) or not isinstance(link_modes, (int, np.integer)):
+        raise InputDataError(f"link modes: a non-negative integer, got {link_modes!r}")
+    if link_modes < 0:
+        raise InputDataError(f"link modes: a non-negative integer, got {link_modes}")
+    return int(link_modes)
+
+
+def design_leg_modes(
+    design: object,
+    poses: ArrayLike,
+    actuator_stiffness: ArrayLike,
+    count: int,
+    elements: int = ELEMENTS_PER_LINK,
+) -> list[LegModes]:
+    """Every leg's fixed-interface modes at full poses (..., 6) (flattened to n).
+
+    Parameters
+    ----------
+    design : Design
+    poses : array_like (..., 6) [m, rad]
+    actuator_stiffness : array_like (..., n_legs) or (n_legs,) [N/m or N·m/rad]
+    count : int
+        Modes per leg (:func:`fixed_interface_modes`).
+    elements : int
+        Euler-Bernoulli elements per link.
+    """
+    legs = design.legs  # type: ignore[attr-defined]
+    q = np.asarray(poses, dtype=float)
+    k = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), q.shape[:-1] + (len(legs),))
+    out = []
+    for i, leg in enumerate(legs):
+        chain = leg.chain(leg.solve(q))
+        out.append(fixed_interface_modes(chain, k[..., i], count, elements))
+    return out
+
+
+def stack_leg_modes(legs: Sequence[LegModes]) -> tuple[FloatArray, FloatArray]:
+    """Every leg's omega^2 (n, k) and coupling (n, 6, k) side by side."""
+    omega2 = np.concatenate([leg.omega2 for leg in legs], axis=-1)
+    coupling = np.concatenate([leg.coupling for leg in legs], axis=-1)
+    return omega2, coupling
+
+
+def reduced_matrices(
+    stiffness: ArrayLike, mass: ArrayLike, omega2: FloatArray, coupling: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The Craig-Bampton K_r and M_r (n, 6 + k, 6 + k) (module doc) from the condensed
+    K and M (n, 6, 6) or (6, 6), the modes' omega^2 (n, k) and their coupling (n, 6,
+    k), all at one reference point (:func:`stack_leg_modes`)."""
+    n, k = omega2.shape
+    size = 6 + k
+    kr = np.zeros((n, size, size))
+    mr = np.zeros((n, size, size))
+    kr[:, :6, :6] = stiffness
+    mr[:, :6, :6] = mass
+    idx = np.arange(6, size)
+    kr[:, idx, idx] = omega2
+    mr[:, idx, idx] = 1.0
+    mr[:, :6, 6:] = coupling
+    mr[:, 6:, :6] = np.swapaxes(coupling, -1, -2)
+    return kr, mr
+
+
+def reduced_frequencies(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
+    """The six lowest frequencies (n, 6) [Hz] of stacks of K_r, M_r (n, s, s); NaN where
+    they are not finite or M_r is not positive definite."""
+    n = stiffness.shape[0]
+    out = np.full((n, 6), np.nan)
+    good = np.isfinite(stiffness).all(axis=(1, 2)) & np.isfinite(mass).all(axis=(1, 2))
+    idx = np.flatnonzero(good)
+    for j in idx:  # a Cholesky factor of M_r, one pose at a time where one fails
+        try:
+            low = np.linalg.cholesky(0.5 * (mass[j] + mass[j].T))
+        except np.linalg.LinAlgError:
+            continue
+        inv = np.linalg.inv(low)
+        a = inv @ stiffness[j] @ inv.T
+        lam = np.linalg.eigvalsh(0.5 * (a + a.T))[:6]
+        scale = np.max(np.abs(lam))
+        lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
+        if np.all(lam >= 0.0):
+            out[j] = np.sqrt(lam) / (2.0 * math.pi)
+    return out
+
+
+class LinkModeWarning(UserWarning):
+    """A leg's own first frequency is near the machine's f1 and its modes are left out
+    (``link_modes`` 0): the condensed f1 is too high (module doc)."""
+
+
+def warn_slow_legs(
+    design: object, pose: ArrayLike, actuator_stiffness: ArrayLike, f1: float
+) -> None:
+    """Warn (:class:`LinkModeWarning`) where a leg's first fixed-interface frequency
+    is below :data:`LINK_MODE_WARNING_RATIO` times the condensed ``f1`` [Hz] (one
+    pose (6,))."""
+    import warnings
+
+    legs = design_leg_modes(design, pose, actuator_stiffness, 1)
+    lowest = [float(leg.frequencies[0, 0]) for leg in legs if leg.omega2.shape[-1]]
+    if not lowest or not math.isfinite(f1):
+        return
+    f_leg = min(lowest)
+    if f_leg < LINK_MODE_WARNING_RATIO * f1:
+        warnings.warn(
+            f"a leg's own first frequency (platform held) is {f_leg:.4g} Hz, "
+            f"{f_leg / f1:.3g} times the condensed f1 = {f1:.4g} Hz (below "
+            f"{LINK_MODE_WARNING_RATIO:g}): without link modes f1 is too high by up to "
+            f"about (f1 / f_leg)^2; use link modes (--link-modes, default "
+            f"{DEFAULT_LINK_MODES})",
+            LinkModeWarning,
+            stacklevel=3,
+        )
