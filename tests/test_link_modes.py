@@ -301,3 +301,31 @@ def test_a_mode_without_platform_motion_is_the_legs_alone() -> None:
         "x translation",
         "y translation",
     )
+
+
+def test_analyze_reports_the_first_modes_platform_share() -> None:
+    """``analyze`` of the shipped hexapod: f1 with link modes is the first of
+    ``modal_analysis`` (a mode of its struts), and its platform kinetic-energy share is
+    that mode's (0.33 % measured), printed beside it and valid against the JSON schema
+    (which lists "legs only" among the first mode's directions)."""
+    import json
+    from pathlib import Path
+
+    import jsonschema
+    from tests.helpers import design_named
+
+    from ppm_stiffness.analysis import analyze_design
+    from ppm_stiffness.dynamics.analysis import modal_analysis
+
+    design = design_named("hexapod_6ups")
+    result = analyze_design(design)
+    modes = modal_analysis(design)
+    shares = modes.modes.platform_shares
+    assert shares is not None
+    assert result.first_frequency == modes.modes.frequencies[0]
+    assert result.first_mode_platform_share == shares[0]
+    assert 0.0 < shares[0] < 0.01  # a strut mode
+    root = Path(__file__).resolve().parents[1]
+    schema = json.loads((root / "docs/schemas/analyze.schema.json").read_text())
+    jsonschema.validate(json.loads(result.to_json()), schema)
+    assert "legs only" in schema["properties"]["first_mode_direction"]["enum"]

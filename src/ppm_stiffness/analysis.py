@@ -256,6 +256,9 @@ class Analysis(MatrixAnalysis):
         [Hz] with a mass model (not with ``geometry="moving"``).
     first_mode_direction : str or None
         The first mode's dominant direction, with ``first_frequency``.
+    first_mode_platform_share : float or None
+        With the legs' own modes: the platform body's share of the first mode's kinetic
+        energy (near 0: a mode of the legs).
     planar : bool
         A planar design: its tables lead with the paper's eq. (19) unless ``method`` is
         the least-squares shift (:mod:`ppm_stiffness.leading`).
@@ -277,6 +280,7 @@ class Analysis(MatrixAnalysis):
     load_margin: LoadMargin | None = None
     first_frequency: float | None = None
     first_mode_direction: str | None = None
+    first_mode_platform_share: float | None = None
     planar: bool = True
 
     def to_dict(self) -> dict[str, Any]:
@@ -307,6 +311,8 @@ class Analysis(MatrixAnalysis):
         if self.first_frequency is not None:
             out["first_frequency"] = self.first_frequency
             out["first_mode_direction"] = self.first_mode_direction
+            if self.first_mode_platform_share is not None:
+                out["first_mode_platform_share"] = self.first_mode_platform_share
         out.update(leading_keys(self.planar, self.method))
         return lead(out)
 
@@ -413,6 +419,7 @@ def analyze_design(
         **loaded,
         first_frequency=mode.get("first_frequency"),
         first_mode_direction=mode.get("first_mode_direction"),
+        first_mode_platform_share=mode.get("first_mode_platform_share"),
     )
 
 
@@ -565,6 +572,7 @@ ANALYSIS_UNITS = {
     "moving_geometry.load_margin.factor": "1 (times the wrench)",
     "moving_geometry.load_margin.mode": "rad, m (a twist of unit length-balanced norm)",
     "first_frequency": "Hz",
+    "first_mode_platform_share": "1",
     "hinge_stress.hinges.allowed_stress": "Pa (yield strength / safety_factor)",
     "hinge_stress.hinges.stress": "Pa (under the wrench, frozen)",
     "hinge_stress.hinges.stress_per_unit": "Pa per rad (per m) of the direction's unit",

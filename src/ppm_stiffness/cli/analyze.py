@@ -230,9 +230,11 @@ def print_tables(result: dict[str, Any], title: str) -> None:
         )
         print_geometry(result)
     if "first_frequency" in result:
+        share = result.get("first_mode_platform_share")
+        carried = "" if share is None else f"; the platform's kinetic energy {100 * share:.3g} %"
         c.print(
             f"first natural frequency: {result['first_frequency']:.4g} Hz "
-            f"({result['first_mode_direction']}); `ppm-stiffness modes` gives all six"
+            f"({result['first_mode_direction']}{carried}); `ppm-stiffness modes` gives all six"
         )
     k = np.asarray(result["stiffness_matrix"])
     at = "T" if any(result.get("tool_point") or []) else "P"

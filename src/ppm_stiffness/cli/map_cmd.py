@@ -84,7 +84,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "translational_max [N/m] (any design, the others' default); all: both; "
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
         "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
-        "first natural frequency [Hz], a design with a mass model)",
+        "first natural frequency [Hz] of the condensed legs, without their own modes that "
+        "'modes' and 'analyze' include; a design with a mass model)",
     )
     parser.add_argument(
         "--geometry",
@@ -209,7 +210,7 @@ def _table_heading(names: list[str]) -> str:
 
     if all(n in PAPER or n in PRINCIPAL for n in names):
         return "principal stiffness"
-    alone = {"load_margin": "load margin", "f1": "first natural frequency"}
+    alone = {"load_margin": "load margin", "f1": "first natural frequency (legs condensed)"}
     return alone[names[0]] if len(names) == 1 and names[0] in alone else "quantities"
 
 

@@ -276,7 +276,8 @@ def first_mode(
 ) -> dict[str, Any]:
     """``first_frequency`` [Hz] and ``first_mode_direction`` for ``analyze``, or {} when
     the design has no mass model (with the legs' own modes: ``link_modes`` as
-    :func:`modal_analysis`).
+    :func:`modal_analysis`; then also ``first_mode_platform_share``, the platform
+    body's share of the mode's kinetic energy).
 
     Parameters
     ----------
@@ -303,7 +304,10 @@ def first_mode(
     k_p = to_tool.T @ k_t @ to_tool  # K_tool = T^-T K_P T^-1
     pairs = (k_t, m_t), (k_p, m_p)
     modes = machine_modes(design, p, *pairs, actuator_stiffness, tool_point, count)
-    return {
+    out: dict[str, Any] = {
         "first_frequency": float(modes.frequencies[0]),
         "first_mode_direction": modes.directions[0],
     }
+    if modes.platform_shares is not None:
+        out["first_mode_platform_share"] = float(modes.platform_shares[0])
+    return out

@@ -12,7 +12,9 @@ slice's two axes:
   stiffness), and ``translational_min``, ``..._mid``, ``..._max`` [N/m], those of
   C_tt^-1 at the tool point;
 - the first natural frequency ``f1`` [Hz] (a design with a mass model,
-  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P.
+  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P, the
+  legs condensed (without the legs' own modes, which ``modes`` and ``analyze``
+  include: docs/dynamics.md, "Link modes").
 - under a wrench, on request: ``load_margin`` (dimensionless), the load factor up to
   which the path ``lambda * wrench`` is stable with moving geometry
   (:func:`ppm_stiffness.maps.loaded.margin_column`).

@@ -122,7 +122,8 @@ OBJECTIVES: dict[str, Quantity] = {
             "Hz",
             True,
             False,
-            "min over the region of the first natural frequency",
+            "min over the region of the first natural frequency, legs condensed "
+            "(without the legs' own modes that modes and analyze include)",
             needs_mass=True,
         ),
         Quantity(
