@@ -91,3 +91,19 @@ def test_a_start_continues_each_row_from_its_own_pose() -> None:
     assert warm.converged.all()
     assert np.max(np.abs(warm.q - cold.q)) <= 1e-12
     np.testing.assert_array_equal(warm.q[1], cold.q[1])
+
+
+def test_a_pose_not_given_fails_without_a_warning() -> None:
+    """A NaN row (a pose the completion could not give) is not solved: it fails in one
+    step, the others are solved; numpy no longer warns of casting NaN steps to int."""
+    import warnings
+
+    design = design_named("tricept")
+    freedoms, _ = design.legs[0].freedoms()
+    home = home_pose(design)
+    target = np.tile(home, (2, 1))
+    target[1, 0] = np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        state = kin.solve(freedoms, home, target)
+    np.testing.assert_array_equal(state.converged, [True, False])

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-import ppm_stiffness.cli.deflect as deflect_cli
+import ppm_stiffness.statics.deflection as deflection
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import default_design
@@ -36,7 +36,7 @@ def test_a_mode_mismatch_is_named_before_any_load_is_computed(
     def no_curve(*args: object, **kwargs: object) -> None:
         raise AssertionError("the curve must not be computed")
 
-    monkeypatch.setattr(deflect_cli, "deflection_curve", no_curve)
+    monkeypatch.setattr(deflection, "deflection_curve", no_curve)  # imported when run
     assert main(["deflect", "--mode", "moment", "--measurements", str(PLANAR)]) == 2
     err = _one_line(capsys)
     assert (

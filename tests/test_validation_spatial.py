@@ -39,6 +39,7 @@ from ppm_stiffness.legs import chain, engine  # noqa: E402
 from ppm_stiffness.legs.chain import CONSTRAINED_DIRECTIONS, FREEDOM_DIRECTIONS, Joint  # noqa: E402
 from ppm_stiffness.model import leg_stiffnesses_at_pose, stiffness_at_pose  # noqa: E402
 from ppm_stiffness.poses import full_pose, home_pose, task_indices  # noqa: E402
+from ppm_stiffness.statics.hinge_stress import has_hinges  # noqa: E402
 from ppm_stiffness.validation.compare import (  # noqa: E402
     POSE_COLUMNS,
     PoseComparison,
@@ -70,7 +71,11 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "3rps": (8e-4, 8e-4, 8e-4),  # 2.65e-4, 2.67e-4; 2.60e-4
     "6rus": (1e-4, 4e-5, 4e-5),  # 3.87e-5, 1.32e-5; 1.19e-5
     "6rus_flexure": (4e-5, 4e-5, 4e-5),  # 1.34e-5, 1.34e-5; 1.33e-5
-    "flexure_3rrr": (2.5e-4, 2.5e-4, 2.5e-4),  # 7.60e-5, 7.60e-5; 7.61e-5
+    # its notch hinges as chains of 32 beam members (FESettings.hinge_segments): their
+    # discretisation, converging as n^-2 to 2.6e-5 (tests/test_hinge_chain.py), not the
+    # frame's members; with the hinges lumped the frame is 7.60e-5 from the model
+    # (test_the_difference_is_the_stiff_members runs it so)
+    "flexure_3rrr": (1e-2, 1e-2, 1e-2),  # 7.25e-3, 7.25e-3; 7.3e-3
     "spherical_3rrr": (6e-5, 6e-5, 1.5e-5),  # 1.92e-5, 1.86e-5; 3.98e-6
     "tricept": (2.5e-3, 6e-4, 6e-4),  # 7.90e-4, 1.85e-4; 1.82e-4
     "delta": (4e-4, 3e-4, 3e-4),  # 1.11e-4, 7.94e-5; 7.33e-5
@@ -153,12 +158,18 @@ def _stiff_members(
 ) -> tuple[float, float]:
     """The FE difference at pair[0] over that at pair[1] (10x stiffer) N/m, and the
     extrapolation of K to rigid stiff members (its difference to the virtual-joint K,
-    all directions); ``k_fe`` is the FE K at the default 1e11."""
+    all directions); ``k_fe`` is the FE K at the default 1e11. Notch hinges lumped as
+    the model's elastic R (their chains' discretisation is not the members')."""
     k_vj = stiffness_at_pose(design, pose)
+    lumped = has_hinges(design)  # the hinges' own discretisation apart (BOUNDS)
     soft, stiff = (
         k_fe
-        if r == FESettings().rigid_stiffness
-        else fe_stiffness_at_pose(design, pose, settings=FESettings(rigid_stiffness=r)).stiffness
+        if r == FESettings().rigid_stiffness and not lumped
+        else fe_stiffness_at_pose(
+            design,
+            pose,
+            settings=FESettings(rigid_stiffness=r, hinge_segments=0 if lumped else 32),
+        ).stiffness
         for r in pair
     )
     ratio = direction_difference(k_vj, soft) / direction_difference(k_vj, stiff)
@@ -399,7 +410,8 @@ def test_cli_validate_spatial_json_csv_and_table(
     monkeypatch.setattr(console, "width", 80)
     assert main(argv) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert "full: max" in "\n".join(lines) and "ok" in lines[-2]
+    verdict = next(line for line in lines if line.startswith("full: max"))
+    assert verdict.rstrip().endswith("ok")
     assert max(len(line) for line in lines) <= 80 and "…" not in "\n".join(lines)
 
 

@@ -369,6 +369,7 @@ def solve(
         warm = np.all(np.isfinite(start[1]), axis=-1) & np.all(np.isfinite(start[0]), axis=-1)
         origin[warm], q[warm] = start[0][warm], start[1][warm]
     span = np.max(np.abs((target - origin) * _PATH_WEIGHTS), axis=-1, initial=0.0)
+    span[~np.isfinite(span)] = 0.0  # a pose not given (NaN): one step, which fails
     steps = np.maximum(1, np.ceil(span / CONTINUATION_STEP)).astype(int)
     failed: BoolArray = np.zeros(n, dtype=bool)
     for k in range(1, int(steps.max(initial=1)) + 1):

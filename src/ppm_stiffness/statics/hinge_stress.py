@@ -337,7 +337,7 @@ def input_directions(design: Design, model: HingeModel) -> list[dict[str, Any]]:
     driven = [i for i in range(len(design.legs)) if model.offsets[i] > 0.0]
     out: list[dict[str, Any]] = []
     for i in driven:
-        unit = "rad" if design.legs[i].actuated_kind() == "R" else "m"
+        unit = design.legs[i].actuator_units()[1]  # rad or m
         inputs = np.zeros(len(design.legs))
         inputs[i] = 1.0
         out.append({"name": f"drive {i + 1}", "unit": unit, "inputs": inputs})
