@@ -28,6 +28,7 @@ from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     MAP_GRID,
     add_execution_arguments,
+    add_f1_argument,
     add_load_margin_argument,
     add_region_argument,
     check_workers,
@@ -56,6 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_load_margin_argument(parser)
+    add_f1_argument(parser)
     add_execution_arguments(parser)
     parser.add_argument(
         "--out", metavar="FIG", help="write the maps side by side (.png, .svg or .pdf)"
@@ -117,6 +119,7 @@ def run(args: argparse.Namespace) -> int:
                 executor=executor,
                 progress=advance,
                 margin=args.load_margin,
+                frequencies=not args.no_f1,
             )
         except Interrupted:
             raise KeyboardInterrupt from None
@@ -134,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
     names = figure_names(
         planar,
         wrench=wrench is not None,
-        mass=any(d.has_mass_model for d in designs),
+        mass=any(d.has_mass_model for d in designs) and not args.no_f1,
         margin=args.load_margin,
     )
     keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always

@@ -44,6 +44,16 @@ def add_load_margin_argument(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_f1_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--no-f1",
+        action="store_true",
+        help="leave out the first natural frequency (the f1 figures, legs condensed): by "
+        "default a design with a mass model gets them, at several times the cost of the "
+        "stiffness figures",
+    )
+
+
 def margin_note(poses: int) -> str:
     """The line saying where the load margin was evaluated."""
     return (

@@ -31,6 +31,7 @@ from ppm_stiffness.cli.common import (
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.study_options import (
     add_execution_arguments,
+    add_f1_argument,
     add_load_margin_argument,
     add_region_argument,
     check_workers,
@@ -68,6 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_region_argument(parser)
     add_wrench_argument(parser)
     add_load_margin_argument(parser)
+    add_f1_argument(parser)
     add_execution_arguments(parser)
     parser.add_argument(
         "--quantity",
@@ -145,6 +147,9 @@ def run(args: argparse.Namespace) -> int:
     if args.load_margin and wrench is None:
         raise InputDataError("--load-margin needs --wrench (the load whose margin it finds)")
     check_quantities(design, [q], wrench is not None)
+    if args.no_f1 and q.needs_mass:
+        raise InputDataError(f"--quantity {q.name} is the first natural frequency: drop --no-f1")
+    frequencies = design.has_mass_model and not args.no_f1
     margin = args.load_margin or q.needs_margin
     total = len(sweep_points(variables, sample, count, args.seed))
 
@@ -164,11 +169,10 @@ def run(args: argparse.Namespace) -> int:
             executor=executor,
             progress=advance,
             margin=margin,
+            frequencies=frequencies,
         )
     wall = time.perf_counter() - start
-    names = figure_names(
-        design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
-    )
+    names = figure_names(design.planar, wrench=wrench is not None, mass=frequencies, margin=margin)
     keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always
     rows = _rows(result, keys)
     values = [q.value(s) for s in result.summaries]

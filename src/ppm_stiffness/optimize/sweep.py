@@ -173,9 +173,11 @@ def summarize_designs(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     margin: bool = False,
+    frequencies: bool = True,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
-    ``margin``: also the load margin of ``wrench``.
+    ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
+    with a mass model.
 
     Raises
     ------
@@ -191,5 +193,8 @@ def summarize_designs(
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
     return run_ordered(
-        executor, summarize_candidate, [(d, None, region, w, margin) for d in designs], progress
+        executor,
+        summarize_candidate,
+        [(d, None, region, w, margin, frequencies) for d in designs],
+        progress,
     )
