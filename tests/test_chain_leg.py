@@ -45,6 +45,7 @@ def as_joint_lists(name: str) -> dict[str, Any]:
     home = home_pose(design)
     out = {k: copy.deepcopy(v) for k, v in data.items() if k not in ("parts", "legs")}
     out["legs"] = [leg.joint_list(home) for leg in design.legs]
+    out["task_coordinates"] = list(design.task_coordinates)  # a chain design's: all six
     return out
 
 
@@ -65,10 +66,9 @@ def test_presets_written_as_joint_lists_equal_the_preset(name: str) -> None:
     whose legs are the joint lists their presets write equal the preset's at random
     poses (the pose to the completion's 1e-12; K and M to 5e-14 of their largest
     entries, measured 9.1e-15 and 1.2e-14 on the 3-RPS, 5.9e-16 and 6.1e-15 on the
-    hexapod): the generic chain, its Newton inverse kinematics and the
-    product-of-exponentials joint axes reproduce the closed-form legs (issue 28, item 4;
-    the P-R-S preset does not write one: a joint list's P has no second axis for its
-    guide's lateral springs)."""
+    hexapod, 1.8e-15 and 6.2e-16 on the 3-RRR): the generic chain, its Newton inverse
+    kinematics and the product-of-exponentials joint axes reproduce the closed-form legs
+    (issue 28, item 4; the P-R-S, P-P-R, R-P-R and P-R-R presets write none yet)."""
     preset = design_named(name)
     chain = design_from_dict(as_joint_lists(name))
     home = home_pose(preset)
@@ -86,9 +86,9 @@ def test_presets_written_as_joint_lists_equal_the_preset(name: str) -> None:
             for angle in ("base_joint_angle", "platform_joint_angle"):
                 if angle in a.coordinates:
                     assert abs(float(a.coordinates[angle] - b.coordinates[angle])) < 1e-12
-            # the actuated coordinate is the length's change from home
-            home_length = leg_preset.solve(home).coordinates["length"]
-            travel = float(a.coordinates["length"] - home_length)
+            # the chain's actuated coordinate is the preset's change from home
+            name_a = leg_preset.ACTUATED_COORDINATE
+            travel = float(a.coordinates[name_a] - leg_preset.solve(home).coordinates[name_a])
             assert abs(travel - float(b.coordinates["actuated"])) < 1e-12
 
 

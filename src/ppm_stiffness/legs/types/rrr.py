@@ -21,7 +21,7 @@ Revolute springs are rigid when absent.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -129,6 +129,36 @@ class RRRLeg(PlanarLegModel):
             coordinates={"theta": theta},
             solvable=solvable,
         )
+
+    def joint_list(self, home: ArrayLike) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): R at A (actuated,
+        its stroke the turn from the home angle), the proximal link, R at C, the distal
+        link, R at D on the platform, every axis along z."""
+        h = np.asarray(home, dtype=float)
+        at_home = self.solve(h)
+        points = {k: (np.reshape(v, 3) + h[:3]).tolist() for k, v in at_home.points.items()}
+        theta = float(np.reshape(at_home.coordinates["theta"], -1)[0])
+        axis = [0.0, 0.0, 1.0]
+
+        def revolute(name: str, point: str, springs: RevoluteModel | None) -> dict[str, Any]:
+            out: dict[str, Any] = {"joint": "R", "name": name, "point": points[point], "axis": axis}
+            if springs is not None:
+                out["springs"] = springs.model_dump(exclude_none=True)
+            return out
+
+        base = revolute("base_revolute", "A", self.base_revolute)
+        base.update(actuated=True, stroke=[self.stroke[0] - theta, self.stroke[1] - theta])
+        return {
+            "type": "chain",
+            "actuator": self.law().model_dump(exclude_none=True),
+            "elements": [
+                base,
+                {"link": self.proximal.model_dump(exclude_none=True), "name": "proximal"},
+                revolute("elbow_revolute", "C", self.elbow_revolute),
+                {"link": self.distal.model_dump(exclude_none=True), "name": "distal"},
+                revolute("platform_revolute", "D", self.platform_revolute),
+            ],
+        }
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
         pts = leg_pose.points
