@@ -20,6 +20,7 @@ from ppm_stiffness.core.conventions import FloatArray
 from ppm_stiffness.legs.base import LegPose
 from ppm_stiffness.legs.chain import Element, Joint, Link, unit
 from ppm_stiffness.legs.parts import joint_springs
+from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
 from ppm_stiffness.legs.types._spatial import joint_angle
 
 if TYPE_CHECKING:
@@ -129,11 +130,6 @@ def strut_elements(leg: StrutLeg, leg_pose: LegPose) -> Sequence[Element]:
     ]
 
 
-def _dump(part: Any) -> dict[str, Any]:
-    """A part's design-file table (its fields set)."""
-    return dict(part.model_dump(exclude_none=True))
-
-
 def strut_joint_list(leg: StrutLeg, home: FloatArray, base: dict[str, Any]) -> dict[str, Any]:
     """The strut leg as a joint-list leg's table (``type = "chain"``, docs/legs.md) at the
     design's home pose ``home`` (6,): ``base`` (the leg's base joint element, at A),
@@ -144,34 +140,23 @@ def strut_joint_list(leg: StrutLeg, home: FloatArray, base: dict[str, Any]) -> d
     b = pose6.position(home) + leg.platform_offset(home)
     length = float(np.linalg.norm(b - a))
     n = (b - a) / length
-    guide: dict[str, Any] = {
-        "joint": "P",
-        "name": "guide",
-        "point": (a + leg.cylinder_length * n).tolist(),
-        "axis": n.tolist(),
-        "actuated": True,
-        "stroke": [leg.stroke[0] - length, leg.stroke[1] - length],
-    }
-    spherical: dict[str, Any] = {
-        "joint": "S",
-        "name": "platform_joint",
-        "point": b.tolist(),
-        "mounting_axis": pose6.platform_offset(home, np.asarray(leg.platform_joint_axis)).tolist(),
-    }
-    for element, part in ((guide, leg.guide), (spherical, leg.platform_joint)):
-        if part is not None:
-            element["springs"] = _dump(part)
-    return {
-        "type": "chain",
-        "actuator": _dump(leg.law()),
-        "elements": [
-            base,
-            {"link": _dump(leg.cylinder), "name": "cylinder"},
-            guide,
-            {"link": _dump(leg.rod), "name": "rod"},
-            spherical,
-        ],
-    }
+    guide = joint_table(
+        "P",
+        "guide",
+        a + leg.cylinder_length * n,
+        leg.guide,
+        axis=n.tolist(),
+        actuated=True,
+        stroke=[leg.stroke[0] - length, leg.stroke[1] - length],
+    )
+    axis = pose6.platform_offset(home, np.asarray(leg.platform_joint_axis))
+    spherical = joint_table(
+        "S", "platform_joint", b, leg.platform_joint, mounting_axis=axis.tolist()
+    )
+    return chain_table(
+        leg.law(),
+        [base, link_table(leg.cylinder, "cylinder"), guide, link_table(leg.rod, "rod"), spherical],
+    )
 
 
 __all__ = [

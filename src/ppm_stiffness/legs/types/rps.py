@@ -45,6 +45,7 @@ from ppm_stiffness.legs.parts import (
     SphericalModel,
     joint_springs,
 )
+from ppm_stiffness.legs.types._joint_lists import joint_table
 from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, plane_constraint
 from ppm_stiffness.legs.types._strut import (
     check_stroke,
@@ -139,14 +140,13 @@ class RPSLeg(LegModel):
     def joint_list(self, home: FloatArray) -> dict[str, Any]:
         """This leg as a joint-list leg's table at the home pose (6,): R about e_R at A,
         then the strut (:func:`~ppm_stiffness.legs.types._strut.strut_joint_list`)."""
-        base: dict[str, Any] = {
-            "joint": "R",
-            "name": "base_revolute",
-            "point": list(self.base_point),
-            "axis": self.revolute_direction().tolist(),
-        }
-        if self.base_revolute is not None:
-            base["springs"] = self.base_revolute.model_dump(exclude_none=True)
+        base = joint_table(
+            "R",
+            "base_revolute",
+            self.base_point,
+            self.base_revolute,
+            axis=self.revolute_direction().tolist(),
+        )
         return strut_joint_list(self, home, base)
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:

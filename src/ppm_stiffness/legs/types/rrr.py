@@ -47,6 +47,7 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     joint_springs,
 )
+from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
 
 
 class RRRLeg(PlanarLegModel):
@@ -138,27 +139,26 @@ class RRRLeg(PlanarLegModel):
         at_home = self.solve(h)
         points = {k: (np.reshape(v, 3) + h[:3]).tolist() for k, v in at_home.points.items()}
         theta = float(np.reshape(at_home.coordinates["theta"], -1)[0])
-        axis = [0.0, 0.0, 1.0]
-
-        def revolute(name: str, point: str, springs: RevoluteModel | None) -> dict[str, Any]:
-            out: dict[str, Any] = {"joint": "R", "name": name, "point": points[point], "axis": axis}
-            if springs is not None:
-                out["springs"] = springs.model_dump(exclude_none=True)
-            return out
-
-        base = revolute("base_revolute", "A", self.base_revolute)
-        base.update(actuated=True, stroke=[self.stroke[0] - theta, self.stroke[1] - theta])
-        return {
-            "type": "chain",
-            "actuator": self.law().model_dump(exclude_none=True),
-            "elements": [
-                base,
-                {"link": self.proximal.model_dump(exclude_none=True), "name": "proximal"},
-                revolute("elbow_revolute", "C", self.elbow_revolute),
-                {"link": self.distal.model_dump(exclude_none=True), "name": "distal"},
-                revolute("platform_revolute", "D", self.platform_revolute),
+        z = {"axis": [0.0, 0.0, 1.0]}
+        stroke = [self.stroke[0] - theta, self.stroke[1] - theta]
+        return chain_table(
+            self.law(),
+            [
+                joint_table(
+                    "R",
+                    "base_revolute",
+                    points["A"],
+                    self.base_revolute,
+                    **z,
+                    actuated=True,
+                    stroke=stroke,
+                ),
+                link_table(self.proximal, "proximal"),
+                joint_table("R", "elbow_revolute", points["C"], self.elbow_revolute, **z),
+                link_table(self.distal, "distal"),
+                joint_table("R", "platform_revolute", points["D"], self.platform_revolute, **z),
             ],
-        }
+        )
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
         pts = leg_pose.points

@@ -52,6 +52,7 @@ from ppm_stiffness.legs.parts import (
     UniversalModel,
     joint_springs,
 )
+from ppm_stiffness.legs.types._joint_lists import joint_table
 from ppm_stiffness.legs.types._spatial import angle_limit, check_unit, universal_axes
 from ppm_stiffness.legs.types._strut import (
     check_stroke,
@@ -140,16 +141,15 @@ class UPSLeg(LegModel):
         a = np.asarray(self.base_point, dtype=float)
         b = pose6.position(home) + pose6.platform_offset(home, self.attachment())
         e1, e2 = universal_axes(unit(b - a))
-        base: dict[str, Any] = {
-            "joint": "U",
-            "name": "base_joint",
-            "point": a.tolist(),
-            "axis": e1.tolist(),
-            "axis2": e2.tolist(),
-            "mounting_axis": list(self.base_joint_axis),
-        }
-        if self.base_joint is not None:
-            base["springs"] = self.base_joint.model_dump(exclude_none=True)
+        base = joint_table(
+            "U",
+            "base_joint",
+            a,
+            self.base_joint,
+            axis=e1.tolist(),
+            axis2=e2.tolist(),
+            mounting_axis=list(self.base_joint_axis),
+        )
         return strut_joint_list(self, home, base)
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
