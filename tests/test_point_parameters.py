@@ -122,3 +122,21 @@ def test_vary_takes_a_point_component_and_refuses_a_coupled_pair() -> None:
     ]
     with pytest.raises(InputDataError, match="both set parameter 'leg1.base_point.x'"):
         check_distinct(pair)
+
+
+def test_point_radius_glob_equals_the_geometric_variable() -> None:
+    """``leg*.platform_point.radius`` is ``platform_radius`` (optimize/variables.py's
+    radial scaling, an independent code path) on the hexapod's joint circle, and the two
+    are refused together."""
+    from ppm_stiffness.optimize.variables import apply_values, check_distinct
+
+    design = load_design(EXAMPLES / "hexapod_6ups.toml")
+    a = stiffness_at_pose(apply_values(design, {"platform_radius": 0.12}))
+    b = stiffness_at_pose(design.with_parameters({"leg*.platform_point.radius": 0.12}))
+    assert np.abs(a - b).max() < 1e-12 * np.abs(a).max()
+    pair = [
+        parse_variable(t, design)
+        for t in ("platform_radius=0.1:0.2", "leg2.platform_point.radius=0.1:0.2")
+    ]
+    with pytest.raises(InputDataError, match="both set parameter 'leg2.platform_point.radius'"):
+        check_distinct(pair)
