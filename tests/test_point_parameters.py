@@ -140,3 +140,19 @@ def test_point_radius_glob_equals_the_geometric_variable() -> None:
     ]
     with pytest.raises(InputDataError, match="both set parameter 'leg2.platform_point.radius'"):
         check_distinct(pair)
+
+
+@pytest.mark.parametrize(
+    ("example", "name", "radius"),
+    [
+        ("3prs.toml", "leg*.platform_point.radius", 0.15),
+        ("delta.toml", "leg*.forearm.far.radius", 0.05),
+        ("tricept.toml", "leg*.base_joint.point.radius", 0.22),
+    ],
+)
+def test_a_glob_reads_radii_equal_but_for_rounding(example: str, name: str, radius: float) -> None:
+    """The legs' points on one circle, turned by cos and sin: one radius (the first)."""
+    design = load_design(EXAMPLES / example)
+    assert design.parameter(name) == pytest.approx(radius, rel=1e-14)
+    with pytest.raises(DesignError, match="its matches differ"):
+        design.parameter(name.replace("radius", "angle"))

@@ -27,6 +27,11 @@ from ppm_stiffness.core.errors import DesignError
 
 #: The component parameters of a point, with their units.
 COMPONENT_UNITS = {"x": "m", "y": "m", "z": "m", "radius": "m", "angle": "rad"}
+#: Relative spread within which a glob's matches of one component count as one value
+#: (:meth:`~ppm_stiffness.design.schema.Design.parameter`): points turned by a pattern's
+#: rotation matrix or written from cos and sin differ in radius by rounding (at most
+#: 1.5e-15 relative over the shipped examples: examples/3prs.toml's platform points).
+POINT_SPREAD = 1e-14
 
 
 def is_point_field(key: str, value: Any, unit: str) -> bool:

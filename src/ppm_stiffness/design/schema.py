@@ -30,6 +30,7 @@ from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.points import (
     COMPONENT_UNITS,
+    POINT_SPREAD,
     component,
     component_names,
     is_point_field,
@@ -426,21 +427,24 @@ class Design(PartModel):
     def parameter(self, name: str) -> float:
         """Value of the scalar parameter ``name`` (dotted, legs from 1).
 
-        A glob (``leg*.guide.yaw``) is one value for all its matches: they must be equal.
+        A glob (``leg*.guide.yaw``) is one value for all its matches: they must be equal
+        (a point's components within :data:`~ppm_stiffness.design.points.POINT_SPREAD`
+        of each other, relative: the first is returned).
         """
-        values = []
+        values, spread = [], 0.0
         for match in self.expand(name):
             point = _point_component(self, match)
             if point is not None:  # a component of a leg's point (design.points)
                 obj, key = _resolve(self, point[0])
                 values.append(component(getattr(obj, key), point[1]))
+                spread = POINT_SPREAD  # copies turned by a pattern differ by rounding
                 continue
             obj, key = _resolve(self, match)
             value = getattr(obj, key)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise DesignError(f"parameter {match!r} is not a scalar")
             values.append(float(value))
-        if any(v != values[0] for v in values[1:]):
+        if max(values) - min(values) > spread * max(abs(v) for v in values):
             raise DesignError(
                 f"parameter {name!r}: its matches differ ({min(values):g} to "
                 f"{max(values):g}); a glob ties parameters that are equal"
