@@ -28,6 +28,15 @@ from pydantic import (
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
+from ppm_stiffness.design.points import (
+    COMPONENT_UNITS,
+    POINT_SPREAD,
+    component,
+    component_names,
+    is_point_field,
+    split_component,
+    with_component,
+)
 from ppm_stiffness.design.validation import design_issues, validate_design
 from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
 from ppm_stiffness.legs.parts import ACTUATOR_STIFFNESSES, Finite, PartModel, StrictNumber
@@ -418,16 +427,24 @@ class Design(PartModel):
     def parameter(self, name: str) -> float:
         """Value of the scalar parameter ``name`` (dotted, legs from 1).
 
-        A glob (``leg*.guide.yaw``) is one value for all its matches: they must be equal.
+        A glob (``leg*.guide.yaw``) is one value for all its matches: they must be equal
+        (a point's components within :data:`~ppm_stiffness.design.points.POINT_SPREAD`
+        of each other, relative: the first is returned).
         """
-        values = []
+        values, spread = [], 0.0
         for match in self.expand(name):
+            point = _point_component(self, match)
+            if point is not None:  # a component of a leg's point (design.points)
+                obj, key = _resolve(self, point[0])
+                values.append(component(getattr(obj, key), point[1]))
+                spread = POINT_SPREAD  # copies turned by a pattern differ by rounding
+                continue
             obj, key = _resolve(self, match)
             value = getattr(obj, key)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise DesignError(f"parameter {match!r} is not a scalar")
             values.append(float(value))
-        if any(v != values[0] for v in values[1:]):
+        if max(values) - min(values) > spread * max(abs(v) for v in values):
             raise DesignError(
                 f"parameter {name!r}: its matches differ ({min(values):g} to "
                 f"{max(values):g}); a glob ties parameters that are equal"
@@ -462,6 +479,8 @@ class Design(PartModel):
 
         first = self.expand(name)[0]
         parts = first.split(".")
+        if _point_component(self, first) is not None:
+            return COMPONENT_UNITS[parts[-1]]
         if parts[0] == "workspace":
             return "rad" if parts[-1] in ("phi", "rx", "ry") else "m"
         if parts[0] == "platform":
@@ -501,9 +520,14 @@ class Design(PartModel):
             for name in self.expand(pattern):
                 parts = _split(name)
                 target: Any = data
-                path = _field_path(self, name)
+                point = _point_component(self, name)
+                path = _field_path(self, point[0] if point else name)
                 for part in path[:-1]:
                     target = target[part]
+                if point is not None:  # a component of a leg's point (design.points)
+                    old = target[path[-1]]
+                    target[path[-1]] = with_component(old, point[1], float(value), name)
+                    continue
                 target[path[-1]] = float(value)
                 if _actuator_key(parts, (*ACTUATOR_STIFFNESSES, "q")):
                     stiffnesses.setdefault(parts[1], {})[parts[-1]] = float(value)
@@ -513,7 +537,10 @@ class Design(PartModel):
     def addressed(self, pattern: str) -> list[str]:
         """The parameters that setting ``pattern`` (a name or glob) changes: its matches
         (:meth:`expand`) and, for an actuator under a linear law (q = 1), its other
-        stiffness (``locked_stiffness`` and ``k_a`` are one there). What commands
+        stiffness (``locked_stiffness`` and ``k_a`` are one there); for a point's
+        ``.radius`` or ``.angle`` its ``.x`` and ``.y``, which they move (so x or y and
+        radius or angle of one point, whose result would hang on their order, are
+        refused together; so are radius and angle, conservatively). What commands
         compare to refuse two options that set one parameter.
 
         Raises
@@ -525,6 +552,9 @@ class Design(PartModel):
         for name in self.expand(pattern):
             parts = _split(name)
             out.append(name)
+            point = _point_component(self, name)
+            if point is not None and point[1] in ("radius", "angle"):
+                out += [f"{point[0]}.x", f"{point[0]}.y"]  # both move x and y
             linear = _actuator_key(parts, ACTUATOR_STIFFNESSES) and (
                 self.legs[parts[1]].law().q == 1
             )
@@ -579,6 +609,7 @@ class Design(PartModel):
             names += [f"platform.{k}" for k, v in self.platform if _is_scalar(v)]
         for i, leg in enumerate(self.legs, start=1):
             names += _scalar_names(leg, f"leg{i}", leg.parameter_items())
+            names += _point_names(leg, f"leg{i}")
         return names
 
 
@@ -601,6 +632,32 @@ def _leg_mass_keys(leg: LegModel) -> list[str]:
                 if getattr(value, sub, None) is not None
             ]
     return keys
+
+
+def _point_names(leg: LegModel, prefix: str) -> list[str]:
+    """The component parameters (x, y, z, radius, angle; :mod:`ppm_stiffness.design.
+    points`) of each point of ``leg``, dotted under ``prefix``."""
+    names: list[str] = []
+    for key, value in leg.parameter_items():
+        if is_point_field(key, value, leg.parameter_unit(key)):
+            names += component_names(f"{prefix}.{key}", value)
+    return names
+
+
+def _point_component(design: Design, name: str) -> tuple[str, str] | None:
+    """``(point name, component)`` when ``name`` is a component parameter of a leg's
+    point (``leg1.crank_joint.point.radius``), None for any other name (a part's own
+    ``radius`` among them)."""
+    split = split_component(name)
+    if split is None:
+        return None
+    leg_key, _, within = split[0].partition(".")
+    index = int(leg_key[3:]) - 1 if leg_key[:3] == "leg" and leg_key[3:].isdigit() else -1
+    if not 0 <= index < len(design.legs):
+        return None
+    leg = design.legs[index]
+    value = dict(leg.parameter_items()).get(within)
+    return split if is_point_field(within, value, leg.parameter_unit(within)) else None
 
 
 def _matches(names: list[str], pattern: str) -> list[str]:

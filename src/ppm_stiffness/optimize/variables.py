@@ -190,7 +190,7 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
                 f"{GEOMETRY_VARIABLES[name]}s are not on one circle about z); this "
                 f"design's are {parameter_families(design)}"
             )
-        matches: tuple[str, ...] = (name,)
+        matches: tuple[str, ...] = (name, *_point_radii(design, name))
         unit = "m"
     else:
         try:
@@ -209,6 +209,16 @@ def parse_variable(text: str, design: Design, count: bool | None = None) -> Vari
                 f"({str(exc).removeprefix('parameters: ')})"
             ) from None
     return Variable(name=name, matches=matches, lo=lo, hi=hi, count=n, unit=unit)
+
+
+def _point_radii(design: Design, name: str) -> list[str]:
+    """The legs' point parameters geometric variable ``name`` sets (their ``.radius``
+    with the ``.x`` and ``.y`` it moves), so that ``--vary platform_radius`` and
+    ``--vary leg1.platform_point.radius`` are refused together."""
+    try:
+        return design.addressed(f"leg*.{GEOMETRY_VARIABLES[name]}.radius")
+    except DesignError:  # a leg type whose points are not parameters
+        return []
 
 
 def parameter_families(design: Design) -> str:
