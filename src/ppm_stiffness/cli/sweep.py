@@ -164,6 +164,7 @@ def run(args: argparse.Namespace) -> int:
             executor=executor,
             progress=advance,
             margin=margin,
+            hinges=q.needs_hinges,
         )
     wall = time.perf_counter() - start
     names = figure_names(
