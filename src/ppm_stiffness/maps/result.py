@@ -57,7 +57,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "translational_max": ("N/m", "N_per_m", r"$k_{t,\max}$"),
     "load_margin": ("1", "factor", r"$\lambda$"),
     "f1": ("Hz", "Hz", r"$f_1$"),
-    "hinge_range": ("rad or m", "drive_unit", r"range"),
+    "hinge_range": ("rad or m", "drive_unit", r"$\Delta q_{\max}$"),
 }
 #: Quantities under a wrench only, never in a set ("load-margin" is accepted too):
 #: the load margin of the map's wrench (:func:`ppm_stiffness.maps.loaded.margin_column`).
