@@ -122,3 +122,28 @@ def test_the_cli_refuses_hinge_figures_without_hinges(
     assert "has no notch hinge" in err
     assert len(err.splitlines()) == 1
     assert not out.exists()
+
+
+def test_the_map_command_writes_hinge_range(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`map --quantities hinge_range --json` on the stage: a document its schema
+    accepts, the quantity's unit and its extremes those of the library's map."""
+    import json
+
+    jsonschema = pytest.importorskip("jsonschema")
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.maps.workspace import stiffness_map
+
+    argv = ["map", "--design", str(STAGE), "--quantities", "hinge_range", "--grid", "3"]
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    schema = json.loads((ROOT / "docs" / "schemas" / "map.schema.json").read_text("utf-8"))
+    jsonschema.validate(doc, schema)
+    assert doc["quantities"] == {"hinge_range": "rad or m"}
+    smap = stiffness_map(
+        load_design(STAGE), grid=3, quantities=["hinge_range"], phi=0.0, axes=("x", "y")
+    )
+    q = smap.quantities["hinge_range"]
+    assert doc["summary"]["hinge_range"]["min"] == pytest.approx(float(q.min()), rel=1e-12)
+    assert doc["summary"]["hinge_range"]["max"] == pytest.approx(float(q.max()), rel=1e-12)
