@@ -85,7 +85,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
         "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
         "first natural frequency [Hz] of the condensed legs, without their own modes that "
-        "'modes' and 'analyze' include; a design with a mass model)",
+        "'modes' and 'analyze' include; a design with a mass model) or hinge_range (the "
+        "smallest drive's range to yield [rad or m], notch hinges with yield strengths)",
     )
     parser.add_argument(
         "--geometry",

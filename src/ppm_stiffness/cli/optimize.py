@@ -53,6 +53,8 @@ OBJECTIVE_NAMES = (
     "first-frequency",
     "load-margin",
     "moving-mass",
+    "range",
+    "stress",
 )
 
 
@@ -80,8 +82,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(planar: |phi_z|) [rad], minimised; first-frequency: min first natural "
         "frequency [Hz] (a mass model), maximised; load-margin: min load margin of "
         "--wrench over the region's corner poses [1], maximised; moving-mass: the mass "
-        "of every body moving with the platform [kg] (a mass model), minimised (default "
-        "worst-k-translational)",
+        "of every body moving with the platform [kg] (a mass model), minimised; range: "
+        "min over the region of the hinges' range, the smallest drive's free displacement "
+        "to yield [rad or m], maximised; stress: max over the region of the largest hinge "
+        "stress with the drives anywhere within their strokes [Pa], minimised (range and "
+        "stress: notch hinges with yield strengths; default worst-k-translational)",
     )
     parser.add_argument(
         "--constraint",
@@ -89,7 +94,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=[],
         metavar="Q<=V",
         help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name, f1 or a "
-        "summary figure (k_phi_p5, f1_p5, load-margin, ...); repeat for more",
+        "summary figure (k_phi_p5, f1_p5, load-margin, ...), e.g. range>=0.02 or "
+        "stress<=2e8 for a flexure stage; repeat for more",
     )
     parser.add_argument(
         "--budget",

@@ -170,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
             progress=advance,
             margin=margin,
             frequencies=frequencies,
+            hinges=q.needs_hinges,
         )
     wall = time.perf_counter() - start
     names = figure_names(design.planar, wrench=wrench is not None, mass=frequencies, margin=margin)

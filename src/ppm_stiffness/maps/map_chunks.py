@@ -49,7 +49,8 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
     InputDataError
         An unknown name, or the paper's quantities for a design that is not planar.
     DesignError
-        ``f1`` for a design without a mass model (no ``[platform]`` table).
+        ``f1`` for a design without a mass model (no ``[platform]`` table);
+        ``hinge_range`` for a design without notch hinges or their yield strengths.
     """
     if quantities is None:
         quantities = "paper" if design.planar else "principal"
@@ -81,6 +82,10 @@ def quantity_names(design: Design, quantities: str | Sequence[str] | None) -> tu
         from ppm_stiffness.dynamics.mass import require_mass_model
 
         require_mass_model(design)
+    if "hinge_range" in names:  # notch hinges with their yield strengths
+        from ppm_stiffness.statics.hinge_stress import require_hinge_figures
+
+        require_hinge_figures(design)
     if not design.planar and any(n in PAPER for n in names):
         raise InputDataError(
             f"k_phi, k_x, k_y are the paper's planar principal stiffnesses: {design.name!r} "
@@ -160,6 +165,8 @@ class MapPlan(NamedTuple):
     margin: bool = False
     #: the first natural frequency f1 (:mod:`ppm_stiffness.dynamics.batch`)
     dynamics: bool = False
+    #: the hinge range (:func:`ppm_stiffness.statics.hinge_stress.drive_range`)
+    hinges: bool = False
 
 
 def _with_f1(
@@ -195,6 +202,7 @@ def grid_rows(
         and not at_tool
         and not plan.spatial
         and not plan.dynamics
+        and not plan.hinges
         and sl.axes == ("x", "y")
     ):
         # the reduced form broadcasts over the grid axes (no per-pose copies)
@@ -248,4 +256,17 @@ def grid_rows(
     codes, ok = first_refusal(res.valid.shape, checks), res.valid
     if plan.dynamics:
         codes, ok = _with_f1(plan, full, res.stiffness, k_const, codes, ok, columns)
+    if plan.hinges:
+        columns["hinge_range"] = _hinge_column(design, full, ok)
     return codes, ok, columns, full, None
+
+
+def _hinge_column(design: Design, full: FloatArray, ok: BoolArray) -> FloatArray:
+    """The hinge range (n,) at the valid full poses (n, 6), NaN elsewhere: a loop over
+    the poses (:func:`ppm_stiffness.statics.hinge_stress.pose_figures`)."""
+    from ppm_stiffness.statics.hinge_stress import pose_figures
+
+    out = np.full(full.shape[0], np.nan)
+    rows = np.flatnonzero(ok)
+    out[rows] = pose_figures(design, full[rows])[0]
+    return out

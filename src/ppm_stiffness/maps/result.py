@@ -15,6 +15,11 @@ slice's two axes:
   :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P, the
   legs condensed (without the legs' own modes, which ``modes`` and ``analyze``
   include: docs/dynamics.md, "Link modes").
+- ``hinge_range`` [rad for rotary drives, m for linear ones] (a design with notch hinges
+  whose materials give their yield strength): the smallest over the drives of each
+  drive's range alone, its free displacement at which the first hinge yields
+  (:func:`ppm_stiffness.statics.hinge_stress.drive_range`, the frozen hinge model at
+  each pose, safety factor 1; docs/flexures.md).
 - under a wrench, on request: ``load_margin`` (dimensionless), the load factor up to
   which the path ``lambda * wrench`` is stable with moving geometry
   (:func:`ppm_stiffness.maps.loaded.margin_column`).
@@ -52,6 +57,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "translational_max": ("N/m", "N_per_m", r"$k_{t,\max}$"),
     "load_margin": ("1", "factor", r"$\lambda$"),
     "f1": ("Hz", "Hz", r"$f_1$"),
+    "hinge_range": ("rad or m", "drive_unit", r"$\Delta q_{\max}$"),
 }
 #: Quantities under a wrench only, never in a set ("load-margin" is accepted too):
 #: the load margin of the map's wrench (:func:`ppm_stiffness.maps.loaded.margin_column`).

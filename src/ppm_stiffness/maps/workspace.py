@@ -215,6 +215,11 @@ def stiffness_map(
             "unloaded pose): use geometry 'frozen', whose f1 under a wrench uses the "
             "loaded tangent K as `modes --wrench` does"
         )
+    if "hinge_range" in names and actuators != "max":
+        raise InputDataError(
+            "hinge_range is mapped with the drives as the design gives them "
+            '(actuators="max"), not under another actuator state'
+        )
     paper = any(n in PAPER for n in names)
     spatial = any(n in PRINCIPAL for n in names)
     sl = map_slice(design, axes, fixed, phi)
@@ -258,6 +263,7 @@ def stiffness_map(
         geometry,
         "load_margin" in names,
         "f1" in names,
+        "hinge_range" in names,
     )
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)

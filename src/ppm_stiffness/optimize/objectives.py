@@ -23,6 +23,13 @@ name                       value                                          unit  
                            two bars), carriages (a mass model); a rotor's
                            reflected inertia is not a mass and does not
                            count
+``range``                  min over the region of the hinge range: each   rad or m  maximum
+                           drive's range alone to yield, the smallest
+                           over the drives (notch hinges with yield
+                           strengths; rad for rotary drives)
+``stress``                 max over the region of the largest hinge       Pa        minimum
+                           stress with the drives anywhere within their
+                           strokes (notch hinges, strokes)
 =========================  =============================================  ========  =======
 
 For a planar design the stiffness objectives keep the paper's decoupled k_x, k_y, k_phi
@@ -60,6 +67,7 @@ class Quantity:
     description: str
     needs_mass: bool = False
     needs_margin: bool = False
+    needs_hinges: bool = False
 
     @property
     def needs_frequencies(self) -> bool:
@@ -86,6 +94,8 @@ _FIGURE_OF = {
     "max-rotation": "max_rotation",
     "first-frequency": "f1_min",
     "load-margin": "load_margin",
+    "range": "hinge_range_min",
+    "stress": "hinge_stress_max",
 }
 
 #: The objectives ``optimize --objective`` accepts.
@@ -143,6 +153,24 @@ OBJECTIVES: dict[str, Quantity] = {
             "(rotor inertia not counted)",
             needs_mass=True,
         ),
+        Quantity(
+            "range",
+            "rad or m",
+            True,
+            False,
+            "min over the region of the hinge range (each drive's range alone to yield, "
+            "the smallest over the drives)",
+            needs_hinges=True,
+        ),
+        Quantity(
+            "stress",
+            "Pa",
+            False,
+            False,
+            "max over the region of the largest hinge stress, the drives anywhere within "
+            "their strokes",
+            needs_hinges=True,
+        ),
     )
 }
 #: Other names of the objectives.
@@ -159,11 +187,12 @@ def quantity(name: str) -> Quantity:
         return Quantity(
             name,
             FIGURE_UNITS[key],
-            key not in ("max_displacement", "max_rotation"),
+            key not in ("max_displacement", "max_rotation", "hinge_stress_max"),
             loaded,
             key,
             needs_mass=key.startswith("f1_"),
             needs_margin=key == "load_margin",
+            needs_hinges=key.startswith("hinge_"),
         )
     known = ", ".join([*OBJECTIVES, *ALIASES, *FIGURE_UNITS])
     raise InputDataError(f"unknown quantity {name!r}; use one of {known}")
@@ -215,7 +244,8 @@ def parse_constraint(text: str) -> Constraint:
 def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: bool) -> None:
     """Refuse quantities that ``design`` or the options cannot give: a loaded one
     without a wrench (InputDataError), f1 without a mass model (DesignError naming the
-    missing [platform] table), or a stiffness figure of the other family (k_x, k_y,
+    missing [platform] table), a hinge quantity without notch hinges (DesignError),
+    or a stiffness figure of the other family (k_x, k_y,
     k_phi are a planar design's; k_translational, k_rotational any other's)."""
     for q in quantities:
         if q.needs_wrench and not wrench:
@@ -225,6 +255,8 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
                 f"{q.name}: design {design.name!r} has no mass model; add a [platform] "
                 "table (mass [kg] and inertia [kg·m^2], or a shape; docs/dynamics.md)"
             )
+        if q.needs_hinges or q.description.startswith("hinge_"):
+            _require_hinges(design, q)
         key = q.description
         family = "paper" if key[:4] in ("k_x_", "k_y_", "k_ph") else None
         family = "principal" if key.startswith(("k_translational", "k_rotational")) else family
@@ -234,6 +266,19 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
                 f"{q.name} is not a figure of design {design.name!r}; its stiffness figures "
                 f"are {names} (_min, _mean, _p5)"
             )
+
+
+def _require_hinges(design: Design, q: Quantity) -> None:
+    """Refuse a hinge quantity of a design without hinges, yield strengths or (the
+    stress) strokes (DesignError naming the quantity)."""
+    from ppm_stiffness.statics.hinge_stress import require_hinge_figures, stroke_corners
+
+    try:
+        require_hinge_figures(design)
+        if q.name in ("stress", "hinge-stress-max", "hinge_stress_max"):
+            stroke_corners(design)
+    except DesignError as exc:
+        raise DesignError(f"{q.name}: {exc}") from None
 
 
 def violation(summary: RegionSummary, constraints: Sequence[Constraint]) -> float:

@@ -239,9 +239,10 @@ class _Evaluator:
         advance: Callable[[float], None] | None,
         margin: bool = False,
         frequencies: bool = False,
+        hinges: bool = False,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
-        self.margin, self.frequencies = margin, frequencies
+        self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -295,6 +296,7 @@ class _Evaluator:
                 self.wrench,
                 self.margin,
                 self.frequencies,
+                self.hinges,
             )
             for k in todo
         ]
@@ -378,10 +380,11 @@ def optimize_design(
     check_quantities(design, quantities, w is not None)
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
+    hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies)]
+        args = [(design, None, region, w, margin, frequencies, hinges)]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -411,6 +414,7 @@ def optimize_design(
         progress,
         margin,
         frequencies,
+        hinges,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))

@@ -506,6 +506,7 @@ def optimize_front(
     check_quantities(design, quantities, w is not None)
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)
+    hinges = any(q.needs_hinges for q in quantities)
     executor = SerialExecutor() if executor is None else executor
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
@@ -517,6 +518,7 @@ def optimize_front(
                 w,
                 margin,
                 frequencies,
+                hinges,
             )
             for k in keys
         ]

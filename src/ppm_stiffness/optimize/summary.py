@@ -35,7 +35,15 @@ locked) and reduces them to a handful of numbers (:class:`RegionSummary`):
   loaded f1 is NaN, and ``loaded_failures`` counts those poses;
 - ``load_margin`` [1], when asked for, under the wrench: the smallest load margin
   (:mod:`ppm_stiffness.optimize.margin`) over the margin sub-grid of the region (its
-  corner poses, ``margin_poses`` of them), not over every grid pose.
+  corner poses, ``margin_poses`` of them), not over every grid pose;
+- with ``hinges``, for a design with notch hinges whose materials give their yield strength
+  (:mod:`ppm_stiffness.statics.hinge_stress`, docs/flexures.md), over the covered
+  poses: ``hinge_range_min`` [rad or m, the drives' unit], the smallest of
+  :func:`~ppm_stiffness.statics.hinge_stress.drive_range` (each drive's range alone to
+  yield, the smallest over the drives), and ``hinge_stress_max`` [Pa], the largest of
+  :func:`~ppm_stiffness.statics.hinge_stress.stroke_stress` (the largest hinge stress
+  with the drives anywhere within their strokes; NaN without strokes). A loop over the
+  poses, the frozen hinge model built per pose.
 
 A figure that has no value (no covered pose; no wrench; no mass model) is NaN in the
 record and ``None`` in :meth:`RegionSummary.figures`, never a number.
@@ -88,6 +96,8 @@ FIGURE_UNITS: dict[str, str] = {
     "max_rotation": "rad",
     **{f"f1_{stat}": "Hz" for stat, _ in _STATS},
     "load_margin": "1",
+    "hinge_range_min": "rad or m",
+    "hinge_stress_max": "Pa",
 }
 
 #: Short descriptions of the figures, for tables and docs.
@@ -97,6 +107,8 @@ FIGURE_LABELS: dict[str, str] = {
     "max_displacement": "max |(dx, dy)|",
     "max_rotation": "max |phi_z|",
     "load_margin": "load margin (corners)",
+    "hinge_range_min": "hinge range min",
+    "hinge_stress_max": "hinge stress at stroke max",
 }
 #: The figures every JSON document carries (the schemas' required keys since version
 #: 1): covered fraction and the paper's k_x, k_y, k_phi (null for a design that is not
@@ -276,6 +288,7 @@ def summarize(
     wrench: ArrayLike | None = None,
     margin: bool = False,
     frequencies: bool = True,
+    hinges: bool = False,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -295,6 +308,9 @@ def summarize(
         The f1 figures when the design has a mass model (False: NaN; the mass matrices
         cost several times the stiffness: about 0.07 s against 0.01 s for the 405
         poses of a planar example's region).
+    hinges : bool
+        The hinge figures (``hinge_range_min``, ``hinge_stress_max``; NaN without):
+        about 0.1 s per pose for the shipped 3-RRR stage.
 
     Returns
     -------
@@ -364,6 +380,8 @@ def summarize(
                     design, state.poses, state.stiffness, state.actuator_stiffness
                 )
                 values.update(_statistics(f1, "f1"))
+    if hinges and np.any(covered):
+        values.update(_hinge_figures(design, poses[covered]))
     margin_count = 0
     if margin and w is not None:
         from ppm_stiffness.optimize.margin import margin_poses, region_margins
@@ -385,6 +403,31 @@ def summarize(
     )
 
 
+def _hinge_figures(design: Design, poses: FloatArray) -> dict[str, float]:
+    """``hinge_range_min`` and ``hinge_stress_max`` over the covered poses (module
+    doc); empty for a design without them (they stay NaN)."""
+    from ppm_stiffness.statics.hinge_stress import (
+        pose_figures,
+        require_hinge_figures,
+        stroke_corners,
+    )
+
+    try:
+        require_hinge_figures(design)
+    except DesignError:
+        return {}
+    try:
+        stroke_corners(design)
+        strokes = True
+    except DesignError:
+        strokes = False
+    ranges, stresses = pose_figures(design, poses, strokes)
+    out = {"hinge_range_min": float(np.min(ranges))}
+    if strokes:
+        out["hinge_stress_max"] = float(np.max(stresses))
+    return out
+
+
 def _moving_mass(design: Design) -> float:
     """The total moving mass [kg] of a design with a mass model, else NaN
     (:func:`ppm_stiffness.dynamics.mass.moving_mass`: the platform's mass, every link's
@@ -404,6 +447,7 @@ def summarize_candidate(
     wrench: ArrayLike | None = None,
     margin: bool = False,
     frequencies: bool = True,
+    hinges: bool = False,
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
@@ -420,7 +464,7 @@ def summarize_candidate(
             design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
-    return summarize(design, region, wrench, margin, frequencies)
+    return summarize(design, region, wrench, margin, frequencies, hinges)
 
 
 def summary_names(summaries: Sequence[RegionSummary], wrench: bool, mass: bool) -> list[str]:

@@ -115,6 +115,7 @@ def sweep_designs(
     progress: Callable[[float], None] | None = None,
     margin: bool = False,
     frequencies: bool = True,
+    hinges: bool = False,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -143,6 +144,8 @@ def sweep_designs(
     frequencies : bool
         The f1 figures of a design with a mass model (several times the cost of the
         stiffness figures); False: NaN.
+    hinges : bool
+        The hinge figures (``hinge_range_min``, ``hinge_stress_max``); False: NaN.
 
     Returns
     -------
@@ -152,7 +155,9 @@ def sweep_designs(
     points = sweep_points(variables, sample, count, seed)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
-    args = [(design, assignments(variables, p), region, w, margin, frequencies) for p in points]
+    args = [
+        (design, assignments(variables, p), region, w, margin, frequencies, hinges) for p in points
+    ]
     try:
         summaries = run_ordered(executor, summarize_candidate, args, progress)
     except Interrupted as stop:

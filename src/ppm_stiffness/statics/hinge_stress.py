@@ -430,3 +430,115 @@ def hinge_summary(
 def _ratio(limit: float, stress: float) -> float:
     """limit / stress, inf where the hinge is unloaded."""
     return float(limit / stress) if stress > 0.0 else float("inf")
+
+
+# -- per pose figures for maps and optimisation (docs/flexures.md, "Range over the
+# -- workspace") ------------------------------------------------------------------------
+
+
+def require_hinge_figures(design: Design) -> None:
+    """Refuse a design whose hinge range or stroke stress is not defined.
+
+    Raises
+    ------
+    DesignError
+        No notch hinge, a hinge without its material's yield strength, no driven leg,
+        or drives of both kinds (rotary and linear: the range has no single unit).
+    """
+    if not has_hinges(design):
+        raise DesignError(
+            f"design {design.name!r} has no notch hinge (a joint's hinge table): its "
+            "hinge range and stress are not defined"
+        )
+    if not has_yield_strengths(design):
+        raise DesignError(
+            f"design {design.name!r}: a hinge's material has no yield_strength (needed "
+            "for the hinge range and stress)"
+        )
+    kinds = {leg.actuated_kind() for leg in design.legs if leg.is_actuated()}
+    if not kinds:
+        raise DesignError(f"design {design.name!r} has no drive: no hinge range")
+    if len(kinds) > 1:
+        raise DesignError(
+            f"design {design.name!r} has rotary and linear drives: the hinge range "
+            "(the smallest drive range, rad or m) has no single unit"
+        )
+
+
+def drive_range(design: Design, pose: ArrayLike | None = None) -> float:
+    """The smallest over the drives of each drive's range alone at a pose [rad for
+    rotary drives, m for linear ones]: its free displacement (the other drives held,
+    W = 0) at which the first hinge reaches its yield strength (safety factor 1), as
+    the "drive i" rows of :func:`hinge_summary`; inf if no hinge is loaded."""
+    return _drive_range(design, hinge_model(design, pose))
+
+
+def _drive_range(design: Design, model: HingeModel) -> float:
+    limits = model.limits(1.0)
+    best = np.inf
+    for d in input_directions(design, model):
+        if d["name"].startswith("drive "):
+            sigma = model.stresses(np.zeros(6), d["inputs"])
+            best = min(best, min(_ratio(lim, s) for lim, s in zip(limits, sigma, strict=True)))
+    return float(best)
+
+
+def stroke_corners(design: Design) -> FloatArray:
+    """The drive inputs [rad or m] at the corners of the drives' strokes, shape
+    (2^n_driven, n_legs): each driven leg's actuated coordinate at either limit (as the
+    design gives them, from the hinge's rest), 0 for a passive leg.
+
+    Raises
+    ------
+    DesignError
+        A driven leg without a finite stroke.
+    """
+    bounds: list[tuple[float, ...]] = []
+    for i, leg in enumerate(design.legs):
+        if not leg.is_actuated():
+            bounds.append((0.0,))
+            continue
+        lo, hi = leg.limits().get(leg.ACTUATED_COORDINATE, (-np.inf, np.inf))
+        if not (np.isfinite(lo) and np.isfinite(hi)):
+            raise DesignError(
+                f"leg {i + 1}: the hinge stress at full stroke needs the drive's stroke "
+                "(finite limits of its actuated joint)"
+            )
+        bounds.append((float(lo), float(hi)))
+    grids = np.meshgrid(*[np.array(b) for b in bounds], indexing="ij")
+    return np.stack([g.reshape(-1) for g in grids], axis=-1)
+
+
+def stroke_stress(design: Design, pose: ArrayLike | None = None) -> float:
+    """The largest hinge stress [Pa] at a pose with the drives anywhere within their
+    strokes (W = 0): the stress is convex in the inputs (module doc), so its maximum
+    over the box of strokes is at one of :func:`stroke_corners`."""
+    return _stroke_stress(hinge_model(design, pose), stroke_corners(design))
+
+
+def _stroke_stress(model: HingeModel, corners: FloatArray) -> float:
+    return float(np.max(model.stresses(np.zeros(6), corners)))
+
+
+def pose_figures(
+    design: Design, poses: ArrayLike, stress: bool = False
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`drive_range` and, with ``stress``, :func:`stroke_stress` (else NaN) at
+    each pose (n, 6 or the task coordinates), each shape (n,): a loop over the poses,
+    the frozen hinge model built once per pose (about 0.1 s each for the shipped
+    3-RRR stage, most of it the hinges' compliance quadrature). NaN where the pose is
+    unreachable or singular."""
+    from ppm_stiffness.core.errors import UnreachablePoseError
+
+    p = np.asarray(poses, dtype=float)
+    corners = stroke_corners(design) if stress else None
+    ranges, stresses = np.full(p.shape[0], np.nan), np.full(p.shape[0], np.nan)
+    for k in range(p.shape[0]):
+        try:
+            model = hinge_model(design, p[k])
+        except (SingularConfigurationError, UnreachablePoseError):
+            continue
+        ranges[k] = _drive_range(design, model)
+        if corners is not None:
+            stresses[k] = _stroke_stress(model, corners)
+    return ranges, stresses

@@ -154,7 +154,9 @@ def plot_stiffness_maps(
         sub.suptitle((f"{label}, " if label else "") + _state_label(m), fontsize=10)
     names = {n for m in maps for n in m.quantities}
     default = (
-        "Principal stiffness"
+        "Hinge range (the smallest drive's, to yield)"
+        if names == {"hinge_range"}
+        else "Principal stiffness"
         if "f1" not in names
         else "First natural frequency"
         if names == {"f1"}
