@@ -288,18 +288,10 @@ def test_bad_hinge_joints_are_refused(changes: dict[str, object], message: str) 
 
 
 @pytest.fixture(scope="module")
-def stage_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(
-        "chain_examples", ROOT / "scripts" / "chain_examples.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    path = tmp_path_factory.mktemp("stage") / "flexure_3rrr.toml"
-    path.write_text(module.flexure_3rrr(), encoding="utf-8")
-    return path
+def stage_file() -> Path:
+    """The shipped 3-RRR flexure stage (equal to scripts/chain_examples.py's
+    flexure_3rrr(): tested)."""
+    return ROOT / "examples" / "flexure_3rrr.toml"
 
 
 def test_the_stage_is_its_hinges_compliances_transported(stage_file: Path) -> None:

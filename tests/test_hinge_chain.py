@@ -3,7 +3,6 @@ item 6): src/ppm_stiffness/validation/hinge_chain.py; figures in docs/flexures.m
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -52,16 +51,10 @@ def test_harmonic_means_keep_the_rotational_and_axial_compliances_exact() -> Non
 
 
 @pytest.fixture(scope="module")
-def stage(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    spec = importlib.util.spec_from_file_location(
-        "chain_examples", ROOT / "scripts" / "chain_examples.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    path = tmp_path_factory.mktemp("stage") / "flexure_3rrr.toml"
-    path.write_text(module.flexure_3rrr(), encoding="utf-8")
-    return path
+def stage() -> Path:
+    """The shipped 3-RRR flexure stage (equal to scripts/chain_examples.py's
+    flexure_3rrr(): tested)."""
+    return ROOT / "examples" / "flexure_3rrr.toml"
 
 
 def test_the_stage_fe_converges_to_the_model_at_second_order(stage: Path) -> None:
