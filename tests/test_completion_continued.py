@@ -107,3 +107,17 @@ def test_a_pose_not_given_fails_without_a_warning() -> None:
         warnings.simplefilter("error")
         state = kin.solve(freedoms, home, target)
     np.testing.assert_array_equal(state.converged, [True, False])
+
+
+def test_a_failed_solve_is_not_continued_from() -> None:
+    """What a leg hands on to continue from: its converged joint coordinates, and NaN
+    for a pose whose solve failed (that pose continues from home next time, not from
+    its last Newton try)."""
+    design = design_named("tricept")
+    leg = design.legs[3]  # the passive central leg: it constrains the pose
+    home = home_pose(design)
+    poses = np.tile(home, (2, 1))
+    poses[1, 0] = np.nan
+    _, _, onward = leg.constraint_continued(poses, None)
+    assert onward is not None
+    assert np.all(np.isfinite(onward[1][0])) and np.all(np.isnan(onward[1][1]))

@@ -765,14 +765,16 @@ class ChainLeg(LegModel):
         bars = self._bars()
         flat = q.reshape(-1, 6)
         state = kin.solve(freedoms, self.home(), flat, bars, start)
+        # a pose whose solve failed continues from home next time, not from its last try
+        onward = (flat, np.where(state.converged[:, None], state.q, np.nan))
         if bars is not None:
             residual, wrenches = self._bar_constraint(state, flat, bars, shape)
-            return residual, wrenches, (flat, state.q)
+            return residual, wrenches, onward
         jac = kin.jacobian(freedoms, state.rotations, state.translations, flat[:, :3])
         basis = kin.constraint_basis(jac * _BALANCED_ROWS[:, None], c)
         residual = np.einsum("nic,ni->nc", basis, state.error)
         wrenches = basis * _BALANCED_ROWS[:, None]
-        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c)), (flat, state.q)
+        return residual.reshape(shape + (c,)), wrenches.reshape(shape + (6, c)), onward
 
     def _bar_constraint(
         self, state: kin.ChainState, poses: FloatArray, bars: kin.Bars, shape: tuple[int, ...]
