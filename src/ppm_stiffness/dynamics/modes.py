@@ -144,6 +144,32 @@ def normalised_shape(twist: ArrayLike) -> FloatArray:
     return np.asarray(t / norm * (1.0 if b[i] >= 0 else -1.0))
 
 
+def _checked_eigh(
+    k: FloatArray, m: FloatArray, subset: list[int] | None = None
+) -> tuple[FloatArray, FloatArray]:
+    """omega^2 and mass-normalised shapes of ``K v = omega^2 M v`` (symmetric parts;
+    ``subset``: the indices of the lowest ones kept), round-off zeros set to 0.
+
+    Raises
+    ------
+    InputDataError
+        M not positive definite, or K with a negative omega^2.
+    """
+    from scipy.linalg import LinAlgError, eigh
+
+    try:
+        lam, vecs = eigh(0.5 * (k + k.T), 0.5 * (m + m.T), subset_by_index=subset)
+    except LinAlgError:
+        raise InputDataError("the mass matrix is not positive definite") from None
+    scale = float(np.max(np.abs(lam)))
+    lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
+    if np.any(lam < 0.0):
+        raise InputDataError(
+            f"the stiffness matrix is not positive definite (omega^2 = {lam.min():.3g})"
+        )
+    return lam, vecs
+
+
 def mode_shapes(stiffness: ArrayLike, mass: ArrayLike) -> Modes:
     """Frequencies and mode shapes of one pair (6, 6) (module doc).
 
@@ -153,23 +179,12 @@ def mode_shapes(stiffness: ArrayLike, mass: ArrayLike) -> Modes:
         If K or M is not finite, M is not positive definite or K has a negative
         eigenvalue.
     """
-    from scipy.linalg import LinAlgError, eigh
-
     k, m = _check_pair(stiffness, mass)
     if k.shape != (6, 6) or m.shape != (6, 6):
         raise InputDataError("mode_shapes takes one stiffness and one mass matrix (6, 6)")
     if not (np.all(np.isfinite(k)) and np.all(np.isfinite(m))):
         raise InputDataError("stiffness or mass matrix not finite")
-    try:
-        lam, vecs = eigh(0.5 * (k + k.T), 0.5 * (m + m.T))
-    except LinAlgError:
-        raise InputDataError("the mass matrix is not positive definite") from None
-    scale = float(np.max(np.abs(lam)))
-    lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
-    if np.any(lam < 0.0):
-        raise InputDataError(
-            f"the stiffness matrix is not positive definite (omega^2 = {lam.min():.3g})"
-        )
+    lam, vecs = _checked_eigh(k, m)
     groups = _groups(lam)
     for group in groups:
         vecs[:, group] = _closest_to_axes(vecs[:, group])
@@ -242,22 +257,12 @@ def reduced_mode_shapes(
     InputDataError
         As :func:`mode_shapes`.
     """
-    from scipy.linalg import LinAlgError, eigh
 
     k = np.asarray(stiffness, dtype=float)
     m = np.asarray(mass, dtype=float)
     if not (np.all(np.isfinite(k)) and np.all(np.isfinite(m))):
         raise InputDataError("stiffness or mass matrix not finite")
-    try:
-        lam, vecs = eigh(0.5 * (k + k.T), 0.5 * (m + m.T), subset_by_index=[0, 5])
-    except LinAlgError:
-        raise InputDataError("the mass matrix is not positive definite") from None
-    scale = float(np.max(np.abs(lam)))
-    lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
-    if np.any(lam < 0.0):
-        raise InputDataError(
-            f"the stiffness matrix is not positive definite (omega^2 = {lam.min():.3g})"
-        )
+    lam, vecs = _checked_eigh(k, m, subset=[0, 5])
     move = np.eye(6) if to_tool is None else np.asarray(to_tool, dtype=float)
     groups = _groups(lam)
     for group in groups:
