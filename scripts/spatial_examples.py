@@ -133,6 +133,20 @@ tool_point = [0.0, 0.0, 0.0]
         "The required region (SI: m, rad), a grid over the six task coordinates in order.",
     )
     out += table(
+        "workspace.candidate",
+        {
+            "x": [-0.04, 0.04],
+            "y": [-0.04, 0.04],
+            "z": [home_z - 0.04, home_z + 0.04],
+            "rx": [-0.15, 0.15],
+            "ry": [-0.15, 0.15],
+            "rz": [-0.15, 0.15],
+            "grid": [5, 5, 5, 3, 3, 3],
+        },
+        "A larger candidate region (SI: m, rad): `optimize --objective reachable-workspace`\n"
+        "counts the share of its grid poses reached (docs/optimization.md).",
+    )
+    out += table(
         "platform",
         {
             "mass": round(disk_mass(0.12, 0.012, ALUMINIUM_DENSITY) + 6 * 0.05, 3),

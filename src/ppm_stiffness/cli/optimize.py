@@ -55,6 +55,7 @@ OBJECTIVE_NAMES = (
     "moving-mass",
     "range",
     "stress",
+    "reachable-workspace",
 )
 
 
@@ -86,7 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "min over the region of the hinges' range, the smallest drive's free displacement "
         "to yield [rad or m], maximised; stress: max over the region of the largest hinge "
         "stress with the drives anywhere within their strokes [Pa], minimised (range and "
-        "stress: notch hinges with yield strengths; default worst-k-translational)",
+        "stress: notch hinges with yield strengths); reachable-workspace: the share of "
+        "the design's [workspace.candidate] grid poses reached [1], maximised (the other "
+        "figures stay over the required region; default worst-k-translational)",
     )
     parser.add_argument(
         "--constraint",

@@ -182,8 +182,11 @@ REGION_KEYS = ("x", "y", "z", "rx", "ry", "phi")
 
 class WorkspaceModel(PartModel):
     """The workspace centre, or home pose, in F_b [m, rad] (the default pose of the CLI,
-    and the start of the pose completion), and an optional required region
-    (:class:`RequiredRegionModel`, ``[workspace.required]``).
+    and the start of the pose completion), an optional required region
+    (:class:`RequiredRegionModel`, ``[workspace.required]``) and an optional candidate
+    region (``[workspace.candidate]``, the same keys): a grid over which
+    ``optimize --objective reachable-workspace`` counts the share of poses reached
+    (usually larger than the required region; not checked).
 
     ``centre_x, centre_y, centre_z`` [m] and ``rx, ry, phi`` [rad] (``phi`` is rz; a
     file may write either name). The coordinates that are not task coordinates of the
@@ -197,6 +200,7 @@ class WorkspaceModel(PartModel):
     ry: Finite = 0.0
     phi: Finite = Field(default=0.0, validation_alias=RZ_ALIASES)
     required: RequiredRegionModel | None = None
+    candidate: RequiredRegionModel | None = None
 
     model_config = {**PartModel.model_config, "populate_by_name": True}
 
@@ -345,13 +349,14 @@ class Design(PartModel):
                     f"({'; '.join(sorted(', '.join(t) for t in stated))}); give them"
                 )
             object.__setattr__(self, "task_coordinates", stated.pop())
-        region = self.workspace.required
-        if region is not None and tuple(region.ranges()) != self.task_coordinates:
-            raise ValueError(
-                f"workspace.required: its ranges ({', '.join(region.ranges()) or 'none'}) "
-                f"must be the task coordinates ({', '.join(self.task_coordinates)}); rz "
-                "may be written phi"
-            )
+        for key in ("required", "candidate"):
+            region = getattr(self.workspace, key)
+            if region is not None and tuple(region.ranges()) != self.task_coordinates:
+                raise ValueError(
+                    f"workspace.{key}: its ranges ({', '.join(region.ranges()) or 'none'}) "
+                    f"must be the task coordinates ({', '.join(self.task_coordinates)}); rz "
+                    "may be written phi"
+                )
         return self
 
     @model_validator(mode="after")

@@ -68,6 +68,7 @@ class Quantity:
     needs_mass: bool = False
     needs_margin: bool = False
     needs_hinges: bool = False
+    needs_candidate: bool = False
 
     @property
     def needs_frequencies(self) -> bool:
@@ -78,6 +79,8 @@ class Quantity:
         """The quantity of one summary [unit]; NaN when it has none."""
         if self.name == "moving-mass":
             return summary.moving_mass
+        if self.name == "reachable-workspace":
+            return summary.candidate_share
         if self.name == "worst-k-translational":
             if not summary.planar:
                 return summary["k_translational_min"]
@@ -171,6 +174,15 @@ OBJECTIVES: dict[str, Quantity] = {
             "their strokes",
             needs_hinges=True,
         ),
+        Quantity(
+            "reachable-workspace",
+            "1",
+            True,
+            False,
+            "the share of the candidate region's ([workspace.candidate]) grid poses "
+            "reached without refusal (unreachable, limits, singular)",
+            needs_candidate=True,
+        ),
     )
 }
 #: Other names of the objectives.
@@ -245,6 +257,7 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
     """Refuse quantities that ``design`` or the options cannot give: a loaded one
     without a wrench (InputDataError), f1 without a mass model (DesignError naming the
     missing [platform] table), a hinge quantity without notch hinges (DesignError),
+    a candidate-region quantity without ``[workspace.candidate]`` (DesignError),
     or a stiffness figure of the other family (k_x, k_y,
     k_phi are a planar design's; k_translational, k_rotational any other's)."""
     for q in quantities:
@@ -257,6 +270,12 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
             )
         if q.needs_hinges or q.description.startswith("hinge_"):
             _require_hinges(design, q)
+        if q.needs_candidate and design.workspace.candidate is None:
+            raise DesignError(
+                f"{q.name}: design {design.name!r} has no candidate region; add a "
+                "[workspace.candidate] table (the keys of [workspace.required], ranges "
+                "containing its ranges)"
+            )
         key = q.description
         family = "paper" if key[:4] in ("k_x_", "k_y_", "k_ph") else None
         family = "principal" if key.startswith(("k_translational", "k_rotational")) else family

@@ -240,9 +240,11 @@ class _Evaluator:
         margin: bool = False,
         frequencies: bool = False,
         hinges: bool = False,
+        reach: bool = False,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
         self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
+        self.reach = reach
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -297,6 +299,7 @@ class _Evaluator:
                 self.margin,
                 self.frequencies,
                 self.hinges,
+                self.reach,
             )
             for k in todo
         ]
@@ -381,10 +384,11 @@ def optimize_design(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
     hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
+    reach = any(q.needs_candidate for q in quantities)  # and the candidate region
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies, hinges)]
+        args = [(design, None, region, w, margin, frequencies, hinges, reach)]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -415,6 +419,7 @@ def optimize_design(
         margin,
         frequencies,
         hinges,
+        reach,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))

@@ -507,6 +507,7 @@ def optimize_front(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)
     hinges = any(q.needs_hinges for q in quantities)
+    reach = any(q.needs_candidate for q in quantities)
     executor = SerialExecutor() if executor is None else executor
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
@@ -519,6 +520,7 @@ def optimize_front(
                 margin,
                 frequencies,
                 hinges,
+                reach,
             )
             for k in keys
         ]

@@ -45,6 +45,12 @@ locked) and reduces them to a handful of numbers (:class:`RegionSummary`):
   with the drives anywhere within their strokes; NaN without strokes). A loop over the
   poses, the frozen hinge model built per pose.
 
+- with ``reach``, for a design with a candidate region (``[workspace.candidate]``, larger
+  than the required one): ``candidate_share`` [1], the share of the candidate grid's
+  poses reached without refusal (every leg's inverse kinematics solvable, joint
+  coordinates within limits, not singular: the required region's coverage test,
+  :func:`candidate_share`). Every other figure stays over the required region.
+
 A figure that has no value (no covered pose; no wrench; no mass model) is NaN in the
 record and ``None`` in :meth:`RegionSummary.figures`, never a number.
 """
@@ -174,6 +180,12 @@ class RegionSummary:
         The mass of every body moving with the platform [kg] (:func:`_moving_mass`);
         NaN without a mass model. Not one of the region's figures: it does not depend
         on the pose.
+    candidate_share : float
+        The share of the candidate region's grid poses reached [1]
+        (:func:`candidate_share`); NaN unless asked for (``reach``) of a design with a
+        ``[workspace.candidate]``.
+    candidate_poses : int
+        Grid poses of the candidate region evaluated (0: not asked for).
     """
 
     values: dict[str, float]
@@ -185,6 +197,8 @@ class RegionSummary:
     planar: bool = True
     margin_poses: int = 0
     moving_mass: float = math.nan
+    candidate_share: float = math.nan
+    candidate_poses: int = 0
 
     @property
     def covers(self) -> bool:
@@ -289,6 +303,7 @@ def summarize(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    reach: bool = False,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -311,6 +326,9 @@ def summarize(
     hinges : bool
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``; NaN without):
         about 0.1 s per pose for the shipped 3-RRR stage.
+    reach : bool
+        The share of the design's candidate region reached (``candidate_share``; NaN
+        for a design without ``[workspace.candidate]``).
 
     Returns
     -------
@@ -391,7 +409,7 @@ def summarize(
         margin_count = int(sub.shape[0])
         if not np.any(refused):
             values["load_margin"] = float(np.min(margins))
-    return RegionSummary(
+    summary = RegionSummary(
         values=values,
         poses=int(poses.shape[0]),
         covered=int(np.count_nonzero(covered)),
@@ -401,6 +419,35 @@ def summarize(
         margin_poses=margin_count,
         moving_mass=_moving_mass(design),
     )
+    return _with_candidate(summary, design) if reach else summary
+
+
+def candidate_share(design: Design, candidate: RequiredRegionModel) -> tuple[float, int]:
+    """The share [1] of the grid poses of ``candidate`` that ``design`` reaches without
+    refusal, and the number of grid poses.
+
+    A pose is reached when the single-pose analysis
+    (:func:`ppm_stiffness.model.stiffness_at_pose`) accepts it: completed, every leg's
+    inverse kinematics solvable, joint coordinates within limits, not singular (the
+    batched :func:`ppm_stiffness.maps.batch.evaluate_poses`, its ``valid`` mask).
+    """
+    from ppm_stiffness.maps import batch
+
+    poses = region_poses(candidate).reshape(-1, len(candidate.grid))
+    res = batch.evaluate_poses(design, poses, principal=False)
+    return float(np.mean(np.asarray(res.valid, dtype=bool))), int(poses.shape[0])
+
+
+def _with_candidate(summary: RegionSummary, design: Design) -> RegionSummary:
+    """``summary`` with ``candidate_share`` and ``candidate_poses`` of the design's
+    candidate region (unchanged without one)."""
+    from dataclasses import replace
+
+    candidate = design.workspace.candidate
+    if candidate is None:
+        return summary
+    share, count = candidate_share(design, candidate)
+    return replace(summary, candidate_share=share, candidate_poses=count)
 
 
 def _hinge_figures(design: Design, poses: FloatArray) -> dict[str, float]:
@@ -448,6 +495,7 @@ def summarize_candidate(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    reach: bool = False,
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
@@ -464,7 +512,7 @@ def summarize_candidate(
             design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
-    return summarize(design, region, wrench, margin, frequencies, hinges)
+    return summarize(design, region, wrench, margin, frequencies, hinges, reach)
 
 
 def summary_names(summaries: Sequence[RegionSummary], wrench: bool, mass: bool) -> list[str]:
