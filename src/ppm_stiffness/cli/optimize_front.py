@@ -295,8 +295,15 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
             progress=advance,
             choices=choices,
         )
-    wall = time.perf_counter() - start
-    chosen = choose(result, rule)
+        wall = time.perf_counter() - start
+        chosen = choose(result, rule)
+        comparison = None
+        if not result.interrupted:
+            from ppm_stiffness.optimize.chosen import compare_chosen
+
+            comparison = compare_chosen(
+                design, result, chosen, region, wrench=wrench, executor=executor
+            )
     designs = (
         [str(Path(args.front_designs) / f"front_{i:03d}.toml") for i in range(len(result.front))]
         if args.front_designs is not None
@@ -317,10 +324,54 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
         }
         units.update({f"front.parameters.{v.name}": v.unit for v in variables})
         payload = _payload(result, args, region, wrench, wall, chosen, rule_text, designs)
+        payload["comparison"] = _comparison_json(comparison)
         print(json_document("optimize", payload, units))
         return code
     _print(args, result, region, wall, chosen, rule_text, fronts, designs)
+    if comparison is not None:
+        _print_comparison(comparison)
     return code
+
+
+def _comparison_json(comparison: Any) -> list[dict[str, Any]] | None:
+    """The chosen design against the start (None when the run was interrupted)."""
+    import math
+
+    if comparison is None:
+        return None
+
+    def value(x: float) -> float | None:
+        return None if math.isnan(x) else x
+
+    return [
+        {
+            "name": r.name,
+            "unit": r.unit,
+            "start": value(r.start),
+            "chosen": value(r.chosen),
+            "ratio": value(r.ratio),
+        }
+        for r in comparison.rows
+    ]
+
+
+def _print_comparison(comparison: Any) -> None:
+    """The table of :func:`~ppm_stiffness.optimize.chosen.compare_chosen`."""
+    table = Table(
+        title=f"chosen design (row {comparison.index}) against the start, as compare "
+        "evaluates them (2 evaluations outside the budget)"
+    )
+    table.add_column(escape("figure [unit]"), no_wrap=True)
+    for name in ("start", "chosen", "chosen/start"):
+        table.add_column(name, justify="right")
+    for r in comparison.rows:
+        table.add_row(
+            escape(f"{r.label} [{r.unit}]"),
+            figure_cell(r.start),
+            figure_cell(r.chosen),
+            figure_cell(r.ratio),
+        )
+    console.print(table)
 
 
 def _write(
