@@ -417,6 +417,7 @@ def _write(
                 [q.unit for q in result.objectives],
                 [q.maximise for q in result.objectives],
                 rule,
+                start_label=_start_label(result),
             )
             save_map_figure(fig, out.temp(args.front_figure, "--front-figure"))
         if args.maps:
@@ -427,6 +428,17 @@ def _write(
             maps = region_maps([design, best], region, args.map_grid)
             fig = plot_maps_side_by_side(maps, ["start", "chosen"], region_box(region))
             save_map_figure(fig, out.temp(args.maps, "--maps"))
+
+
+def _start_label(result: Any) -> str:
+    """The start design's legend entry: saying so when it is infeasible (it misses a
+    constraint or part of the region), as it then cannot be on the front."""
+    import numpy as np
+
+    from ppm_stiffness.optimize.pareto import constraint_values
+
+    g = constraint_values(result.objectives, result.constraints, result.start.summary)
+    return "start design" if np.all(g <= 0) else "start design (infeasible)"
 
 
 def _none(value: Any) -> Any:  # pragma: no cover - every value is a number or a string

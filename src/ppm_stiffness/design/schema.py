@@ -503,7 +503,8 @@ class Design(PartModel):
                 "threshold_displacement": disp,
                 **leg.drive_units(),
             }[parts[2]]
-        return part_units(type(part)).get(key, "")
+        # a field of the element itself (a parallelogram's width) is the leg's to say
+        return part_units(type(part)).get(key, "") or leg.parameter_unit(".".join(parts[1:]))
 
     def with_parameters(self, values: dict[str, float]) -> Design:
         """A copy with the named (or globbed) scalar parameters replaced, validated again.

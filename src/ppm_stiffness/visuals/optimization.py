@@ -131,6 +131,7 @@ def plot_front(
     units: Sequence[str],
     maximise: Sequence[bool],
     rule: str,
+    start_label: str = "start design",
 ) -> Any:
     """A Pareto front: for two objectives the front over the cloud of feasible designs
     evaluated, for more a scatter matrix of every pair; the start design (a star) and
@@ -150,6 +151,8 @@ def plot_front(
     maximise : sequence of bool (m,)
     rule : str
         How the design was chosen (the legend says it).
+    start_label : str
+        The start design's legend entry (e.g. saying that it is infeasible).
 
     Returns
     -------
@@ -168,7 +171,7 @@ def plot_front(
     if m == 2:
         fig = Figure(figsize=(6.4, 4.6), layout="constrained")
         ax = fig.subplots()
-        _front_panel(ax, f, cloud, s, chosen, 0, 1, rule, m == 2)
+        _front_panel(ax, f, cloud, s, chosen, 0, 1, rule, m == 2, start_label)
         ax.set_xlabel(labels[0])
         ax.set_ylabel(labels[1])
         ax.set_title(_front_title(len(f), len(cloud)))
@@ -182,7 +185,7 @@ def plot_front(
             if col >= row:
                 ax.set_axis_off()
                 continue
-            _front_panel(ax, f, cloud, s, chosen, col, row, rule, False)
+            _front_panel(ax, f, cloud, s, chosen, col, row, rule, False, start_label)
             if row == m - 1:
                 ax.set_xlabel(labels[col], fontsize=8)
             if col == 0:
@@ -209,12 +212,13 @@ def _front_panel(
     j: int,
     rule: str,
     line: bool,
+    start_label: str = "start design",
 ) -> None:
     """One panel of :func:`plot_front`: objective i across, j up."""
     ax.scatter(cloud[:, i], cloud[:, j], s=8, color="0.75", label="feasible designs")
     style = "-o" if line else "o"
     ax.plot(front[:, i], front[:, j], style, ms=4, lw=1, color="C0", label="front")
-    ax.plot(start[i], start[j], "*", ms=12, color="C3", label="start design")
+    ax.plot(start[i], start[j], "*", ms=12, color="C3", label=start_label)
     ax.plot(
         front[chosen, i],
         front[chosen, j],
@@ -226,3 +230,15 @@ def _front_panel(
         label=f"chosen ({rule})",
     )
     ax.grid(True, alpha=0.3)
+    _large_ticks(ax.xaxis, np.concatenate([cloud[:, i], front[:, i], start[i : i + 1]]))
+    _large_ticks(ax.yaxis, np.concatenate([cloud[:, j], front[:, j], start[j : j + 1]]))
+
+
+def _large_ticks(axis: Any, values: np.ndarray) -> None:
+    """Ticks with an SI prefix (50k, 5M) on an axis of values of 10^4 and more: an offset
+    text (1e6) would sit on a neighbouring panel's label."""
+    from matplotlib.ticker import EngFormatter
+
+    finite = values[np.isfinite(values)]
+    if finite.size and np.max(np.abs(finite)) >= 1e4:
+        axis.set_major_formatter(EngFormatter(sep=""))
