@@ -84,3 +84,27 @@ def test_comparison_is_printed(tmp_path: Path, capsys: pytest.CaptureFixture[str
 
 def _cells(line: str) -> list[str]:
     return [c.strip() for c in line.strip().strip("│").split("│")]
+
+
+def test_front_figure_marks_an_infeasible_start(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A start design that misses a constraint is drawn as "start design (infeasible)"
+    (it cannot be on the front it seems to lead); a feasible one as "start design"."""
+    import ppm_stiffness.visuals.optimization as visuals
+
+    labels: list[str] = []
+    plot = visuals.plot_front
+
+    def recording(*args, **kwargs):  # type: ignore[no-untyped-def]
+        labels.append(kwargs["start_label"])
+        return plot(*args, **kwargs)
+
+    monkeypatch.setattr(visuals, "plot_front", recording)
+    doc = _json(capsys, [*FRONT, "--out", str(tmp_path / "a.toml"), "--json"])
+    k_phi = doc["start"]["objectives"][1]  # worst-k-rotational of the start [N·m/rad]
+    for name, extra in (("b", []), ("c", ["--constraint", f"worst-k-rotational>={k_phi * 1.001}"])):
+        argv = [*FRONT, "--out", str(tmp_path / f"{name}.toml"), *extra]
+        assert main([*argv, "--front-figure", str(tmp_path / f"{name}.png")]) == 0
+        capsys.readouterr()
+    assert labels == ["start design", "start design (infeasible)"]

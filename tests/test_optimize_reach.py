@@ -103,3 +103,27 @@ def test_candidate_ranges_are_the_task_coordinates(tmp_path: Path) -> None:
     )
     with pytest.raises(DesignError, match=r"workspace\.candidate: its ranges \(x, y\)"):
         pps.load_design(path)
+
+
+def test_one_objective_search_maximises_the_share() -> None:
+    """``optimize`` with reachable-workspace alone: the best design's share is what the
+    candidate region gives for its parameters, not below the start's, and the best
+    design covers the required region (the one constraint on reach)."""
+    from ppm_stiffness.optimize.optimizer import optimize_design
+    from ppm_stiffness.optimize.summary import candidate_share
+    from ppm_stiffness.optimize.variables import parse_variable
+
+    design = pps.load_design(ROOT / "examples/hexapod_6ups.toml")
+    shipped = design.workspace.candidate
+    assert shipped is not None
+    design = with_candidate(design, region_from_ranges(shipped.ranges(), (3, 3, 3, 2, 2, 2)))
+    required = design.workspace.required
+    assert required is not None
+    small = region_from_ranges(required.ranges(), (2,) * 6)
+    variable = parse_variable("base_radius=0.11:0.20", design)
+    result = optimize_design(design, [variable], REACH, small, budget=10, seed=1)
+    best = apply_values(design, result.best_parameters)
+    assert design.workspace.candidate is not None
+    share, _ = candidate_share(best, design.workspace.candidate)
+    assert result.best_objective == share >= result.initial_objective
+    assert result.best_summary.covers
