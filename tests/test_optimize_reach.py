@@ -127,3 +127,18 @@ def test_one_objective_search_maximises_the_share() -> None:
     share, _ = candidate_share(best, design.workspace.candidate)
     assert result.best_objective == share >= result.initial_objective
     assert result.best_summary.covers
+
+
+def test_cli_refuses_the_objective_without_a_candidate_region(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    pytest.importorskip("pymoo", reason="pymoo is in the 'pareto' extra")
+    from ppm_stiffness.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["optimize", "--design", str(ROOT / "examples/3rpr.toml"), "--vary", "leg1.psi=5.2:6.2"]
+    argv += ["--objective", "worst-k-translational", "--objective", "reachable-workspace"]
+    assert main([*argv, "--budget", "16", "--out", "chosen.toml", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "has no candidate region; add a [workspace.candidate] table" in err
+    assert len(err.strip().splitlines()) == 1 and list(tmp_path.iterdir()) == []

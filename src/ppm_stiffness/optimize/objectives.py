@@ -273,8 +273,8 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
         if q.needs_candidate and design.workspace.candidate is None:
             raise DesignError(
                 f"{q.name}: design {design.name!r} has no candidate region; add a "
-                "[workspace.candidate] table (the keys of [workspace.required], ranges "
-                "containing its ranges)"
+                "[workspace.candidate] table (the keys of [workspace.required], usually wider "
+                "ranges)"
             )
         key = q.description
         family = "paper" if key[:4] in ("k_x_", "k_y_", "k_ph") else None
