@@ -55,6 +55,10 @@ OBJECTIVE_NAMES = (
     "moving-mass",
     "range",
     "stress",
+    "actuator-effort",
+    "actuator-force",
+    "actuator-torque",
+    "condition-number",
 )
 
 
@@ -86,7 +90,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "min over the region of the hinges' range, the smallest drive's free displacement "
         "to yield [rad or m], maximised; stress: max over the region of the largest hinge "
         "stress with the drives anywhere within their strokes [Pa], minimised (range and "
-        "stress: notch hinges with yield strengths; default worst-k-translational)",
+        "stress: notch hinges with yield strengths); actuator-effort (or effort): max "
+        "over the region of the largest |actuator force or torque| under --wrench [N or "
+        "N·m, drives of one kind], minimised; actuator-force, actuator-torque: the same "
+        "over the linear [N] or rotary [N·m] drives; condition-number: max over the "
+        "region of the condition number of the length-balanced K (L = 0.1 m) [1], "
+        "minimised (default worst-k-translational)",
     )
     parser.add_argument(
         "--constraint",
@@ -157,6 +166,7 @@ def _payload(
         "improvement": result.improvement,
         "evaluations": result.evaluations,
         "budget": args.budget,
+        "refused_by_check": result.refused_by_check,
         "seed": args.seed,
         "population": result.population,
         "generations": result.generations,
@@ -294,9 +304,10 @@ def run(args: argparse.Namespace) -> int:
         return code
     console.print(f"region: {region_text(region)}")
     console.print(
-        f"{result.evaluations} evaluations (population {result.population}, "
-        f"{result.generations} generation{'' if result.generations == 1 else 's'}) "
-        f"in {wall:.3g} s, {executor_label(args)}"
+        f"{result.evaluations} evaluations of --budget {result.budget} (population "
+        f"{result.population}, {result.generations} generation"
+        f"{'' if result.generations == 1 else 's'}; {result.refused_by_check} refused by the "
+        f"cheap check, without maps) in {wall:.3g} s, {executor_label(args)}"
         + (" [interrupted: best so far]" if result.interrupted else "")
     )
     table = Table(

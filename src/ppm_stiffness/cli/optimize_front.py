@@ -174,6 +174,7 @@ def _payload(
         "algorithm": result.algorithm,
         "evaluations": result.evaluations,
         "budget": result.budget,
+        "refused_by_check": result.refused_by_check,
         "seed": args.seed,
         "population": result.population,
         "generations": result.generations,
@@ -401,9 +402,10 @@ def _print(
 ) -> None:
     console.print(f"region: {region_text(region)}")
     console.print(
-        f"{result.algorithm}: {result.evaluations} evaluations (population "
-        f"{result.population}, {result.generations} generation"
-        f"{'' if result.generations == 1 else 's'}) in {wall:.3g} s, {executor_label(args)}"
+        f"{result.algorithm}: {result.evaluations} evaluations of --budget {result.budget} "
+        f"(population {result.population}, {result.generations} generation"
+        f"{'' if result.generations == 1 else 's'}; {result.refused_by_check} refused by the "
+        f"cheap check, without maps) in {wall:.3g} s, {executor_label(args)}"
         + (" [interrupted: front so far]" if result.interrupted else "")
     )
     table = Table(title=f"Pareto front: {len(result.front)} designs; chosen ({rule}) marked *")

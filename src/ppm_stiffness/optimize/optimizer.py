@@ -104,6 +104,9 @@ class OptimizationResult:
         (variable name, the start design's value) of each variable whose start value
         lies outside its range (None: a glob's matches differ); empty when the start
         design is a candidate (the population's first member).
+    refused_by_check : int
+        Candidates the cheap check refused (:mod:`ppm_stiffness.optimize.precheck`):
+        counted in ``evaluations``, their maps skipped.
     """
 
     objective: Quantity
@@ -123,6 +126,7 @@ class OptimizationResult:
     constraints: list[Constraint] = field(default_factory=list)
     budget: int = 0
     outside: list[tuple[str, float | None]] = field(default_factory=list)
+    refused_by_check: int = 0
 
     def partial_note(self) -> str | None:
         """One line saying that the result is partial (None when it is not): for a
@@ -240,9 +244,14 @@ class _Evaluator:
         margin: bool = False,
         frequencies: bool = False,
         hinges: bool = False,
+        condition: bool = False,
+        check: str = "skip",
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
         self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
+        self.condition, self.check = condition, check
+        #: designs the cheap check refused (their maps skipped with ``check="skip"``)
+        self.refused = 0
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -297,6 +306,8 @@ class _Evaluator:
                 self.margin,
                 self.frequencies,
                 self.hinges,
+                self.condition,
+                self.check,
             )
             for k in todo
         ]
@@ -305,11 +316,13 @@ class _Evaluator:
         except Interrupted as stop:
             for i in sorted(stop.done):
                 self.evaluations += 1
+                self.refused += stop.done[i].refused_by_check
                 self.record(todo[i], stop.done[i])
             raise
         for k, summary in zip(todo, results, strict=True):
             self.cache[k] = summary
             self.evaluations += 1
+            self.refused += summary.refused_by_check
         energies = [self.record(k, self.cache[k]) for k in keys]
         self.generations += 1
         self.history.append((self.evaluations, self.best_objective()))
@@ -328,6 +341,7 @@ def optimize_design(
     constraints: Sequence[Constraint] = (),
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    cheap_checks: bool = True,
 ) -> OptimizationResult:
     """Optimise ``design`` over ``region`` (module doc).
 
@@ -352,6 +366,10 @@ def optimize_design(
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
         Called with 1 after each evaluation.
+    cheap_checks : bool
+        Skip the maps of a candidate that the cheap check refuses
+        (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
+        ranking, at the maps' cost). The start design is always evaluated in full.
 
     Returns
     -------
@@ -381,10 +399,11 @@ def optimize_design(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
     hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
+    condition = any(q.needs_condition for q in quantities)
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies, hinges)]
+        args = [(design, None, region, w, margin, frequencies, hinges, condition)]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -415,6 +434,8 @@ def optimize_design(
         margin,
         frequencies,
         hinges,
+        condition,
+        "skip" if cheap_checks else "record",
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))
@@ -471,6 +492,7 @@ def optimize_design(
         constraints=list(constraints),
         budget=budget,
         outside=[(v.name, value) for v, value in outside],
+        refused_by_check=evaluator.refused,
     )
 
 

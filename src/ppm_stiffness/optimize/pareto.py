@@ -132,6 +132,9 @@ class FrontResult:
         Variables whose start value lies outside their range.
     history : list of (int, int)
         (evaluations so far, front size) after the start design and each generation.
+    refused_by_check : int
+        Designs the cheap check refused (:mod:`ppm_stiffness.optimize.precheck`):
+        counted in ``evaluations``, their maps skipped.
     """
 
     objectives: list[Quantity]
@@ -149,6 +152,7 @@ class FrontResult:
     interrupted: bool = False
     outside: list[tuple[str, float | None]] = field(default_factory=list)
     history: list[tuple[int, int]] = field(default_factory=list)
+    refused_by_check: int = 0
 
     def minimised(self) -> FloatArray:
         """The front's objectives (k, m) signed so that smaller is better [units]."""
@@ -217,6 +221,11 @@ def constraint_values(
     objectives: Sequence[Quantity], constraints: Sequence[Constraint], summary: RegionSummary
 ) -> FloatArray:
     """G (2 + number of constraints,): feasible when every entry is <= 0 (module doc)."""
+    if summary.refused_by_check:
+        from ppm_stiffness.optimize.precheck import check_violation
+
+        gap = check_violation(summary.check_poses, summary.check_refused)
+        return np.asarray([gap, 1.0, *([1.0] * len(constraints))])
     g = [0.0 if summary.covers else 1.0 - summary.covered_fraction + 1e-3]
     finite = all(math.isfinite(q.value(summary)) for q in objectives)
     g.append(0.0 if finite and summary.error is None else 1.0)
@@ -344,9 +353,11 @@ class _Archive:
         self.variables = variables
         self.summaries: dict[tuple[float, ...], tuple[int, RegionSummary]] = {}
         self.evaluations = 0
+        self.refused = 0
 
     def add(self, key: tuple[float, ...], summary: RegionSummary) -> None:
         self.evaluations += 1
+        self.refused += summary.refused_by_check
         self.summaries.setdefault(key, (self.evaluations, summary))
 
     def record(
@@ -445,6 +456,7 @@ def optimize_front(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     choices: Sequence[Choice] = (),
+    cheap_checks: bool = True,
 ) -> FrontResult:
     """The Pareto front of ``objectives`` over ``region`` (module doc).
 
@@ -471,6 +483,10 @@ def optimize_front(
     choices : sequence of Choice
         Catalogue choices (:func:`~ppm_stiffness.optimize.catalogue.parse_choice`):
         integer variables, the entry's index, rounded by a repair step.
+    cheap_checks : bool
+        Skip the maps of a design that the cheap check refuses
+        (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
+        ranking, at the maps' cost). The start design is always evaluated in full.
 
     Returns
     -------
@@ -507,7 +523,9 @@ def optimize_front(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)
     hinges = any(q.needs_hinges for q in quantities)
+    condition = any(q.needs_condition for q in quantities)
     executor = SerialExecutor() if executor is None else executor
+    check = "skip" if cheap_checks else "record"
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
         args = [
@@ -519,6 +537,8 @@ def optimize_front(
                 margin,
                 frequencies,
                 hinges,
+                condition,
+                "none" if k is None else check,
             )
             for k in keys
         ]
@@ -597,6 +617,7 @@ def optimize_front(
         interrupted=interrupted,
         outside=outside,
         history=history,
+        refused_by_check=archive.refused,
     )
 
 
