@@ -19,14 +19,17 @@ What the evolution minimises, per candidate: for a feasible one the objective in
 of the start design's (``-value / |initial|`` for a maximised objective,
 ``value / |initial|`` for a minimised one); for an infeasible one ``1e9 + violation``
 (:func:`~ppm_stiffness.optimize.objectives.violation`), so that every feasible candidate
-ranks above every infeasible one and the less infeasible above the more.
+ranks above every infeasible one and the less infeasible above the more. A candidate
+the cheap check refuses (:mod:`ppm_stiffness.optimize.precheck`) is not mapped
+(``cheap_checks``); its violation comes from the check alone.
 
 Budget: every evaluation of a design counts, the start design's included (it is
-evaluated first, and reused as the first member of the population when its values lie
-in the box). The population has ``S = max(5, min(15 d, budget // 10))`` members for d
-variables and the evolution runs ``(budget - e) // S - 1`` generations, e = 0 when the
-start design is the population's first member and 1 when it lies outside the box (an
-evaluation outside the population), so evaluations never exceed the budget and the
+evaluated first, in full, and reused as the first member of the population when its
+values lie in the box; a candidate the cheap check refuses counts as one). The
+population has ``S = max(5, min(15 d, budget // 10))`` members for d variables and
+the evolution runs ``(budget - e) // S - 1`` generations, e = 0 when the start design
+is the population's first member and 1 when it lies outside the box (an evaluation
+outside the population), so evaluations never exceed the budget and the
 smallest budget, ``2 S + e`` = 10 or 11, runs one generation
 (:func:`population_plan`). Polishing is off: the objectives are minima and maxima over
 a grid of poses (not smooth), so a gradient polish would spend evaluations on finite

@@ -13,6 +13,11 @@ design always ranks above an infeasible one and the less infeasible above the mo
   for ``<=`` and ``(bound - value) / |bound|`` for ``>=`` (1 when not finite), as in
   :func:`~ppm_stiffness.optimize.objectives.violation`.
 
+A design the cheap check refuses (:mod:`ppm_stiffness.optimize.precheck`: a corner of
+the region or the home pose unreachable or singular) has G = (1.001 + refused share of
+the check poses, 1, 1, ...), from the check alone, its maps not computed
+(``cheap_checks``).
+
 What pymoo minimises, per design: each objective in units of the start design's,
 ``-value / |initial|`` for a maximised one and ``value / |initial|`` for a minimised
 one (:func:`scaled_objectives`).
@@ -38,6 +43,7 @@ the box). The population has ``S = max(8, min(100, budget // 10))`` members and 
 ``(budget - e) // S - 1`` generations after the initial population, e = 1 when the start
 design lies outside the box (:func:`front_plan`); pymoo removes duplicate offspring,
 and a design met again is not evaluated again, so evaluations never exceed the budget.
+A design the cheap check refuses counts as one evaluation.
 """
 
 from __future__ import annotations
