@@ -316,3 +316,29 @@ def test_text_output_reports_the_budget_and_the_refused(
     out = " ".join(capsys.readouterr().out.split())
     assert "evaluations of --budget 10 (population 5, 1 generation;" in out
     assert "refused by the cheap check, without maps)" in out
+
+
+def test_effort_unit_is_stated_for_the_design(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    argv = ["optimize", "--design", str(ROOT / "examples/3rrr.toml"), "--quiet", "--json"]
+    argv += ["--vary", "leg*.platform_radius=0.05:0.07", "--objective", "actuator-effort"]
+    argv += ["--region=-5,5,-5,5,0,0,3,3,1", "--wrench", "10,-20,0,0,0,0.5", "--budget", "10"]
+    argv += ["--seed", "1", "--out", str(tmp_path / "b.toml"), "--constraint", "effort<=100"]
+    doc = _json(capsys, argv)
+    assert doc["objective"] == "actuator-effort"
+    assert doc["objective_unit"] == "N·m"  # the 3-RRR's drives are rotary
+    assert doc["units"]["best_objective"] == "N·m"
+    assert 0 < doc["best_objective"] <= doc["initial_objective"]
+
+
+def test_sweep_computes_the_condition_number() -> None:
+    from ppm_stiffness.optimize.sweep import sweep_designs
+
+    design = _design("3rpr", mass=True)
+    variable = parse_variable("leg2.psi=1.3:1.8:2", design, True)
+    result = sweep_designs(design, [variable], REGION, frequencies=False, condition=True)
+    direct = summarize(
+        apply_values(design, {"leg2.psi": 1.3}), REGION, frequencies=False, condition=True
+    )
+    assert result.summaries[0].condition_max == pytest.approx(direct.condition_max, rel=1e-12)

@@ -90,7 +90,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "min over the region of the hinges' range, the smallest drive's free displacement "
         "to yield [rad or m], maximised; stress: max over the region of the largest hinge "
         "stress with the drives anywhere within their strokes [Pa], minimised (range and "
-        "stress: notch hinges with yield strengths); actuator-effort (or effort): max "
+        "stress: notch hinges with yield strengths); actuator-effort (effort in --constraint): max "
         "over the region of the largest |actuator force or torque| under --wrench [N or "
         "N·m, drives of one kind], minimised; actuator-force, actuator-torque: the same "
         "over the linear [N] or rotary [N·m] drives; condition-number: max over the "
@@ -104,7 +104,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="Q<=V",
         help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name, f1 or a "
         "summary figure (k_phi_p5, f1_p5, load-margin, ...), e.g. range>=0.02 or "
-        "stress<=2e8 for a flexure stage; repeat for more",
+        "stress<=2e8 for a flexure stage, effort<=50 (the drives' largest force or torque "
+        "under --wrench); repeat for more",
     )
     parser.add_argument(
         "--budget",
@@ -199,7 +200,12 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
+    from ppm_stiffness.optimize.objectives import (
+        OBJECTIVES,
+        check_quantities,
+        for_design,
+        parse_constraint,
+    )
     from ppm_stiffness.optimize.optimizer import (
         optimize_design,
         outside_note,
@@ -230,8 +236,8 @@ def run(args: argparse.Namespace) -> int:
     check_distinct(variables)
     outside = outside_ranges(design, variables)
     population_plan(args.budget, len(variables), not outside)
-    objective = OBJECTIVES[names[0]]
-    constraints = [parse_constraint(t) for t in args.constraint]
+    objective = for_design(OBJECTIVES[names[0]], design)
+    constraints = [parse_constraint(t, design) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
     quantities = [objective, *(c.quantity for c in constraints)]

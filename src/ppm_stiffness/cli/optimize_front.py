@@ -242,7 +242,12 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.optimize.catalogue import parse_choice
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
+    from ppm_stiffness.optimize.objectives import (
+        OBJECTIVES,
+        check_quantities,
+        for_design,
+        parse_constraint,
+    )
     from ppm_stiffness.optimize.optimizer import outside_note, outside_ranges
     from ppm_stiffness.optimize.pareto import choose, front_plan, optimize_front, parse_rule
     from ppm_stiffness.optimize.variables import check_distinct, parse_variable
@@ -262,8 +267,8 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     outside = outside_ranges(design, variables)
     outside_choices = [c for c in choices if c.start(design) is None]
     front_plan(args.budget, not outside and not outside_choices)
-    objectives = [OBJECTIVES[n] for n in names]
-    constraints = [parse_constraint(t) for t in args.constraint]
+    objectives = [for_design(OBJECTIVES[n], design) for n in names]
+    constraints = [parse_constraint(t, design) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
     check_quantities(design, [*objectives, *(c.quantity for c in constraints)], wrench is not None)

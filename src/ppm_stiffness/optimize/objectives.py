@@ -283,8 +283,23 @@ class Constraint:
 _CONSTRAINT = re.compile(r"^\s*([A-Za-z_][\w-]*)\s*(<=|>=)\s*(\S+)\s*$")
 
 
-def parse_constraint(text: str) -> Constraint:
-    """``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (VALUE in SI), or InputDataError."""
+def for_design(q: Quantity, design: Design) -> Quantity:
+    """``q`` with its unit stated for ``design``: ``actuator-effort``'s "N or N·m"
+    becomes N (linear drives) or N·m (rotary drives) when the drives are of one kind;
+    any other quantity unchanged."""
+    if q.name != "actuator-effort":
+        return q
+    kinds = {leg.actuator_units()[0] for leg in design.legs}
+    if len(kinds) != 1:
+        return q
+    from dataclasses import replace
+
+    return replace(q, unit=kinds.pop())
+
+
+def parse_constraint(text: str, design: Design | None = None) -> Constraint:
+    """``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (VALUE in SI), or InputDataError; the
+    quantity's unit stated for ``design`` when given (:func:`for_design`)."""
     match = _CONSTRAINT.match(text)
     if match is None:
         raise InputDataError(
@@ -300,7 +315,7 @@ def parse_constraint(text: str) -> Constraint:
         q = quantity(match.group(1))
     except InputDataError as exc:
         raise InputDataError(f"--constraint {text}: {exc}") from None
-    return Constraint(q, bound, match.group(2) == "<=")
+    return Constraint(q if design is None else for_design(q, design), bound, match.group(2) == "<=")
 
 
 def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: bool) -> None:
