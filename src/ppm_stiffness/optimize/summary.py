@@ -539,6 +539,10 @@ def _moving_mass(design: Design) -> float:
     return moving_mass(design)["total"]
 
 
+#: The cheap-check modes of :func:`summarize_candidate`.
+CHECKS = ("none", "skip", "record")
+
+
 def summarize_candidate(
     design: Design,
     values: Mapping[str, float] | None,
@@ -571,6 +575,10 @@ def summarize_candidate(
             design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
+    if check not in CHECKS:
+        from ppm_stiffness.core.errors import InputDataError
+
+        raise InputDataError(f"check must be one of {', '.join(CHECKS)}, got {check!r}")
     if check == "none" or tuple(region.ranges()) != tuple(design.task_coordinates):
         return summarize(design, region, wrench, margin, frequencies, hinges, condition)
     from dataclasses import replace
