@@ -266,9 +266,14 @@ def test_single_objective_skips_the_maps_and_is_unchanged(
 # --- the budget ------------------------------------------------------------------------
 
 
-def _json(capsys: pytest.CaptureFixture[str], argv: list[str]) -> Any:
+def _json(capsys: pytest.CaptureFixture[str], argv: list[str], schema: str = "") -> Any:
     assert main(argv) == 0
-    return json.loads(capsys.readouterr().out)
+    doc = json.loads(capsys.readouterr().out)
+    if schema:
+        jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is in the 'test' extra")
+        path = ROOT / "docs" / "schemas" / f"{schema}.schema.json"
+        jsonschema.validate(doc, json.loads(path.read_text(encoding="utf-8")))
+    return doc
 
 
 @pytest.mark.parametrize("budget", [10, 23, 37])
@@ -278,7 +283,7 @@ def test_budget_bounds_single_objective_evaluations(
     argv = ["optimize", "--design", str(ROOT / "examples/3rpr.toml"), "--quiet", "--json"]
     argv += ["--vary", REACH, "--vary", PSI, "--region=-10,10,-10,10,-5.7,5.7,3,3,3"]
     argv += ["--budget", str(budget), "--seed", "1", "--out", str(tmp_path / "b.toml")]
-    doc = _json(capsys, argv)
+    doc = _json(capsys, argv, "optimize")
     assert doc["budget"] == budget
     assert doc["evaluations"] <= budget
     # the plan spends the budget down to less than one population
@@ -296,7 +301,7 @@ def test_budget_bounds_front_evaluations(
     argv += ["--vary", REACH, "--vary", PSI, "--region=-10,10,-10,10,-5.7,5.7,3,3,3"]
     argv += ["--objective", "worst-k-translational", "--objective", "condition-number"]
     argv += ["--budget", str(budget), "--seed", "1", "--out", str(tmp_path / "b.toml")]
-    doc = _json(capsys, argv)
+    doc = _json(capsys, argv, "optimize-front")
     assert doc["budget"] == budget
     assert doc["evaluations"] <= budget
     assert doc["refused_by_check"] <= doc["evaluations"]
@@ -325,7 +330,7 @@ def test_effort_unit_is_stated_for_the_design(
     argv += ["--vary", "leg*.platform_radius=0.05:0.07", "--objective", "actuator-effort"]
     argv += ["--region=-5,5,-5,5,0,0,3,3,1", "--wrench", "10,-20,0,0,0,0.5", "--budget", "10"]
     argv += ["--seed", "1", "--out", str(tmp_path / "b.toml"), "--constraint", "effort<=100"]
-    doc = _json(capsys, argv)
+    doc = _json(capsys, argv, "optimize")
     assert doc["objective"] == "actuator-effort"
     assert doc["objective_unit"] == "N·m"  # the 3-RRR's drives are rotary
     assert doc["units"]["best_objective"] == "N·m"
