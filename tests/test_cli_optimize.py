@@ -143,7 +143,8 @@ def test_a_start_design_outside_the_ranges_is_warned_and_a_worse_best_said(
         "= 0.25 m lies outside its --vary range 0.15:0.22 m; the best design found may be "
         "worse than the start\n"
     )
-    assert "11 evaluations (population 5, 1 generation) in" in out
+    flat = " ".join(out.split())
+    assert "11 evaluations of --budget 11 (population 5, 1 generation; 0 refused by" in flat
     assert "worse than the start design (which lies outside the ranges); best design" in out
     doc = _json(capsys, [*argv, "--budget", "11", "--json", "--out", str(tmp_path / "b.toml")])
     assert (doc["evaluations"], doc["generations"]) == (11, 1)

@@ -56,6 +56,10 @@ OBJECTIVE_NAMES = (
     "range",
     "stress",
     "reachable-workspace",
+    "actuator-effort",
+    "actuator-force",
+    "actuator-torque",
+    "condition-number",
 )
 
 
@@ -89,7 +93,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "stress with the drives anywhere within their strokes [Pa], minimised (range and "
         "stress: notch hinges with yield strengths); reachable-workspace: the share of "
         "the design's [workspace.candidate] grid poses reached [1], maximised (the other "
-        "figures stay over the required region; default worst-k-translational)",
+        "figures stay over the required region); actuator-effort (effort in --constraint): max "
+        "over the region of the largest |actuator force or torque| under --wrench [N or "
+        "N·m, drives of one kind], minimised; actuator-force, actuator-torque: the same "
+        "over the linear [N] or rotary [N·m] drives; condition-number: max over the "
+        "region of the condition number of the length-balanced K (L = 0.1 m) [1], "
+        "minimised (default worst-k-translational)",
     )
     parser.add_argument(
         "--constraint",
@@ -98,7 +107,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="Q<=V",
         help="QUANTITY<=VALUE or QUANTITY>=VALUE [SI], QUANTITY an objective name, f1 or a "
         "summary figure (k_phi_p5, f1_p5, load-margin, ...), e.g. range>=0.02 or "
-        "stress<=2e8 for a flexure stage; repeat for more",
+        "stress<=2e8 for a flexure stage, effort<=50 (the drives' largest force or torque "
+        "under --wrench); repeat for more",
     )
     parser.add_argument(
         "--budget",
@@ -160,6 +170,7 @@ def _payload(
         "improvement": result.improvement,
         "evaluations": result.evaluations,
         "budget": args.budget,
+        "refused_by_check": result.refused_by_check,
         "seed": args.seed,
         "population": result.population,
         "generations": result.generations,
@@ -192,7 +203,12 @@ def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
+    from ppm_stiffness.optimize.objectives import (
+        OBJECTIVES,
+        check_quantities,
+        for_design,
+        parse_constraint,
+    )
     from ppm_stiffness.optimize.optimizer import (
         optimize_design,
         outside_note,
@@ -223,8 +239,8 @@ def run(args: argparse.Namespace) -> int:
     check_distinct(variables)
     outside = outside_ranges(design, variables)
     population_plan(args.budget, len(variables), not outside)
-    objective = OBJECTIVES[names[0]]
-    constraints = [parse_constraint(t) for t in args.constraint]
+    objective = for_design(OBJECTIVES[names[0]], design)
+    constraints = [parse_constraint(t, design) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
     quantities = [objective, *(c.quantity for c in constraints)]
@@ -297,9 +313,10 @@ def run(args: argparse.Namespace) -> int:
         return code
     console.print(f"region: {region_text(region)}")
     console.print(
-        f"{result.evaluations} evaluations (population {result.population}, "
-        f"{result.generations} generation{'' if result.generations == 1 else 's'}) "
-        f"in {wall:.3g} s, {executor_label(args)}"
+        f"{result.evaluations} evaluations of --budget {result.budget} (population "
+        f"{result.population}, {result.generations} generation"
+        f"{'' if result.generations == 1 else 's'}; {result.refused_by_check} refused by the "
+        f"cheap check, without maps) in {wall:.3g} s, {executor_label(args)}"
         + (" [interrupted: best so far]" if result.interrupted else "")
     )
     table = Table(

@@ -174,6 +174,7 @@ def _payload(
         "algorithm": result.algorithm,
         "evaluations": result.evaluations,
         "budget": result.budget,
+        "refused_by_check": result.refused_by_check,
         "seed": args.seed,
         "population": result.population,
         "generations": result.generations,
@@ -241,7 +242,12 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.optimize.catalogue import parse_choice
     from ppm_stiffness.optimize.executors import open_executor
-    from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
+    from ppm_stiffness.optimize.objectives import (
+        OBJECTIVES,
+        check_quantities,
+        for_design,
+        parse_constraint,
+    )
     from ppm_stiffness.optimize.optimizer import outside_note, outside_ranges
     from ppm_stiffness.optimize.pareto import choose, front_plan, optimize_front, parse_rule
     from ppm_stiffness.optimize.variables import check_distinct, parse_variable
@@ -261,8 +267,8 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     outside = outside_ranges(design, variables)
     outside_choices = [c for c in choices if c.start(design) is None]
     front_plan(args.budget, not outside and not outside_choices)
-    objectives = [OBJECTIVES[n] for n in names]
-    constraints = [parse_constraint(t) for t in args.constraint]
+    objectives = [for_design(OBJECTIVES[n], design) for n in names]
+    constraints = [parse_constraint(t, design) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
     check_quantities(design, [*objectives, *(c.quantity for c in constraints)], wrench is not None)
@@ -464,9 +470,10 @@ def _print(
 ) -> None:
     console.print(f"region: {region_text(region)}")
     console.print(
-        f"{result.algorithm}: {result.evaluations} evaluations (population "
-        f"{result.population}, {result.generations} generation"
-        f"{'' if result.generations == 1 else 's'}) in {wall:.3g} s, {executor_label(args)}"
+        f"{result.algorithm}: {result.evaluations} evaluations of --budget {result.budget} "
+        f"(population {result.population}, {result.generations} generation"
+        f"{'' if result.generations == 1 else 's'}; {result.refused_by_check} refused by the "
+        f"cheap check, without maps) in {wall:.3g} s, {executor_label(args)}"
         + (" [interrupted: front so far]" if result.interrupted else "")
     )
     table = Table(title=f"Pareto front: {len(result.front)} designs; chosen ({rule}) marked *")

@@ -171,6 +171,7 @@ def run(args: argparse.Namespace) -> int:
             margin=margin,
             frequencies=frequencies,
             hinges=q.needs_hinges,
+            condition=q.needs_condition,
         )
     wall = time.perf_counter() - start
     names = figure_names(design.planar, wrench=wrench is not None, mass=frequencies, margin=margin)

@@ -54,6 +54,9 @@ class LoadedRegion:
         The tangent actuator stiffnesses the loaded K was built with, when asked for.
     poses : ndarray (n, 6) or None
         The full unloaded poses, when asked for.
+    forces : ndarray (n, n_legs) or None
+        The actuator forces G_i [N or N·m, each leg's kind] of the loaded state; NaN
+        where not solved.
     """
 
     twists: FloatArray
@@ -62,6 +65,7 @@ class LoadedRegion:
     stiffness: FloatArray | None = None
     actuator_stiffness: FloatArray | None = None
     poses: FloatArray | None = None
+    forces: FloatArray | None = None
 
     def tool_motion(self) -> tuple[FloatArray, FloatArray]:
         """The tool point's displacement v + omega x (T - P) (n, 3) [m] and the rotation
@@ -123,6 +127,7 @@ def loaded_region(
     twists = np.full((n, 6), np.nan)
     solved = np.zeros(n, dtype=bool)
     n_legs = len(design.legs)
+    forces = np.full((n, n_legs), np.nan)
     mats = np.zeros((n, 6, 6)) if matrices else None
     k_act = np.full((n, n_legs), np.nan) if matrices else None
     full = np.zeros((n, 6)) if matrices else None
@@ -138,12 +143,13 @@ def loaded_region(
         ok = np.asarray(result.valid, dtype=bool)
         solved[rows] = ok
         twists[rows] = np.where(ok[:, None], np.ma.getdata(result.twist), np.nan)
+        forces[rows] = np.where(ok[:, None], np.ma.getdata(result.actuator_forces), np.nan)
         if mats is not None and k_act is not None and full is not None:
             assert result.stiffness is not None
             mats[rows] = result.stiffness
             k_act[rows] = np.where(ok[:, None], np.ma.getdata(result.actuator_stiffness), np.nan)
             full[rows] = result.poses
-    return LoadedRegion(twists, solved, offsets, mats, k_act, full)
+    return LoadedRegion(twists, solved, offsets, mats, k_act, full, forces)
 
 
 def loaded_twists(

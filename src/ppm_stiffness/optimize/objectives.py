@@ -30,12 +30,19 @@ name                       value                                          unit  
 ``stress``                 max over the region of the largest hinge       Pa        minimum
                            stress with the drives anywhere within their
                            strokes (notch hinges, strokes)
+``actuator-effort``        max over the region of the largest |actuator   N or N·m  minimum
+                           force or torque| under --wrench (drives of
+                           one kind; ``effort``)
+``actuator-force``         the same over the linear drives                N         minimum
+``actuator-torque``        the same over the rotary drives                N·m       minimum
+``condition-number``       max over the region of the condition number    1         minimum
+                           of the length-balanced K at the tool point
 =========================  =============================================  ========  =======
 
 For a planar design the stiffness objectives keep the paper's decoupled k_x, k_y, k_phi
 (:mod:`ppm_stiffness.optimize.summary`); for any other design they are the spatial
 worst-direction principal stiffnesses (``k_translational_min``, ``k_rotational_min``).
-``f1`` is another name of ``first-frequency``.
+``f1`` is another name of ``first-frequency``, ``effort`` of ``actuator-effort``.
 
 A constraint is ``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (SI), QUANTITY one of the
 names above or a summary figure (``k_phi_p5``, ``covered_fraction``, ...). A candidate
@@ -69,6 +76,7 @@ class Quantity:
     needs_margin: bool = False
     needs_hinges: bool = False
     needs_candidate: bool = False
+    needs_condition: bool = False
 
     @property
     def needs_frequencies(self) -> bool:
@@ -81,6 +89,12 @@ class Quantity:
             return summary.moving_mass
         if self.name == "reachable-workspace":
             return summary.candidate_share
+        if self.name in _ATTRIBUTE_OF:
+            return (
+                _effort(summary)
+                if self.name == "actuator-effort"
+                else _ATTRIBUTE_OF[self.name](summary)
+            )
         if self.name == "worst-k-translational":
             if not summary.planar:
                 return summary["k_translational_min"]
@@ -90,6 +104,23 @@ class Quantity:
         key = _FIGURE_OF.get(self.name, self.name.replace("-", "_"))
         return summary[key]
 
+
+def _effort(summary: RegionSummary) -> float:
+    """The larger of the force and torque efforts that have a value (a design of one
+    kind of drive has one; :func:`check_quantities` refuses a mixed one)."""
+    values = [
+        v for v in (summary.actuator_force_max, summary.actuator_torque_max) if not math.isnan(v)
+    ]
+    return max(values) if values else math.nan
+
+
+#: The quantities that are attributes of the summary, not figures.
+_ATTRIBUTE_OF = {
+    "actuator-effort": _effort,
+    "actuator-force": lambda s: s.actuator_force_max,
+    "actuator-torque": lambda s: s.actuator_torque_max,
+    "condition-number": lambda s: s.condition_max,
+}
 
 _FIGURE_OF = {
     "worst-k-rotational": "k_phi_min",
@@ -183,10 +214,41 @@ OBJECTIVES: dict[str, Quantity] = {
             "reached without refusal (unreachable, limits, singular)",
             needs_candidate=True,
         ),
+        Quantity(
+            "actuator-effort",
+            "N or N·m",
+            False,
+            True,
+            "max over the region of the largest actuator force or torque magnitude under "
+            "--wrench (a design whose drives are of one kind)",
+        ),
+        Quantity(
+            "actuator-force",
+            "N",
+            False,
+            True,
+            "max over the region of the largest linear actuator force magnitude under --wrench",
+        ),
+        Quantity(
+            "actuator-torque",
+            "N·m",
+            False,
+            True,
+            "max over the region of the largest rotary actuator torque magnitude under --wrench",
+        ),
+        Quantity(
+            "condition-number",
+            "1",
+            False,
+            False,
+            "max over the region of the condition number of the length-balanced K "
+            "(K_rr / L^2, K_rt / L, K_tt; L = 0.1 m) at the tool point, actuators locked",
+            needs_condition=True,
+        ),
     )
 }
 #: Other names of the objectives.
-ALIASES = {"f1": "first-frequency"}
+ALIASES = {"f1": "first-frequency", "effort": "actuator-effort"}
 
 
 def quantity(name: str) -> Quantity:
@@ -233,8 +295,23 @@ class Constraint:
 _CONSTRAINT = re.compile(r"^\s*([A-Za-z_][\w-]*)\s*(<=|>=)\s*(\S+)\s*$")
 
 
-def parse_constraint(text: str) -> Constraint:
-    """``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (VALUE in SI), or InputDataError."""
+def for_design(q: Quantity, design: Design) -> Quantity:
+    """``q`` with its unit stated for ``design``: ``actuator-effort``'s "N or N·m"
+    becomes N (linear drives) or N·m (rotary drives) when the drives are of one kind;
+    any other quantity unchanged."""
+    if q.name != "actuator-effort":
+        return q
+    kinds = {leg.actuator_units()[0] for leg in design.legs}
+    if len(kinds) != 1:
+        return q
+    from dataclasses import replace
+
+    return replace(q, unit=kinds.pop())
+
+
+def parse_constraint(text: str, design: Design | None = None) -> Constraint:
+    """``QUANTITY<=VALUE`` or ``QUANTITY>=VALUE`` (VALUE in SI), or InputDataError; the
+    quantity's unit stated for ``design`` when given (:func:`for_design`)."""
     match = _CONSTRAINT.match(text)
     if match is None:
         raise InputDataError(
@@ -250,7 +327,7 @@ def parse_constraint(text: str) -> Constraint:
         q = quantity(match.group(1))
     except InputDataError as exc:
         raise InputDataError(f"--constraint {text}: {exc}") from None
-    return Constraint(q, bound, match.group(2) == "<=")
+    return Constraint(q if design is None else for_design(q, design), bound, match.group(2) == "<=")
 
 
 def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: bool) -> None:
@@ -276,6 +353,8 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
                 "[workspace.candidate] table (the keys of [workspace.required], usually wider "
                 "ranges)"
             )
+        if q.name.startswith("actuator-"):
+            _require_drives(design, q)
         key = q.description
         family = "paper" if key[:4] in ("k_x_", "k_y_", "k_ph") else None
         family = "principal" if key.startswith(("k_translational", "k_rotational")) else family
@@ -285,6 +364,22 @@ def check_quantities(design: Design, quantities: Sequence[Quantity], wrench: boo
                 f"{q.name} is not a figure of design {design.name!r}; its stiffness figures "
                 f"are {names} (_min, _mean, _p5)"
             )
+
+
+def _require_drives(design: Design, q: Quantity) -> None:
+    """Refuse an actuator effort that ``design``'s drives cannot give: the force of a
+    design without linear drives, the torque of one without rotary drives, the effort
+    (one unit) of one with both (DesignError naming the per-kind quantities)."""
+    kinds = {leg.actuator_units()[0] for leg in design.legs}
+    if q.name == "actuator-effort" and len(kinds) > 1:
+        raise DesignError(
+            f"{q.name}: design {design.name!r} has linear (N) and rotary (N·m) drives; "
+            "use actuator-force [N] and actuator-torque [N·m]"
+        )
+    wanted = {"actuator-force": "N", "actuator-torque": "N·m"}.get(q.name)
+    if wanted is not None and wanted not in kinds:
+        kind = "linear" if wanted == "N" else "rotary"
+        raise DesignError(f"{q.name}: design {design.name!r} has no {kind} drive")
 
 
 def _require_hinges(design: Design, q: Quantity) -> None:
@@ -301,6 +396,13 @@ def _require_hinges(design: Design, q: Quantity) -> None:
 
 
 def violation(summary: RegionSummary, constraints: Sequence[Constraint]) -> float:
-    """Uncovered fraction plus the constraints' shortfalls (0: feasible)."""
+    """Uncovered fraction plus the constraints' shortfalls (0: feasible); for a design
+    the cheap check refused, :func:`~ppm_stiffness.optimize.precheck.check_violation`
+    plus 1 per constraint (no value), whether or not its maps were computed."""
+    if summary.refused_by_check:
+        from ppm_stiffness.optimize.precheck import check_violation
+
+        gap = check_violation(summary.check_poses, summary.check_refused)
+        return gap + float(len(constraints))
     total = 0.0 if summary.covers else 1.0 - summary.covered_fraction + 1e-3
     return total + sum(c.shortfall(summary) for c in constraints)

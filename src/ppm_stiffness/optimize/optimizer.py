@@ -19,14 +19,17 @@ What the evolution minimises, per candidate: for a feasible one the objective in
 of the start design's (``-value / |initial|`` for a maximised objective,
 ``value / |initial|`` for a minimised one); for an infeasible one ``1e9 + violation``
 (:func:`~ppm_stiffness.optimize.objectives.violation`), so that every feasible candidate
-ranks above every infeasible one and the less infeasible above the more.
+ranks above every infeasible one and the less infeasible above the more. A candidate
+the cheap check refuses (:mod:`ppm_stiffness.optimize.precheck`) is not mapped
+(``cheap_checks``); its violation comes from the check alone.
 
 Budget: every evaluation of a design counts, the start design's included (it is
-evaluated first, and reused as the first member of the population when its values lie
-in the box). The population has ``S = max(5, min(15 d, budget // 10))`` members for d
-variables and the evolution runs ``(budget - e) // S - 1`` generations, e = 0 when the
-start design is the population's first member and 1 when it lies outside the box (an
-evaluation outside the population), so evaluations never exceed the budget and the
+evaluated first, in full, and reused as the first member of the population when its
+values lie in the box; a candidate the cheap check refuses counts as one). The
+population has ``S = max(5, min(15 d, budget // 10))`` members for d variables and
+the evolution runs ``(budget - e) // S - 1`` generations, e = 0 when the start design
+is the population's first member and 1 when it lies outside the box (an evaluation
+outside the population), so evaluations never exceed the budget and the
 smallest budget, ``2 S + e`` = 10 or 11, runs one generation
 (:func:`population_plan`). Polishing is off: the objectives are minima and maxima over
 a grid of poses (not smooth), so a gradient polish would spend evaluations on finite
@@ -104,6 +107,9 @@ class OptimizationResult:
         (variable name, the start design's value) of each variable whose start value
         lies outside its range (None: a glob's matches differ); empty when the start
         design is a candidate (the population's first member).
+    refused_by_check : int
+        Candidates the cheap check refused (:mod:`ppm_stiffness.optimize.precheck`):
+        counted in ``evaluations``, their maps skipped.
     """
 
     objective: Quantity
@@ -123,6 +129,7 @@ class OptimizationResult:
     constraints: list[Constraint] = field(default_factory=list)
     budget: int = 0
     outside: list[tuple[str, float | None]] = field(default_factory=list)
+    refused_by_check: int = 0
 
     def partial_note(self) -> str | None:
         """One line saying that the result is partial (None when it is not): for a
@@ -241,10 +248,15 @@ class _Evaluator:
         frequencies: bool = False,
         hinges: bool = False,
         reach: bool = False,
+        condition: bool = False,
+        check: str = "skip",
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
         self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
+        self.condition, self.check = condition, check
         self.reach = reach
+        #: designs the cheap check refused (their maps skipped with ``check="skip"``)
+        self.refused = 0
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -300,6 +312,8 @@ class _Evaluator:
                 self.frequencies,
                 self.hinges,
                 self.reach,
+                self.condition,
+                self.check,
             )
             for k in todo
         ]
@@ -308,11 +322,13 @@ class _Evaluator:
         except Interrupted as stop:
             for i in sorted(stop.done):
                 self.evaluations += 1
+                self.refused += stop.done[i].refused_by_check
                 self.record(todo[i], stop.done[i])
             raise
         for k, summary in zip(todo, results, strict=True):
             self.cache[k] = summary
             self.evaluations += 1
+            self.refused += summary.refused_by_check
         energies = [self.record(k, self.cache[k]) for k in keys]
         self.generations += 1
         self.history.append((self.evaluations, self.best_objective()))
@@ -331,6 +347,7 @@ def optimize_design(
     constraints: Sequence[Constraint] = (),
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    cheap_checks: bool = True,
 ) -> OptimizationResult:
     """Optimise ``design`` over ``region`` (module doc).
 
@@ -355,6 +372,10 @@ def optimize_design(
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
         Called with 1 after each evaluation.
+    cheap_checks : bool
+        Skip the maps of a candidate that the cheap check refuses
+        (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
+        ranking, at the maps' cost). The start design is always evaluated in full.
 
     Returns
     -------
@@ -385,10 +406,11 @@ def optimize_design(
     frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
     hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
     reach = any(q.needs_candidate for q in quantities)  # and the candidate region
+    condition = any(q.needs_condition for q in quantities)
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies, hinges, reach)]
+        args = [(design, None, region, w, margin, frequencies, hinges, reach, condition)]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -420,6 +442,8 @@ def optimize_design(
         frequencies,
         hinges,
         reach,
+        condition,
+        "skip" if cheap_checks else "record",
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))
@@ -476,6 +500,7 @@ def optimize_design(
         constraints=list(constraints),
         budget=budget,
         outside=[(v.name, value) for v, value in outside],
+        refused_by_check=evaluator.refused,
     )
 
 

@@ -13,6 +13,11 @@ design always ranks above an infeasible one and the less infeasible above the mo
   for ``<=`` and ``(bound - value) / |bound|`` for ``>=`` (1 when not finite), as in
   :func:`~ppm_stiffness.optimize.objectives.violation`.
 
+A design the cheap check refuses (:mod:`ppm_stiffness.optimize.precheck`: a corner of
+the region or the home pose unreachable or singular) has G = (1.001 + refused share of
+the check poses, 1, 1, ...), from the check alone, its maps not computed
+(``cheap_checks``).
+
 What pymoo minimises, per design: each objective in units of the start design's,
 ``-value / |initial|`` for a maximised one and ``value / |initial|`` for a minimised
 one (:func:`scaled_objectives`).
@@ -38,6 +43,7 @@ the box). The population has ``S = max(8, min(100, budget // 10))`` members and 
 ``(budget - e) // S - 1`` generations after the initial population, e = 1 when the start
 design lies outside the box (:func:`front_plan`); pymoo removes duplicate offspring,
 and a design met again is not evaluated again, so evaluations never exceed the budget.
+A design the cheap check refuses counts as one evaluation.
 """
 
 from __future__ import annotations
@@ -132,6 +138,9 @@ class FrontResult:
         Variables whose start value lies outside their range.
     history : list of (int, int)
         (evaluations so far, front size) after the start design and each generation.
+    refused_by_check : int
+        Designs the cheap check refused (:mod:`ppm_stiffness.optimize.precheck`):
+        counted in ``evaluations``, their maps skipped.
     """
 
     objectives: list[Quantity]
@@ -149,6 +158,7 @@ class FrontResult:
     interrupted: bool = False
     outside: list[tuple[str, float | None]] = field(default_factory=list)
     history: list[tuple[int, int]] = field(default_factory=list)
+    refused_by_check: int = 0
 
     def minimised(self) -> FloatArray:
         """The front's objectives (k, m) signed so that smaller is better [units]."""
@@ -217,6 +227,11 @@ def constraint_values(
     objectives: Sequence[Quantity], constraints: Sequence[Constraint], summary: RegionSummary
 ) -> FloatArray:
     """G (2 + number of constraints,): feasible when every entry is <= 0 (module doc)."""
+    if summary.refused_by_check:
+        from ppm_stiffness.optimize.precheck import check_violation
+
+        gap = check_violation(summary.check_poses, summary.check_refused)
+        return np.asarray([gap, 1.0, *([1.0] * len(constraints))])
     g = [0.0 if summary.covers else 1.0 - summary.covered_fraction + 1e-3]
     finite = all(math.isfinite(q.value(summary)) for q in objectives)
     g.append(0.0 if finite and summary.error is None else 1.0)
@@ -344,9 +359,11 @@ class _Archive:
         self.variables = variables
         self.summaries: dict[tuple[float, ...], tuple[int, RegionSummary]] = {}
         self.evaluations = 0
+        self.refused = 0
 
     def add(self, key: tuple[float, ...], summary: RegionSummary) -> None:
         self.evaluations += 1
+        self.refused += summary.refused_by_check
         self.summaries.setdefault(key, (self.evaluations, summary))
 
     def record(
@@ -445,6 +462,7 @@ def optimize_front(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     choices: Sequence[Choice] = (),
+    cheap_checks: bool = True,
 ) -> FrontResult:
     """The Pareto front of ``objectives`` over ``region`` (module doc).
 
@@ -471,6 +489,10 @@ def optimize_front(
     choices : sequence of Choice
         Catalogue choices (:func:`~ppm_stiffness.optimize.catalogue.parse_choice`):
         integer variables, the entry's index, rounded by a repair step.
+    cheap_checks : bool
+        Skip the maps of a design that the cheap check refuses
+        (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
+        ranking, at the maps' cost). The start design is always evaluated in full.
 
     Returns
     -------
@@ -508,7 +530,9 @@ def optimize_front(
     frequencies = any(q.needs_frequencies for q in quantities)
     hinges = any(q.needs_hinges for q in quantities)
     reach = any(q.needs_candidate for q in quantities)
+    condition = any(q.needs_condition for q in quantities)
     executor = SerialExecutor() if executor is None else executor
+    check = "skip" if cheap_checks else "record"
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
         args = [
@@ -521,6 +545,8 @@ def optimize_front(
                 frequencies,
                 hinges,
                 reach,
+                condition,
+                "none" if k is None else check,
             )
             for k in keys
         ]
@@ -599,6 +625,7 @@ def optimize_front(
         interrupted=interrupted,
         outside=outside,
         history=history,
+        refused_by_check=archive.refused,
     )
 
 

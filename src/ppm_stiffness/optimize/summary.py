@@ -51,6 +51,19 @@ locked) and reduces them to a handful of numbers (:class:`RegionSummary`):
   coordinates within limits, not singular: the required region's coverage test,
   :func:`candidate_share`). Every other figure stays over the required region.
 
+Beside the figures, three attributes of the record (not table figures: the JSON
+documents of ``compare`` and ``sweep`` keep their keys), for the objectives of
+``optimize`` (docs/optimization.md):
+
+- under a wrench, ``actuator_force_max`` [N] and ``actuator_torque_max`` [N·m]: the
+  largest |G_i| over the covered poses of the loaded state's actuator forces
+  (frozen geometry, as ``analyze --wrench``), over the linear drives and over the
+  rotary drives (NaN for a kind the design does not have; +inf where a loaded state
+  fails);
+- with ``condition``: ``condition_max`` [1], the largest over the covered poses of the
+  2-norm condition number of the length-balanced K at the tool point, the actuators
+  locked, unloaded (:func:`balanced_condition`).
+
 A figure that has no value (no covered pose; no wrench; no mass model) is NaN in the
 record and ``None`` in :meth:`RegionSummary.figures`, never a number.
 """
@@ -186,6 +199,18 @@ class RegionSummary:
         ``[workspace.candidate]``.
     candidate_poses : int
         Grid poses of the candidate region evaluated (0: not asked for).
+    actuator_force_max, actuator_torque_max : float
+        Under a wrench, the largest |actuator force| [N] of the linear drives and
+        |torque| [N·m] of the rotary ones over the covered poses (module doc).
+    condition_max : float
+        The largest condition number of the length-balanced K over the covered poses
+        [1] (:func:`balanced_condition`), when asked for.
+    check_poses, check_refused : int
+        The cheap check's poses and how many of them it refused
+        (:mod:`ppm_stiffness.optimize.precheck`; 0, 0: not checked).
+    maps : bool
+        The region's maps were computed (False: a design the check refused, its
+        figures NaN).
     """
 
     values: dict[str, float]
@@ -199,6 +224,17 @@ class RegionSummary:
     moving_mass: float = math.nan
     candidate_share: float = math.nan
     candidate_poses: int = 0
+    actuator_force_max: float = math.nan
+    actuator_torque_max: float = math.nan
+    condition_max: float = math.nan
+    check_poses: int = 0
+    check_refused: int = 0
+    maps: bool = True
+
+    @property
+    def refused_by_check(self) -> bool:
+        """The cheap check refused a corner of the region or the home pose."""
+        return self.check_refused > 0
 
     @property
     def covers(self) -> bool:
@@ -304,6 +340,7 @@ def summarize(
     frequencies: bool = True,
     hinges: bool = False,
     reach: bool = False,
+    condition: bool = False,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -329,6 +366,8 @@ def summarize(
     reach : bool
         The share of the design's candidate region reached (``candidate_share``; NaN
         for a design without ``[workspace.candidate]``).
+    condition : bool
+        Also ``condition_max`` (the length-balanced K's condition number; NaN without).
 
     Returns
     -------
@@ -358,10 +397,11 @@ def summarize(
     locked_f1 = mass and w is None
     names: tuple[str, ...] = ("k_x", "k_y", "k_phi")
     full: FloatArray | None = None
+    want_k = locked_f1 or condition
     if design.planar:
-        covered, k, stiffness = _paper(design, poses, locked_f1)
+        covered, k, stiffness = _paper(design, poses, want_k)
     else:
-        covered, k, stiffness, full = _principal(design, poses, locked_f1)
+        covered, k, stiffness, full = _principal(design, poses, want_k)
         names = ("k_translational", "k_rotational")
     values: dict[str, float] = {n: math.nan for n in FIGURE_UNITS}
     values["covered_fraction"] = float(np.mean(covered))
@@ -375,12 +415,19 @@ def summarize(
             full = full_poses(design, poses)[0].reshape(-1, 6)
         f1 = first_frequencies(design, full[covered], stiffness[covered])
         values.update(_statistics(f1, "f1"))
+    cond = math.nan
+    if condition and np.any(covered):
+        assert stiffness is not None
+        cond = float(np.max(balanced_condition(design, poses[covered], stiffness[covered])))
     failures = 0
     first: tuple[float, ...] | None = None
+    efforts = (math.nan, math.nan)
     if w is not None and np.any(covered):
         state = loaded_region(design, poses[covered], w, matrices=mass)
         solved = state.solved
         failures = int(np.count_nonzero(~solved))
+        assert state.forces is not None
+        efforts = actuator_efforts(design, state.forces)
         if failures:
             values["max_displacement"] = values["max_rotation"] = math.inf
             first = tuple(float(v) for v in poses[covered][~solved][0])
@@ -418,6 +465,9 @@ def summarize(
         planar=design.planar,
         margin_poses=margin_count,
         moving_mass=_moving_mass(design),
+        actuator_force_max=efforts[0],
+        actuator_torque_max=efforts[1],
+        condition_max=cond,
     )
     return _with_candidate(summary, design) if reach else summary
 
@@ -448,6 +498,55 @@ def _with_candidate(summary: RegionSummary, design: Design) -> RegionSummary:
         return summary
     share, count = candidate_share(design, candidate)
     return replace(summary, candidate_share=share, candidate_poses=count)
+
+
+def actuator_efforts(design: Design, forces: FloatArray) -> tuple[float, float]:
+    """The largest |actuator force| [N] over the linear drives and |torque| [N·m]
+    over the rotary ones of loaded states ``forces`` (n, n_legs) [each leg's kind];
+    NaN for a kind the design does not have, +inf where a row is NaN (a loaded state
+    that failed: the worst case is unknown)."""
+    rotary = np.array([leg.actuator_units()[0] == "N·m" for leg in design.legs])
+    out = []
+    for kind in (~rotary, rotary):
+        if not np.any(kind) or forces.shape[0] == 0:
+            out.append(math.nan)
+            continue
+        g = np.abs(forces[:, kind])
+        out.append(math.inf if np.any(np.isnan(g)) else float(np.max(g)))
+    return out[0], out[1]
+
+
+def balanced_condition(design: Design, poses: FloatArray, stiffness: FloatArray) -> FloatArray:
+    """The condition number (n,) [1] of the length-balanced stiffness at the tool point.
+
+    Parameters
+    ----------
+    design : Design
+    poses : ndarray (n, n_task)
+        Task coordinates of P in F_b [m, rad].
+    stiffness : ndarray (n, 6, 6)
+        K at P, axes of F_b [N·m/rad, N, N/m].
+
+    Returns
+    -------
+    ndarray (n,)
+        ``cond_2(S K_T S)``: K_T = A K A^T moved to the tool point
+        (:func:`~ppm_stiffness.optimize.loaded.shift`; P without one), S = diag(1/L,
+        1/L, 1/L, 1, 1, 1), L = :data:`~ppm_stiffness.core.conventions.LENGTH_SCALE`
+        = 0.1 m (:func:`~ppm_stiffness.core.conventions.length_balanced`): every entry
+        in N/m, so that a rotation of L·phi and a displacement of the same length
+        weigh alike. K_T is symmetric positive definite: the ratio of its largest to
+        its smallest balanced eigenvalue. Invariant under a rotation of the base frame
+        (S commutes with diag(R, R)); not under a change of the reference point or of
+        L.
+    """
+    from ppm_stiffness.core.conventions import length_balanced
+
+    k = np.asarray(stiffness, dtype=float)
+    if np.any(np.asarray(design.tool_point, dtype=float)) and k.shape[0]:
+        a = shift(tool_offsets(design, poses))
+        k = a @ k @ np.swapaxes(a, -1, -2)
+    return np.asarray(np.linalg.cond(length_balanced(k)))
 
 
 def _hinge_figures(design: Design, poses: FloatArray) -> dict[str, float]:
@@ -487,6 +586,10 @@ def _moving_mass(design: Design) -> float:
     return moving_mass(design)["total"]
 
 
+#: The cheap-check modes of :func:`summarize_candidate`.
+CHECKS = ("none", "skip", "record")
+
+
 def summarize_candidate(
     design: Design,
     values: Mapping[str, float] | None,
@@ -496,12 +599,20 @@ def summarize_candidate(
     frequencies: bool = True,
     hinges: bool = False,
     reach: bool = False,
+    condition: bool = False,
+    check: str = "none",
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
     maps). Parameter values the design schema refuses give a :meth:`RegionSummary.failed`
     record (nothing covered) instead of an error, so that an optimiser can step over
     them.
+
+    ``check``: ``"none"``; ``"skip"``, the cheap check first
+    (:mod:`ppm_stiffness.optimize.precheck`), and a design it refuses returned without
+    its maps (``maps`` False, its figures NaN); ``"record"``, the check and the maps of
+    every design (the check's outcome recorded: an optimiser ranks the design as with
+    ``"skip"``).
     """
     from ppm_stiffness.optimize.executors import limit_threads
     from ppm_stiffness.optimize.variables import apply_values
@@ -512,7 +623,25 @@ def summarize_candidate(
             design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
-    return summarize(design, region, wrench, margin, frequencies, hinges, reach)
+    if check not in CHECKS:
+        from ppm_stiffness.core.errors import InputDataError
+
+        raise InputDataError(f"check must be one of {', '.join(CHECKS)}, got {check!r}")
+    if check == "none" or tuple(region.ranges()) != tuple(design.task_coordinates):
+        return summarize(design, region, wrench, margin, frequencies, hinges, reach, condition)
+    from dataclasses import replace
+
+    from ppm_stiffness.optimize.precheck import refused_check_poses
+
+    n, refused = refused_check_poses(design, region)
+    if refused and check == "skip":
+        values = {name: math.nan for name in FIGURE_UNITS}
+        poses = math.prod(region.grid)
+        return RegionSummary(
+            values, poses, 0, planar=design.planar, check_poses=n, check_refused=refused, maps=False
+        )
+    full = summarize(design, region, wrench, margin, frequencies, hinges, reach, condition)
+    return replace(full, check_poses=n, check_refused=refused)
 
 
 def summary_names(summaries: Sequence[RegionSummary], wrench: bool, mass: bool) -> list[str]:

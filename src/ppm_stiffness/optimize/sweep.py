@@ -116,6 +116,7 @@ def sweep_designs(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    condition: bool = False,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -146,6 +147,8 @@ def sweep_designs(
         stiffness figures); False: NaN.
     hinges : bool
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``); False: NaN.
+    condition : bool
+        The length-balanced K's condition number (``condition_max``); False: NaN.
 
     Returns
     -------
@@ -156,7 +159,18 @@ def sweep_designs(
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
     args = [
-        (design, assignments(variables, p), region, w, margin, frequencies, hinges) for p in points
+        (
+            design,
+            assignments(variables, p),
+            region,
+            w,
+            margin,
+            frequencies,
+            hinges,
+            False,
+            condition,
+        )
+        for p in points
     ]
     try:
         summaries = run_ordered(executor, summarize_candidate, args, progress)
