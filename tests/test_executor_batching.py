@@ -11,6 +11,8 @@ from collections.abc import Callable
 from concurrent.futures import Executor, Future
 from typing import Any
 
+import pytest
+
 from ppm_stiffness.optimize.executors import (
     MIN_TASKS,
     TASK_SECONDS,
@@ -32,8 +34,7 @@ class CountingExecutor(Executor):
         return SerialExecutor().submit(fn, *args, **kwargs)
 
 
-def _slow_square(x: int) -> int:
-    time.sleep(0.002)
+def _square(x: int) -> int:
     return x * x
 
 
@@ -45,14 +46,19 @@ def test_items_per_task_rule() -> None:
     assert items_per_task(100, float("nan")) == 1
 
 
-def test_grouped_tasks_give_the_serial_results_in_order() -> None:
+def test_grouped_tasks_give_the_serial_results_in_order(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Item 0 is timed here on a clock that advances 2 ms per reading (a real clock made
+    the task count depend on the machine's load: 17 tasks instead of 16 at load 8)."""
+    ticks = iter(0.002 * k for k in range(1_000))
+    monkeypatch.setattr(time, "perf_counter", lambda: next(ticks))
     pool = CountingExecutor()
     items = [(i,) for i in range(200)]
     advanced: list[float] = []
-    out = run_ordered(pool, _slow_square, items, advanced.append)
+    out = run_ordered(pool, _square, items, advanced.append)
     assert out == [i * i for i in range(200)]
     assert sum(advanced) == 200
-    # item 0 is timed here (about 2 ms), the other 199 go in tasks of ceil(199 / 16)
+    # item 0 took 2 ms: the balance bound, the other 199 in tasks of ceil(199 / 16)
+    assert items_per_task(199, 0.002) == math.ceil(199 / MIN_TASKS)
     assert pool.tasks == math.ceil(199 / math.ceil(199 / MIN_TASKS))
 
 
