@@ -83,21 +83,32 @@ def _reference(name: str) -> np.ndarray:
     return reference_wrench(design, pose, k).wrench
 
 
+class _Pages(dict[str, str]):
+    """Each example's report page, built when a test first asks for it (a worker of
+    ``pytest -n`` builds only the pages of the tests it runs)."""
+
+    def __init__(self, where: Callable[[], Path], example_report: Callable[[str], str]) -> None:
+        super().__init__()
+        self.where, self.example_report = where, example_report
+
+    def __missing__(self, name: str) -> str:
+        if name == "3prs":
+            where = self.where()
+            design_file = ROOT / "examples" / "3prs.toml"
+            argv = ["report", "--design", str(design_file), *PRS_OPTIONS, "--quiet", "--grid", "6"]
+            assert main([*argv, "--out", str(where)]) == 0
+            page = (where / "report.html").read_text(encoding="utf-8")
+        else:
+            page = self.example_report(name)  # build_report, small maps: fast
+        self[name] = page
+        return page
+
+
 @pytest.fixture(scope="module")
 def pages(
     tmp_path_factory: pytest.TempPathFactory, example_report: Callable[[str], str]
 ) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for name in SPATIAL:
-        if name == "3prs":
-            where = tmp_path_factory.mktemp("report")
-            design_file = ROOT / "examples" / "3prs.toml"
-            argv = ["report", "--design", str(design_file), *PRS_OPTIONS, "--quiet", "--grid", "6"]
-            assert main([*argv, "--out", str(where)]) == 0
-            out[name] = (where / "report.html").read_text(encoding="utf-8")
-        else:
-            out[name] = example_report(name)  # build_report, small maps: fast
-    return out
+    return _Pages(lambda: tmp_path_factory.mktemp("report"), example_report)
 
 
 @pytest.mark.parametrize("name", SPATIAL)
@@ -225,8 +236,8 @@ def test_mechanism_captions_name_what_each_design_has(pages: dict[str, str]) -> 
     """The 3-D view's caption names the joints, rails and tool point a design has and
     nothing else: U for the hexapod, rails and a tool point for the 3-PRS."""
     captions = {
-        name: re.search(r'id="fig-mechanism".*?<figcaption>(.*?)</figcaption>', page, re.S)
-        for name, page in pages.items()
+        name: re.search(r'id="fig-mechanism".*?<figcaption>(.*?)</figcaption>', pages[name], re.S)
+        for name in ("hexapod_6ups", "3prs", "3rps")
     }
     text = {name: m.group(1) for name, m in captions.items() if m is not None}
     assert "universal joints U: a cross" in text["hexapod_6ups"]

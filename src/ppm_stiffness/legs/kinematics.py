@@ -35,6 +35,7 @@ Arrays have one leading batch axis (n poses). SI throughout.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -42,6 +43,7 @@ from numpy.typing import ArrayLike
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import LENGTH_SCALE, BoolArray, FloatArray, cross, hat
 
+_EYE = np.eye(3)
 #: Largest closure error [m, or rad times LENGTH_SCALE] of a closed chain.
 CLOSURE_TOLERANCE = 1e-12
 #: Largest closure error [m, balanced] of a chain that closes: a Newton solution beyond
@@ -80,6 +82,21 @@ class Freedoms:
     @property
     def count(self) -> int:
         return int(self.axes.shape[0])
+
+    @cached_property
+    def hats(self) -> FloatArray:
+        """``hat(a)`` of every axis (n, 3, 3) (computed once per chain)."""
+        return hat(self.axes)
+
+    @cached_property
+    def outers(self) -> FloatArray:
+        """``a a^T`` of every axis (n, 3, 3)."""
+        return np.asarray(self.axes[:, :, None] * self.axes[:, None, :])
+
+    @cached_property
+    def slides(self) -> BoolArray:
+        """``prismatic`` as booleans (n,)."""
+        return np.asarray(self.prismatic, dtype=bool)
 
     def __eq__(self, other: object) -> bool:
         """Equal arrays (a leg caches its freedoms: two equal legs compare equal)."""
@@ -139,20 +156,21 @@ def forward(freedoms: Freedoms, q: FloatArray) -> tuple[FloatArray, FloatArray]:
     n, f = q.shape
     rot = np.empty((n, f + 1, 3, 3))
     trans = np.empty((n, f + 1, 3))
-    rot[:, 0] = np.eye(3)
+    rot[:, 0] = _EYE
     trans[:, 0] = 0.0
+    if f == 0:
+        return rot, trans
+    # Rodrigues for every freedom at once: R_i = cos I + sin hat(a) + (1 - cos) a a^T
+    cos, sin = np.cos(q)[:, :, None, None], np.sin(q)[:, :, None, None]
+    turns = cos * _EYE + sin * freedoms.hats + (1.0 - cos) * freedoms.outers
     for i in range(f):
-        a = freedoms.axes[i]
         if freedoms.prismatic[i]:
             rot[:, i + 1] = rot[:, i]
-            trans[:, i + 1] = trans[:, i] + q[:, i, None] * (rot[:, i] @ a)
+            trans[:, i + 1] = trans[:, i] + q[:, i, None] * (rot[:, i] @ freedoms.axes[i])
             continue
-        # Rodrigues: R_i = cos I + sin hat(a) + (1 - cos) a a^T, about c: t_i = c - R_i c
-        cos, sin = np.cos(q[:, i])[:, None, None], np.sin(q[:, i])[:, None, None]
-        r_i = cos * np.eye(3) + sin * hat(a) + (1.0 - cos) * np.outer(a, a)
         c = freedoms.points[i]
-        rot[:, i + 1] = rot[:, i] @ r_i
-        # x -> R_prev (R_i (x - c) + c) + t_prev
+        rot[:, i + 1] = rot[:, i] @ turns[:, i]
+        # about c: x -> R_prev (R_i (x - c) + c) + t_prev
         trans[:, i + 1] = trans[:, i] + rot[:, i] @ c - rot[:, i + 1] @ c
     return rot, trans
 
@@ -179,14 +197,15 @@ def jacobian(
     n = rot.shape[0]
     f = freedoms.count
     out = np.zeros((n, 6, f))
-    for i in range(f):
-        a = rot[:, i] @ freedoms.axes[i]
-        if freedoms.prismatic[i]:
-            out[:, 3:, i] = a
-        else:
-            c = (rot[:, i] @ freedoms.points[i]) + trans[:, i]
-            out[:, :3, i] = a
-            out[:, 3:, i] = cross(c - reference, a)
+    if f == 0:
+        return out
+    body = rot[:, :f]  # the body carrying each freedom's axis
+    a = (body @ freedoms.axes[:, :, None])[..., 0]  # (n, f, 3)
+    c = (body @ freedoms.points[:, :, None])[..., 0] + trans[:, :f]
+    moment = cross(c - reference[:, None, :], a)
+    prismatic = freedoms.slides[:, None]
+    out[:, :3] = np.swapaxes(np.where(prismatic, 0.0, a), 1, 2)
+    out[:, 3:] = np.swapaxes(np.where(prismatic, a, moment), 1, 2)
     return out
 
 
