@@ -29,7 +29,6 @@ from helpers import (  # noqa: E402
     ROOT,
     colour_count,
     design_named,
-    drive_in_parallel,
     example_designs,
     half_unit,
     is_spatial,
@@ -47,9 +46,7 @@ from ppm_stiffness.visuals.report_spatial import DEFLECTION_SCALES  # noqa: E402
 from ppm_stiffness.visuals.report_wrench import reference_wrench  # noqa: E402
 from report_cells import check_cells, parse, screenshot  # noqa: E402
 
-#: Not a design whose drive acts in parallel with a flexure: the report's loaded case is
-#: refused for it (tests/test_hinge_stress.py).
-SPATIAL = tuple(example_designs(lambda d: is_spatial(d) and not drive_in_parallel(d)))
+SPATIAL = tuple(example_designs(is_spatial))
 PRS_OPTIONS = ["--z", "420", "--rx", "8", "--ry", "-5"]
 PRS_TASK = np.array([0.42, math.radians(8.0), math.radians(-5.0)])
 SECTIONS = (
