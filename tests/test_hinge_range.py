@@ -179,3 +179,27 @@ def test_the_hinge_range_maps_unit_and_subtitle(tmp_path: Path) -> None:
     from dataclasses import replace
 
     assert replace(smap, drive_unit="m").unit("hinge_range") == "m"
+
+
+def test_compare_gives_the_stages_hinge_figures(capsys: pytest.CaptureFixture[str]) -> None:
+    """`compare --json` of the stage carries its hinge range and stress (numbers, not
+    null): the smallest drive range and the largest stroke stress over its required
+    region's poses (pose by pose, the library's), the range in rad (its drives')."""
+    import json
+
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.optimize.region import region_poses
+    from ppm_stiffness.statics.hinge_stress import drive_range, stroke_stress
+
+    assert main(["compare", "--design", str(STAGE), "--json", "--quiet", "--no-f1"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    figures = doc["designs"][0]["figures"]
+    design = load_design(STAGE)
+    region = design.workspace.required
+    assert region is not None
+    poses = region_poses(region).reshape(-1, 3)
+    ranges = [drive_range(design, p) for p in poses]
+    stresses = [stroke_stress(design, p) for p in poses]
+    assert figures["hinge_range_min"] == pytest.approx(min(ranges), rel=1e-12)
+    assert figures["hinge_stress_max"] == pytest.approx(max(stresses), rel=1e-12)
+    assert doc["units"]["figures.hinge_range_min"] == "rad"

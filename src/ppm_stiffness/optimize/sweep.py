@@ -179,10 +179,12 @@ def summarize_designs(
     progress: Callable[[float], None] | None = None,
     margin: bool = False,
     frequencies: bool = True,
+    hinges: bool = False,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
-    with a mass model.
+    with a mass model; ``hinges``: the hinge figures of a design with notch hinges (NaN
+    for another).
 
     Raises
     ------
@@ -200,6 +202,6 @@ def summarize_designs(
     return run_ordered(
         executor,
         summarize_candidate,
-        [(d, None, region, w, margin, frequencies) for d in designs],
+        [(d, None, region, w, margin, frequencies, hinges) for d in designs],
         progress,
     )
