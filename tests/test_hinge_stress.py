@@ -224,15 +224,21 @@ def test_analyze_prints_the_hinge_table(
         ),
     ],
 )
+@pytest.mark.parametrize("command", ["analyze", "deflect"])
 def test_bad_safety_factor_is_refused(
-    argv: list[str], message: str, stage_path: Path, capsys: pytest.CaptureFixture[str]
+    argv: list[str],
+    message: str,
+    command: str,
+    stage_path: Path,
+    capsys: pytest.CaptureFixture[str],
 ) -> None:
     from ppm_stiffness.cli import main
 
     argv = [str(stage_path) if a == "STAGE" else a for a in argv]
-    assert main(["analyze", *argv]) == 2
+    assert main([command, *argv]) == 2
     captured = capsys.readouterr()
     assert message in captured.err and captured.out == ""
+    assert len(captured.err.strip().splitlines()) == 1
 
 
 def test_the_stage_goes_through_the_loaded_commands(
