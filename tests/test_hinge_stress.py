@@ -269,6 +269,9 @@ def test_the_stage_goes_through_the_loaded_commands(
     deflect += ["--max", "60", "--step", "15", "--safety-factor", "2"]
     assert main([*deflect, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = (ROOT / "docs" / "schemas" / "deflect.schema.json").read_text(encoding="utf-8")
+    jsonschema.validate(doc, json.loads(schema))
     hinges = doc["hinge_stress"]
     model = hinge_model(design)
     loads = np.asarray(doc["loads"])
