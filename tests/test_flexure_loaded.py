@@ -51,7 +51,7 @@ def test_the_stages_drive_has_the_hinge_in_parallel(stage: Design) -> None:
 
 def test_the_loaded_k_at_zero_wrench_is_the_unloaded_k(stage: Design) -> None:
     """Frozen and moving: K_F(0) = K (measured 0 and 1.3e-13 of the diagonal); K with
-    the hinge's share left out of the actuated freedom differs by 1.2e-5, far above."""
+    the hinge's share left out of the actuated freedom differs by 8.1e-5, far above."""
     k = stiffness_at_pose(stage)
     assert _relative(loaded_state(stage, np.zeros(6)).stiffness_matrix, k) < 1e-14
     assert _relative(moving_loaded_state(stage, np.zeros(6)).stiffness_matrix, k) < 1e-12
@@ -214,7 +214,7 @@ def test_the_hinge_stress_along_a_nonlinear_curve(stage: Design) -> None:
     """Along a deflection curve with the softening drive law, each load's largest hinge
     stress is the one the loaded state's own leg wrenches give (the equilibrium's, not
     rebuilt from the curve's twist), its base hinges bent by ``k_h delta``: to 1e-9
-    (the integrated curve; measured 2e-13)."""
+    (the integrated curve, to its integration tolerance: measured 1.1e-10)."""
     from ppm_stiffness.statics.deflection import deflection_path
     from ppm_stiffness.statics.hinge_stress import curve_stresses, hinge_model
 
