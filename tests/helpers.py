@@ -170,19 +170,6 @@ def within_required(design: Design, spans: Any, widen: float = 1.0) -> np.ndarra
     return out
 
 
-def drive_in_parallel(design: Design) -> bool:
-    """A leg's drive acts in parallel with a flexure (its actuated joint is elastic or a
-    notch hinge): its loaded states, actuator forces and deflections are refused
-    (``statics/structures.py``, ``ChainLeg.moving_geometry_gap``); only its frozen
-    stiffness, maps, modes and hinge stress apply."""
-    return any(
-        getattr(e, "actuated", False)
-        and (getattr(e, "elastic", None) is not None or getattr(e, "hinge", None) is not None)
-        for leg in design.legs
-        for e in getattr(leg, "elements", [])
-    )
-
-
 def check_entries(table: Iterable[str], names: Iterable[str], what: str) -> None:
     """Fail naming every discovered example without an entry in a table of per-example
     reference values (its keys, or the names it lists): a new example must get its

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import legacy_ppr
-from helpers import drive_in_parallel, flexure_jointed, within_required
+from helpers import flexure_jointed, within_required
 from ppm_stiffness.analysis import analyze_design
 from ppm_stiffness.core.conventions import length_balanced, rotation_z, twist_b_from_twist_a
 from ppm_stiffness.core.pose import pose_from_rotation, rotation
@@ -302,8 +302,6 @@ def test_tool_point_power_invariance_and_transport(name: str) -> None:
         t_p = np.concatenate([rng.normal(size=3) * 1e-3, rng.normal(size=3) * 1e-4])
         t_t = x @ t_p
         assert t_t @ k_t @ t_t == pytest.approx(t_p @ k_p @ t_p, rel=1e-10)
-    if drive_in_parallel(design):  # its loaded states are refused (test_hinge_stress.py)
-        return
     # (m, f) at T, small enough that every actuator stays on its linear (locked) branch
     wrench_t = np.array([0.0, 0.0, 0.01, 1.0, -0.5, 0.5])
     res = analyze_design(design, pose, wrench_t, tool_point=tool).to_dict()

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import drive_in_parallel, flexure_jointed
+from helpers import flexure_jointed
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import (
     length_balanced,
@@ -31,9 +31,6 @@ from ppm_stiffness.statics.equilibrium import equilibrium
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 DESIGNS = [None, *sorted(str(p) for p in EXAMPLES.glob("*.toml"))]
-#: Not a design whose drive acts in parallel with a flexure: its deflections are refused
-#: (tests/test_hinge_stress.py).
-DEFLECTABLE = [p for p in DESIGNS if p is None or not drive_in_parallel(load_design(p))]
 
 
 def _json(capsys: pytest.CaptureFixture[str], *args: str) -> dict[str, object]:
@@ -57,7 +54,7 @@ def test_analyze_json_on_every_design(capsys: pytest.CaptureFixture[str], path: 
     assert len(out["actuator_units"]) == len(design.legs)  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize("path", DEFLECTABLE, ids=lambda p: Path(p).stem if p else "built-in")
+@pytest.mark.parametrize("path", DESIGNS, ids=lambda p: Path(p).stem if p else "built-in")
 @pytest.mark.parametrize("mode", ["planar-force", "moment", "vertical-force"])
 def test_deflect_on_every_design(
     capsys: pytest.CaptureFixture[str], path: str | None, mode: str

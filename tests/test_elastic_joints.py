@@ -24,7 +24,7 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.solver import LegSprings, leg_stiffness
 from ppm_stiffness.legs.chain import Joint, Link, leg_springs
 from ppm_stiffness.legs.types.chain_leg import JointElement
-from ppm_stiffness.model import full_pose, solve_legs, stiffness_at_pose
+from ppm_stiffness.model import full_pose, solve_legs
 
 #: A steel rod 20 mm in diameter, 0.2 m long: a stiff link (3EI/L = 2.4e4 N·m/rad).
 LENGTH = 0.2
@@ -288,25 +288,37 @@ def test_the_fe_joint_springs_carry_the_elastic_stiffnesses() -> None:
     assert joint_stiffness(slider, 5e6)[3] == 7e6
 
 
-def test_the_moving_geometry_refuses_a_drive_in_parallel() -> None:
+def test_the_moving_geometry_carries_a_drive_in_parallel() -> None:
+    """The actuator column of a drive in parallel with a flexure keeps the flexure's
+    stiffness (``ScrewChain.parallel``), its elastic coordinates only the S's."""
     from ppm_stiffness.legs.screw_chain import screw_chain
 
-    with pytest.raises(DesignError, match="drive in parallel with a flexure"):
-        screw_chain(_ball_leg(Z, 4.7, 2e6), None, 1)
+    chain = screw_chain(_ball_leg(Z, 4.7, 2e6), None, 1)
+    assert chain.parallel == 2e6 and chain.actuator == 0
+    assert chain.elastic is not None and chain.elastic[chain.actuator] == 0.0
 
 
-def test_loaded_states_refuse_a_drive_in_parallel() -> None:
-    """The actuator forces would count the flexure's share as the drive's: refused."""
+def test_loaded_states_give_the_drives_share() -> None:
+    """A flexure of 10 N·m/rad in parallel with leg 1's drive of the 6-RUS: the joint
+    carries the drive's force plus the flexure's 10 delta; the linear split's drive
+    force is the joint's times k_a / (k_a + 10) (a linear law: the same)."""
     from ppm_stiffness.design import design_from_dict
     from ppm_stiffness.statics.loading import actuator_forces, loaded_state
+    from ppm_stiffness.statics.structures import LegStructures
 
     data = design_named("6rus_flexure").model_dump()
     data["legs"][0]["elements"][0]["elastic"] = 10.0
     design = design_from_dict(data)
-    assert np.all(np.isfinite(stiffness_at_pose(design)))
-    for call in (actuator_forces, loaded_state):
-        with pytest.raises(DesignError, match="leg 1: its actuated joint is elastic"):
-            call(design, np.array([0.0, 0.0, 0.0, 0.0, 0.0, -10.0]))
+    assert design.legs[0].parallel_stiffness() == 10.0
+    wrench = np.array([0.0, 0.0, 0.0, 0.0, 0.0, -10.0])
+    state = loaded_state(design, wrench)
+    a = LegStructures(design, state.pose).actuator
+    joint = np.einsum("ij,ij->i", a, state.leg_wrenches)
+    shares = state.actuator_forces + np.array([10.0, 0, 0, 0, 0, 0]) * (
+        state.actuator_displacements
+    )
+    np.testing.assert_allclose(joint, shares, rtol=1e-12)
+    np.testing.assert_allclose(actuator_forces(design, wrench), state.actuator_forces, rtol=1e-9)
 
 
 def test_the_mass_model_tends_to_the_passive_joints_at_first_order() -> None:

@@ -140,10 +140,66 @@ def test_the_map_command_writes_hinge_range(
     doc = json.loads(capsys.readouterr().out)
     schema = json.loads((ROOT / "docs" / "schemas" / "map.schema.json").read_text("utf-8"))
     jsonschema.validate(doc, schema)
-    assert doc["quantities"] == {"hinge_range": "rad or m"}
+    assert doc["quantities"] == {"hinge_range": "rad"}  # the stage's drives are rotary
     smap = stiffness_map(
         load_design(STAGE), grid=3, quantities=["hinge_range"], phi=0.0, axes=("x", "y")
     )
     q = smap.quantities["hinge_range"]
     assert doc["summary"]["hinge_range"]["min"] == pytest.approx(float(q.min()), rel=1e-12)
     assert doc["summary"]["hinge_range"]["max"] == pytest.approx(float(q.max()), rel=1e-12)
+
+
+def test_the_hinge_range_maps_unit_and_subtitle(tmp_path: Path) -> None:
+    """The stage's hinge_range map carries its drives' unit (rad: revolute drives; the
+    colour bar in mrad, the CSV column hinge_range_rad) and says what it shows: each
+    drive alone until a hinge yields, not "actuators locked"; a linear drive's is m."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ppm_stiffness.maps.result import load_npz
+    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.visuals.maps import HINGE_RANGE_TEXT, plot_stiffness_maps
+
+    smap = stiffness_map(
+        load_design(STAGE), grid=3, quantities=["hinge_range"], phi=0.0, axes=("x", "y")
+    )
+    assert smap.unit("hinge_range") == "rad"
+    fig = plot_stiffness_maps(smap)
+    labels = [a.get_ylabel() for a in fig.axes]
+    assert any("[mrad]" in label for label in labels), labels
+    texts = [t.get_text() for f in (fig, *fig.subfigs) for t in f.texts]
+    assert any(HINGE_RANGE_TEXT in t for t in texts) and not any("locked" in t for t in texts)
+    plt.close(fig)
+    smap.to_csv(tmp_path / "m.csv")
+    assert "hinge_range_rad" in (tmp_path / "m.csv").read_text(encoding="utf-8")
+    smap.to_npz(tmp_path / "m.npz")
+    assert load_npz(tmp_path / "m.npz").unit("hinge_range") == "rad"
+    from dataclasses import replace
+
+    assert replace(smap, drive_unit="m").unit("hinge_range") == "m"
+
+
+def test_compare_gives_the_stages_hinge_figures(capsys: pytest.CaptureFixture[str]) -> None:
+    """`compare --json` of the stage carries its hinge range and stress (numbers, not
+    null): the smallest drive range and the largest stroke stress over its required
+    region's poses (pose by pose, the library's), the range in rad (its drives')."""
+    import json
+
+    from ppm_stiffness.cli import main
+    from ppm_stiffness.optimize.region import region_poses
+    from ppm_stiffness.statics.hinge_stress import drive_range, stroke_stress
+
+    assert main(["compare", "--design", str(STAGE), "--json", "--quiet", "--no-f1"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    figures = doc["designs"][0]["figures"]
+    design = load_design(STAGE)
+    region = design.workspace.required
+    assert region is not None
+    poses = region_poses(region).reshape(-1, 3)
+    ranges = [drive_range(design, p) for p in poses]
+    stresses = [stroke_stress(design, p) for p in poses]
+    assert figures["hinge_range_min"] == pytest.approx(min(ranges), rel=1e-12)
+    assert figures["hinge_stress_max"] == pytest.approx(max(stresses), rel=1e-12)
+    assert doc["units"]["figures.hinge_range_min"] == "rad"

@@ -8,7 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from tests.helpers import design_named, example_designs, flexure_jointed, has_moving_geometry
+from tests.helpers import (
+    design_named,
+    example_designs,
+    flexure_jointed,
+    has_moving_geometry,
+    within_required,
+)
 from tests.paper import PAPER_WRENCH
 
 from ppm_stiffness.core.conventions import BALANCE, hat, rotation_screw, translation_screw
@@ -34,13 +40,15 @@ DESIGNS = example_designs(has_moving_geometry, paper=True)
 
 def _random_pose(name: str, seed: int) -> np.ndarray:
     """Task values near the home pose: lengths within 3 mm, angles within 0.03 rad (a
-    tenth of these for a flexure-jointed design: its flexures' range)."""
+    tenth of these for a flexure-jointed design: its flexures' range; no wider than its
+    required region where it states one: a piezo stage's microns)."""
     design = design_named(name)
     task = task_values(design, home_pose(design))
     rng = np.random.default_rng(seed)
     angles = np.array([c in ("rx", "ry", "rz") for c in design.task_coordinates])
     size = 0.1 if flexure_jointed(design) else 1.0
-    return task + size * np.where(angles, 0.03, 0.003) * rng.uniform(-1, 1, task.shape)
+    spans = within_required(design, size * np.where(angles, 0.03, 0.003))
+    return task + spans * rng.uniform(-1, 1, task.shape)
 
 
 def _random_wrench(name: str, pose: np.ndarray, seed: int, size: float = 2e-3) -> np.ndarray:

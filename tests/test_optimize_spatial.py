@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import ppm_stiffness as pps
-from helpers import check_entries, design_named, drive_in_parallel, example_designs, is_spatial
+from helpers import check_entries, example_designs, is_spatial
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design, design_from_dict
 from ppm_stiffness.design.io import design_to_dict
@@ -151,13 +151,10 @@ def test_spatial_summary_equals_the_single_pose_analysis(name: str) -> None:
     assert OBJECTIVES["worst-k-rotational"].value(summary) == summary["k_rotational_min"]
 
 
-#: The loaded modes of a design whose drive acts in parallel with a flexure are refused
-#: (tests/test_hinge_stress.py).
 F1_CASES = [
     pytest.param(name, loaded, id=f"{name}-{'loaded' if loaded else 'locked'}")
     for name in SPATIAL
     for loaded in (False, True)
-    if not (loaded and drive_in_parallel(design_named(name)))
 ]
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from tests.helpers import design_named, drive_in_parallel, example_designs, flexure_jointed
+from tests.helpers import design_named, example_designs, flexure_jointed
 
 from ppm_stiffness.core.solver import leg_stiffness
 from ppm_stiffness.legs.chain import leg_springs
@@ -23,9 +23,7 @@ from ppm_stiffness.model import solve_legs
 from ppm_stiffness.poses import home_pose
 from ppm_stiffness.statics.moving_core import PlatformChains, linearize, zero_state
 
-#: Not a design whose drive acts in parallel with a flexure: the moving geometry refuses
-#: it (tests/test_elastic_joints.py, tests/test_hinge_stress.py).
-DESIGNS = example_designs(lambda d: not drive_in_parallel(d), paper=True)
+DESIGNS = example_designs(paper=True)
 
 
 def _chain(name: str, leg: int = 0, offset: tuple[float, float, float] = (0.01, -0.02, 0.03)):

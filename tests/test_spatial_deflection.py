@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import check_entries, design_named, drive_in_parallel, example_designs, is_spatial
+from helpers import check_entries, design_named, example_designs, is_spatial
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.conventions import BALANCE, wrench_b_from_wrench_a
 from ppm_stiffness.core.errors import InputDataError
@@ -30,9 +30,7 @@ from ppm_stiffness.statics.deflection import (
 from ppm_stiffness.statics.equilibrium import equilibrium
 from ppm_stiffness.statics.measurements import read_measurements, rms_differences
 
-#: Not a design whose drive acts in parallel with a flexure: its deflections are refused
-#: (tests/test_hinge_stress.py).
-SPATIAL = tuple(example_designs(lambda d: is_spatial(d) and not drive_in_parallel(d)))
+SPATIAL = tuple(example_designs(is_spatial))
 #: A reachable pose off home of each spatial example, in its task coordinates [m, rad].
 TASK = {
     "hexapod_6ups": [0.01, -0.005, 0.21, 0.05, -0.03, 0.08],
@@ -43,6 +41,7 @@ TASK = {
     "spherical_3rrr": [0.25, -0.15, 0.2],
     "tricept": [0.56, 0.05, -0.04],
     "delta": [0.03, -0.02, -0.79],
+    "flexure_3rrr": [5e-6, -4e-6, 1e-4],
 }
 
 

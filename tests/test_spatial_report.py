@@ -29,7 +29,6 @@ from helpers import (  # noqa: E402
     ROOT,
     colour_count,
     design_named,
-    drive_in_parallel,
     example_designs,
     half_unit,
     is_spatial,
@@ -39,7 +38,11 @@ from ppm_stiffness.cli import main  # noqa: E402
 from ppm_stiffness.core.principal import principal_compliance  # noqa: E402
 from ppm_stiffness.leading import leading_keys  # noqa: E402
 from ppm_stiffness.maps.slices import map_slice  # noqa: E402
-from ppm_stiffness.model import stiffness_at_pose, stiffness_at_tool_point  # noqa: E402
+from ppm_stiffness.model import (  # noqa: E402
+    stiffness_at_pose,
+    stiffness_at_tool_point,
+    tool_offset,
+)
 from ppm_stiffness.poses import full_pose, home_pose  # noqa: E402
 from ppm_stiffness.statics.deflection import deflection_path  # noqa: E402
 from ppm_stiffness.visuals.report import embedded_json  # noqa: E402
@@ -47,9 +50,7 @@ from ppm_stiffness.visuals.report_spatial import DEFLECTION_SCALES  # noqa: E402
 from ppm_stiffness.visuals.report_wrench import reference_wrench  # noqa: E402
 from report_cells import check_cells, parse, screenshot  # noqa: E402
 
-#: Not a design whose drive acts in parallel with a flexure: the report's loaded case is
-#: refused for it (tests/test_hinge_stress.py).
-SPATIAL = tuple(example_designs(lambda d: is_spatial(d) and not drive_in_parallel(d)))
+SPATIAL = tuple(example_designs(is_spatial))
 PRS_OPTIONS = ["--z", "420", "--rx", "8", "--ry", "-5"]
 PRS_TASK = np.array([0.42, math.radians(8.0), math.radians(-5.0)])
 SECTIONS = (
@@ -167,6 +168,8 @@ def test_every_number_is_the_analysis(pages: dict[str, str], name: str) -> None:
         "loaded": embedded_json(page, "analysis-loaded"),
         "modes": embedded_json(page, "analysis-modes"),
     }
+    if 'id="analysis-hinges"' in page:  # a design with notch hinges
+        blocks["hinges"] = embedded_json(page, "analysis-hinges")
     cells = parse(page).cells
     paths = {c[0] for c in cells}
     for key in ("unloaded", "loaded"):
@@ -346,3 +349,29 @@ def test_design_parameters_in_display_units(pages: dict[str, str]) -> None:
     for coord, unit in (("x", "mm"), ("z", "mm"), ("rx", "deg"), ("rz", "deg")):
         cells = rf'<td class="num">\([^<]+\)</td><td>{unit}</td>'
         assert re.search(rf"<td>workspace\.required\.{coord}</td>{cells}", page), coord
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_a_stage_with_hinges_reports_their_stress_and_range(
+    pages: dict[str, str], name: str
+) -> None:
+    """A design with notch hinges (the 3-RRR stage) has the "Notch hinges" section:
+    its embedded figures are hinge_summary's under the loaded case's wrench (at P, SF 1),
+    every range and stress printed from them; a design without hinges has none."""
+    from ppm_stiffness.statics.hinge_stress import has_hinges, hinge_summary
+
+    page, design = pages[name], design_named(name)
+    if not has_hinges(design):
+        assert 'id="analysis-hinges"' not in page and 'id="hinges"' not in page
+        return
+    embedded = embedded_json(page, "analysis-hinges")
+    pose = _pose(name)
+    ref = _reference(name)
+    offset = tool_offset(pose, np.asarray(design.tool_point, dtype=float))
+    at_p = np.concatenate([ref[:3] + np.cross(offset, ref[3:]), ref[3:]])
+    expected = json.loads(dump_json(hinge_summary(design, pose, at_p, 1.0)))
+    assert embedded == expected
+    paths = {c[0] for c in parse(page).cells}
+    n = len(expected["hinges"])
+    assert all(f"hinges/hinges/{j}/stress" in paths for j in range(n))
+    assert all(f"hinges/directions/{j}/range" in paths for j in range(len(expected["directions"])))

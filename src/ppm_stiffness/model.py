@@ -67,6 +67,13 @@ def locked_actuator_stiffness(design: Design) -> FloatArray:
     return np.array([leg.locked_stiffness() for leg in design.legs])
 
 
+def parallel_stiffnesses(design: Design) -> FloatArray:
+    """Each leg's elastic stiffness in parallel with its drive (n_legs,) [N/m or
+    N·m/rad] (:meth:`~ppm_stiffness.legs.base.LegModel.parallel_stiffness`; 0 without
+    one)."""
+    return np.array([leg.parallel_stiffness() for leg in design.legs])
+
+
 def actuator_stiffness_vector(design: Design, actuator_stiffness: ArrayLike | None) -> FloatArray:
     """Per-leg actuator stiffness (n_legs,); the locked values when None is given."""
     n = len(design.legs)

@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
         figure_names,
     )
     from ppm_stiffness.optimize.sweep import summarize_designs
+    from ppm_stiffness.statics.hinge_stress import has_hinges
 
     paths: list[str | None] = list(args.design) if args.design else [None]
     designs = [
@@ -120,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
                 progress=advance,
                 margin=args.load_margin,
                 frequencies=not args.no_f1,
+                hinges=any(has_hinges(d) for d in designs),
             )
         except Interrupted:
             raise KeyboardInterrupt from None
@@ -140,7 +142,14 @@ def run(args: argparse.Namespace) -> int:
         mass=any(d.has_mass_model for d in designs) and not args.no_f1,
         margin=args.load_margin,
     )
+    hinged = [d for d in designs if has_hinges(d)]
+    if hinged:  # a design with notch hinges: its range and stress (null for the others)
+        names += ["hinge_range_min", "hinge_stress_max"]
     keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always
+    units_of = dict(FIGURE_UNITS)
+    drives = {leg.actuator_units()[1] for d in hinged for leg in d.legs if leg.is_actuated()}
+    if len(drives) == 1:  # the hinge range in the drives' one unit
+        units_of["hinge_range_min"] = drives.pop()
     if args.json:
         payload = {
             "region": region_json(region),
@@ -166,7 +175,7 @@ def run(args: argparse.Namespace) -> int:
             ],
         }
         units = {"region": "m, m, rad", "wrench": "N·m, N", "wall_time": "s"}
-        units.update({f"figures.{n}": FIGURE_UNITS[n] for n in keys})
+        units.update({f"figures.{n}": units_of[n] for n in keys})
         print(json_document("compare", payload, units))
     else:
         console.print(f"region: {region_text(region)}")
@@ -180,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
             for n in names:
                 cells = [figure_cell(s.figures()[n]) for s in summaries[part]]
                 label = figure_label(n, planar)
-                table.add_row(escape(f"{label} [{FIGURE_UNITS[n]}]"), *cells)
+                table.add_row(escape(f"{label} [{units_of[n]}]"), *cells)
             console.print(table)
         for label, s in zip(labels, summaries, strict=True):
             if not s.covers:

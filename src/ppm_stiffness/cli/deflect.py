@@ -192,6 +192,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "default); 'moving' adds the curve with the platform and legs moving under the "
         "load (docs/statics.md), which stops where the load path loses stability",
     )
+    parser.add_argument(
+        "--safety-factor",
+        type=float,
+        default=None,
+        metavar="SF",
+        help="a design with notch hinges: allowed stress = yield strength / SF in the "
+        "hinge stress along the (frozen) curve (default 1)",
+    )
     add_tolerance_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
@@ -421,16 +429,21 @@ def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
 
 
 def write_csv(
-    curve: DeflectionCurve, path: str | Path, moving: MovingDeflection | None = None
+    curve: DeflectionCurve,
+    path: str | Path,
+    moving: MovingDeflection | None = None,
+    hinges: dict[str, Any] | None = None,
 ) -> None:
     """Load and the six twist components (deg, mm), with the case in comments; with
-    ``moving`` the moving-geometry curve's six components and ``K_F_vs_K`` after them
-    (``moving_`` columns), a cell empty where a curve has stopped (such a file is not a
-    measurement file)."""
-    from ppm_stiffness.statics.measurements import cli_order
+    ``hinges`` (:func:`~ppm_stiffness.statics.hinge_stress.curve_stresses`) the largest
+    hinge stress [MPa] and its utilisation after them; with ``moving`` the
+    moving-geometry curve's six components and ``K_F_vs_K`` after them (``moving_``
+    columns), a cell empty where a curve has stopped (such a file is not a measurement
+    file)."""
+    from ppm_stiffness.statics.measurements import HINGE_COLUMNS, cli_order
 
     if moving is not None:
-        _write_both_csv(curve, moving, path)
+        _write_both_csv(curve, moving, path, hinges)
         return
     twist = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
     lines = [
@@ -448,14 +461,38 @@ def write_csv(
         f"# pose: {_pose_text(curve, '.6g')}",
         f"# load unit: {curve.load_unit}; wrench per unit load (mx,my,mz,fx,fy,fz): "
         + ",".join(f"{v:.6g}" for v in curve.unit_wrench),
-        "load," + ",".join(CSV_COLUMNS),
+        "load," + ",".join(CSV_COLUMNS + (HINGE_COLUMNS if hinges is not None else ())),
     ]
-    for load, row in zip(curve.loads, twist, strict=True):
-        lines.append(f"{load:.12g}," + ",".join(f"{v + 0.0:.9g}" for v in row))
+    if hinges is not None:
+        lines.insert(-1, _hinge_csv_comment(hinges))
+    for k, (load, row) in enumerate(zip(curve.loads, twist, strict=True)):
+        cells = [f"{v + 0.0:.9g}" for v in row] + _hinge_cells(hinges, k)
+        lines.append(f"{load:.12g}," + ",".join(cells))
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
-def _write_both_csv(curve: DeflectionCurve, moving: MovingDeflection, path: str | Path) -> None:
+def _hinge_csv_comment(hinges: dict[str, Any]) -> str:
+    return (
+        "# hinge_stress_max_MPa: the largest notch-hinge peak stress along the frozen curve; "
+        f"hinge_utilisation: its stress / (yield / SF), SF = {hinges['safety_factor']:g}"
+    )
+
+
+def _hinge_cells(hinges: dict[str, Any] | None, k: int) -> list[str]:
+    """The hinge columns of row k (none without hinges)."""
+    if hinges is None:
+        return []
+    return [f"{hinges['stress'][k] * 1e-6 + 0.0:.9g}", f"{hinges['utilisation'][k] + 0.0:.9g}"]
+
+
+def _write_both_csv(
+    curve: DeflectionCurve,
+    moving: MovingDeflection,
+    path: str | Path,
+    hinges: dict[str, Any] | None = None,
+) -> None:
+    from ppm_stiffness.statics.measurements import HINGE_COLUMNS
+
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
     m = moving.moving
     loads = np.union1d(curve.loads, m.loads)
@@ -470,11 +507,13 @@ def _write_both_csv(curve: DeflectionCurve, moving: MovingDeflection, path: str 
         f"# load unit: {curve.load_unit}; wrench per unit load (mx,my,mz,fx,fy,fz): "
         + ",".join(f"{v:.6g}" for v in curve.unit_wrench),
         *(f"# {line}" for line in moving.stops()),
+        *([_hinge_csv_comment(hinges)] if hinges is not None else []),
         "load,"
         + ",".join(CSV_COLUMNS)
         + ","
         + ",".join(f"moving_{c}" for c in CSV_COLUMNS)
-        + ",K_F_vs_K",
+        + ",K_F_vs_K"
+        + "".join(f",{c}" for c in (HINGE_COLUMNS if hinges is not None else ())),
     ]
 
     def cells(values: np.ndarray, at: np.ndarray, load: float, n: int) -> list[str]:
@@ -487,6 +526,9 @@ def _write_both_csv(curve: DeflectionCurve, moving: MovingDeflection, path: str 
         row = cells(curve.twists * scale, curve.loads, load, 6)
         row += cells(m.twists * scale, m.loads, load, 6)
         row += cells(moving.stiffness_difference, m.loads, load, 1)
+        if hinges is not None:
+            at = np.flatnonzero(curve.loads == load)
+            row += _hinge_cells(hinges, int(at[0])) if at.size else ["", ""]
         lines.append(f"{load:.12g}," + ",".join(row))
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
@@ -526,6 +568,8 @@ _JSON_UNITS = {
     "actuator_stiffness": "N/m (N·m/rad for a rotary actuator)",
     "actuator_displacements": "m (rad for a rotary actuator)",
     "rms_differences": "orientation_deg deg, position_mm mm",
+    "hinge_stress": "stress: Pa (the peak stress of the hinge nearest its allowed stress "
+    "at each load of the frozen curve); utilisation: stress / (yield / safety_factor)",
     "moving_geometry": "twists: rad, m (the tool point's finite rotation vector and "
     "displacement); displaced_poses: m, rad of P; loads, wrenches and actuator values as "
     "above; stiffness_difference: ||K_F - K|| / ||K|| (length-balanced); stopped: load "
@@ -564,10 +608,15 @@ def _moving_json(moving: MovingDeflection) -> dict[str, Any]:
 
 
 def _json(
-    curve: DeflectionCurve, rms: dict[str, Any] | None, moving: MovingDeflection | None = None
+    curve: DeflectionCurve,
+    rms: dict[str, Any] | None,
+    moving: MovingDeflection | None = None,
+    hinges: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
     extra = {} if moving is None else {"moving_geometry": _moving_json(moving)}
+    if hinges is not None:
+        extra = extra | {"hinge_stress": hinges}
     return extra | {
         "geometry": "frozen" if moving is None else "moving",
         "mode": curve.mode,
@@ -653,6 +702,47 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None, moving: bool = Fa
         c.print(f"  per component: {comps}")
 
 
+def _print_hinges(curve: DeflectionCurve, hinges: dict[str, Any]) -> None:
+    """The largest hinge stress at each load and its utilisation."""
+    sf = hinges["safety_factor"]
+    t = _load_table(
+        f"notch hinges along the frozen curve: the hinge nearest yield / SF (SF = {sf:g})",
+        curve.load_unit,
+    )
+    for name in ("stress \\[MPa]", "util.", "hinge"):
+        t.add_column(name, justify="left" if name == "hinge" else "right", no_wrap=True)
+    for k, load in enumerate(curve.loads):
+        t.add_row(
+            f"{load:g}",
+            eng(hinges["stress"][k] * 1e-6),
+            eng(hinges["utilisation"][k]),
+            escape(hinges["hinge"][k] or "-"),
+        )
+    console.print(t)
+
+
+def hinge_safety_factor(args: argparse.Namespace, design: Design) -> float | None:
+    """The safety factor of the hinge stress along the curve (1 by default); None for a
+    design without notch hinges or without every hinge's yield strength (where
+    ``--safety-factor`` is refused)."""
+    from ppm_stiffness.statics.hinge_stress import has_hinges, has_yield_strengths
+
+    sf = args.safety_factor
+    if not has_hinges(design):
+        if sf is not None:
+            raise InputDataError(
+                "--safety-factor: the design has no notch hinge (a joint's hinge table)"
+            )
+        return None
+    if not has_yield_strengths(design):
+        if sf is not None:
+            raise InputDataError("--safety-factor: a notch hinge's material has no yield_strength")
+        return None
+    if sf is not None and not (math.isfinite(sf) and sf > 0.0):
+        raise InputDataError(f"--safety-factor {sf:g}: must be a positive number")
+    return 1.0 if sf is None else float(sf)
+
+
 def _print_actuators(curve: DeflectionCurve) -> None:
     """Actuator forces and tangent stiffnesses per leg: one table for up to three legs,
     one table each for more (so that six legs fit 80 columns)."""
@@ -683,6 +773,7 @@ def _print_actuators(curve: DeflectionCurve) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ppm_stiffness.statics.hinge_stress import curve_stresses
     from ppm_stiffness.statics.measurements import rms_differences
 
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
@@ -700,12 +791,14 @@ def run(args: argparse.Namespace) -> int:
             "solves the equilibrium with the actuator law, not with the unloaded K; use "
             "--method integrate or closed-form, or leave out --geometry moving"
         )
+    sf = hinge_safety_factor(args, design)
     curve, meas, moving = compute(args)
+    hinges = None if sf is None else curve_stresses(design, curve, sf)
     rms = rms_differences(curve, meas) if meas is not None else None
     bands, unc = curve_uncertainty(args, design, variables, curve)
     with output_files(args.overwrite) as out:
         if args.csv:
-            write_csv(curve, out.temp(args.csv, "--csv"), moving)
+            write_csv(curve, out.temp(args.csv, "--csv"), moving, hinges)
         if args.plot:
             from ppm_stiffness.visuals import save_figure, use_headless_backend
             from ppm_stiffness.visuals.deflection import plot_deflection_curves
@@ -717,10 +810,12 @@ def run(args: argparse.Namespace) -> int:
                 fig = plot_deflection_curves([curve, moving.moving])
             save_figure(fig, out.temp(args.plot, "--plot"))
     if args.json:
-        doc = _json(curve, rms, moving) | ({} if unc is None else {"uncertainty": unc})
+        doc = _json(curve, rms, moving, hinges) | ({} if unc is None else {"uncertainty": unc})
         print(json_document("deflect", doc, _JSON_UNITS))
         return 0
     _print(curve, rms, moving is not None)
+    if hinges is not None:
+        _print_hinges(curve, hinges)
     if moving is not None:
         _print_moving(moving)
     if unc is not None:

@@ -196,11 +196,9 @@ def _check_bounds_units(
             )
 
 
-def _header(name: str) -> str:
-    from ppm_stiffness.maps.result import QUANTITIES
-
-    text = f"{name} [{QUANTITIES[name][0]}]"
-    return text if len(text) <= 16 else f"{name}\n[{QUANTITIES[name][0]}]"
+def _header(name: str, unit: str) -> str:
+    text = f"{name} [{unit}]"
+    return text if len(text) <= 16 else f"{name}\n[{unit}]"
 
 
 def _table_heading(names: list[str]) -> str:
@@ -241,7 +239,7 @@ def _summary_tables(smap: StiffnessMap) -> list[Table]:
         table = Table(title=title, title_justify="left")
         table.add_column("")
         for name in group:
-            table.add_column(escape(_header(name)), justify="right")
+            table.add_column(escape(_header(name, smap.unit(name))), justify="right")
         for label, key, factor in rows:
             cells = [eng(summary[name][key] * factor, 5) for name in group]
             table.add_row(escape(label), *cells)
@@ -388,7 +386,6 @@ def _slice_text(smap: StiffnessMap) -> str:
 
 
 def _json_units(smap: StiffnessMap) -> dict[str, str]:
-    from ppm_stiffness.maps.result import QUANTITIES
 
     ua, ub = smap.units()
     units = {
@@ -404,13 +401,12 @@ def _json_units(smap: StiffnessMap) -> dict[str, str]:
     a, b = smap.axes
     for name in smap.quantities:
         units[f"summary.{name}"] = (
-            f"{QUANTITIES[name][0]} (positions {a}_at_* in {ua}, {b}_at_* in {ub}; ratio 1)"
+            f"{smap.unit(name)} (positions {a}_at_* in {ua}, {b}_at_* in {ub}; ratio 1)"
         )
     return units
 
 
 def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[str, Any]:
-    from ppm_stiffness.maps.result import QUANTITIES
     from ppm_stiffness.maps.slices import unit_of
 
     return {
@@ -427,7 +423,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
         ],
         "fixed": dict(smap.fixed),
         "dependent_coordinates": list(smap.dependent),
-        "quantities": {name: QUANTITIES[name][0] for name in smap.quantities},
+        "quantities": {name: smap.unit(name) for name in smap.quantities},
         "phi": smap.fixed.get("rz"),
         "actuators": smap.actuators,
         "geometry": smap.geometry,

@@ -817,6 +817,24 @@ MASS_FIELDS = frozenset(
 )
 
 
+def _model_rows(
+    key: str, value: BaseModel, part_units: Any, depth: int = 0
+) -> list[tuple[str, Any, str]]:
+    """A part's fields as (dotted name, value, SI unit), a nested part (a notch hinge's
+    profile and material) flattened into its own fields; an optional mass field, or a
+    nested part's optional field, left out where not given."""
+    out: list[tuple[str, Any, str]] = []
+    for sub, v in value:
+        if v is None and (sub in MASS_FIELDS or depth > 0):
+            continue
+        name = f"{key}.{sub}"
+        if isinstance(v, BaseModel):
+            out += _model_rows(name, v, part_units, depth + 1)
+        else:
+            out.append((name, v, part_units(type(value)).get(sub, "")))
+    return out
+
+
 def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
     """The legs' parameters side by side, for tables and reports.
 
@@ -836,12 +854,9 @@ def leg_parameter_rows(design: Design) -> list[tuple[str, list[Any], str]]:
             if value is None:
                 continue
             if isinstance(value, BaseModel):
-                for sub, v in value:
-                    if sub in MASS_FIELDS and v is None:
-                        continue  # an optional mass field not given
-                    name = f"{key}.{sub}"
+                for name, v, unit in _model_rows(key, value, part_units):
                     table.setdefault(name, [None] * len(design.legs))[i] = v
-                    units.setdefault(name, part_units(type(value)).get(sub, ""))
+                    units.setdefault(name, unit)
                 if key == "actuator":
                     force, disp, stiff = leg.actuator_units()
                     units.update(

@@ -293,6 +293,13 @@ class LegModel(PartModel):
         compliance finite)."""
         return math.inf if self.actuator is None else self.actuator.locked_stiffness
 
+    def parallel_stiffness(self) -> float:
+        """The elastic stiffness acting in parallel with the drive on the actuated
+        freedom (a flexure hinge driven by a piezo lever) [N/m or N·m/rad], 0 without
+        one. It rests at the unloaded pose: the joint carries ``G + k_h delta`` (the
+        drive's force plus the flexure's) at a displacement delta of that freedom."""
+        return 0.0
+
     @model_validator(mode="after")
     def _drive_ratio(self) -> LegModel:
         """A linear actuator's rotor needs its gear ratio [rad/m] (no default: 1 rad/m

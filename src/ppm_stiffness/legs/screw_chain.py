@@ -25,8 +25,12 @@ Coordinates, in chain order (:func:`screw_chain`):
 - an **elastic joint** (a flexure): its hardware springs, then its freedoms, with
   their stiffnesses (``ScrewChain.elastic``: the equilibrium holds them in stiffness
   form, never as ``1/k``), at rest at the reference configuration: the preload of a
-  flexure bent away from home is not carried (as in the frozen K). A drive in parallel
-  with a flexure is refused here.
+  flexure bent away from home is not carried (as in the frozen K);
+- an **actuated elastic joint** (a drive in parallel with a flexure: a piezo stack on
+  a notch hinge's lever): one actuator column whose generalised force is the drive's
+  plus the flexure's, ``tau = G + k_h x`` with ``x = delta(G)`` the drive's law
+  (``ScrewChain.parallel``: k_h, the flexure resting at the reference configuration,
+  like the elastic joints').
 
 At x = 0 the columns are exactly those of :func:`ppm_stiffness.legs.chain.leg_springs`
 (reordered): the order changes nothing to first order, only the second derivatives.
@@ -44,14 +48,13 @@ Every array has one leading batch axis (k,): k configurations of one leg.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
-from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.legs.chain import (
     Element,
@@ -92,6 +95,10 @@ class ScrewChain:
         The stiffness of each elastic coordinate (a flexure's freedom) [N·m/rad or N/m],
         0 for the others; their compliance rows are zero: they enter the equilibrium
         in stiffness form, ``tau_e = k x_e``. None: none.
+    parallel : float
+        The elastic stiffness k_h in parallel with the actuator (its joint's elastic
+        stiffness) [N·m/rad or N/m], 0 without: the actuator column carries
+        ``G + k_h x`` (module doc).
     rotational : ndarray of bool (n,)
         The coordinates that are rotations (unit rotation part), the others are
         translations: a generalised force is in N·m or N accordingly.
@@ -103,6 +110,7 @@ class ScrewChain:
     actuator: int | None = None
     law: ActuatorModel | None = None
     elastic: FloatArray | None = None
+    parallel: float = 0.0
 
     @property
     def size(self) -> int:
@@ -124,7 +132,7 @@ class ScrewChain:
         d = np.broadcast_to(np.asarray(offset, dtype=float), (self.size, 3))
         s = self.screws.copy()
         s[:, 3:, :] += cross(np.swapaxes(s[:, :3, :], 1, 2), d[:, None, :]).swapaxes(1, 2)
-        return ScrewChain(s, self.compliance, self.passive, self.actuator, self.law, self.elastic)
+        return replace(self, screws=s)
 
 
 def screw_chain(
@@ -155,6 +163,7 @@ def screw_chain(
     passive: list[bool] = []
     stiffness: list[float] = []  # per column: an elastic coordinate's stiffness, else 0
     actuator = None
+    parallel = 0.0
     for element in chain:
         if isinstance(element, Link):
             screws, length = link_screws(element)
@@ -167,13 +176,8 @@ def screw_chain(
         free = np.broadcast_to(freedom_screws(element), (k, 6, freedom_count(element)))
         springs = _joint_springs(element, k)
         elastic = elastic_stiffnesses(element)
-        if element.actuated and elastic is not None:
-            raise DesignError(
-                f"joint {element.name or element.kind}: a drive in parallel with a flexure "
-                "(an actuated elastic joint) is not supported by the moving geometry "
-                "(--geometry moving, the loaded states); use the frozen geometry"
-            )
         if element.actuated:
+            parallel = 0.0 if elastic is None else float(elastic[0])
             actuator = sum(c.shape[-1] for c in columns)
             columns.append(free[..., :1])
             blocks.append(None)
@@ -206,7 +210,7 @@ def screw_chain(
     stiffness += [0.0] * (n - len(stiffness))
     elastic_k = np.array(stiffness) if any(stiffness) else None
     chain_out = ScrewChain(
-        np.array(screws), compliance, np.array(passive), actuator, law, elastic_k
+        np.array(screws), compliance, np.array(passive), actuator, law, elastic_k, parallel
     )
     return chain_out.shifted(reference)
 

@@ -133,6 +133,21 @@ class StiffnessMap:
     dependent: dict[str, FloatArray] = field(default_factory=dict)
     tool_point: FloatArray = field(default_factory=lambda: np.zeros(3))
     geometry: str = "frozen"
+    drive_unit: str = ""
+
+    def _column_suffix(self, name: str) -> str:
+        """The CSV column's unit suffix of quantity ``name`` (hinge_range: rad or m)."""
+        if name == "hinge_range" and self.drive_unit:
+            return self.drive_unit
+        return QUANTITIES[name][1]
+
+    def unit(self, name: str) -> str:
+        """The SI unit of quantity ``name`` on this map: :data:`QUANTITIES`'s, the
+        design's drive unit (rad for rotary drives, m for linear ones) for
+        ``hinge_range``."""
+        if name == "hinge_range" and self.drive_unit:
+            return self.drive_unit
+        return QUANTITIES[name][0]
 
     # -- the names of the paper's x-y maps ---------------------------------------------
     def values_of(self, name: str) -> FloatArray:
@@ -278,6 +293,7 @@ class StiffnessMap:
             "tool_point": np.asarray(self.tool_point, dtype=float),
             "dependent_names": np.array(list(self.dependent), dtype=str),
             "geometry": np.str_(self.geometry),
+            "drive_unit": np.str_(self.drive_unit),
         }
         if "rz" in self.fixed:
             arrays["phi"] = np.float64(self.fixed["rz"])
@@ -309,7 +325,7 @@ class StiffnessMap:
         ok = self.reachable.ravel()
         header = [f"{name}_{unit_of(name)}" for name in self.axes] + ["reachable"]
         header += [f"{name}_{unit_of(name)}" for name in self.dependent]
-        header += [f"{name}_{QUANTITIES[name][1]}" for name in self.quantities]
+        header += [f"{name}_{self._column_suffix(name)}" for name in self.quantities]
         with p.open("w", newline="", encoding="utf-8") as fh:
             fh.write(f"# design: {self.design_name}\n")
             for name, value in self.fixed.items():
@@ -379,4 +395,5 @@ def load_npz(path: str | Path) -> StiffnessMap:
             dependent=dependent,
             tool_point=tool,
             geometry=str(data["geometry"]) if "geometry" in files else "frozen",
+            drive_unit=str(data["drive_unit"]) if "drive_unit" in files else "",
         )

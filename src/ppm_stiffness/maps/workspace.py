@@ -303,6 +303,11 @@ def stiffness_map(
     )
 
 
+def _drive_unit(design: Design) -> str:
+    """The drives' displacement unit (rad or m; one kind: ``require_hinge_figures``)."""
+    return next((leg.actuator_units()[1] for leg in design.legs if leg.is_actuated()), "")
+
+
 def _result(
     design: Design,
     sl: MapSlice,
@@ -343,4 +348,5 @@ def _result(
         },
         tool_point=tool,
         geometry=geometry,
+        drive_unit=_drive_unit(design) if "hinge_range" in values else "",
     )

@@ -198,7 +198,8 @@ def summarize_designs(
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
-    with a mass model; ``hinges``: the hinge figures; ``reach``: the share of each
+    with a mass model; ``hinges``: the hinge figures of a design with notch hinges
+    (NaN for another); ``reach``: the share of each
     design's candidate region reached.
 
     Raises

@@ -89,6 +89,46 @@ def powered_stiffness(law: ActuatorModel, force: ArrayLike) -> FloatArray:
     return np.asarray(np.where(delta > 0, law.q * law.k_a * safe ** (law.q - 1.0), at_zero))
 
 
+def drive_force(law: ActuatorModel, parallel: float, force: ArrayLike) -> FloatArray:
+    """The drive's share G [N or N·m] of a joint force ``tau`` carried by the drive and
+    an elastic stiffness ``k_h`` in parallel with it (a flexure hinge resting at the
+    unloaded pose): the root of ``G + k_h delta(G) = tau`` (both see the joint's
+    displacement ``delta(G)``, :func:`actuator_displacement`); ``tau`` itself for
+    ``k_h = 0``.
+
+    ``G + k_h delta(G)`` is odd and strictly increasing (slope ``1 + k_h / K_act``), and
+    its root lies between 0 and tau: Newton's method kept inside that bracket
+    (bisection where a step leaves it), to a few ulps of tau.
+
+    Parameters
+    ----------
+    law : ActuatorModel
+    parallel : float
+        ``k_h`` [N/m or N·m/rad], >= 0.
+    force : array_like
+        ``tau`` [N or N·m].
+
+    Returns
+    -------
+    ndarray, the shape of ``force``
+    """
+    tau = np.asarray(force, dtype=float)
+    if parallel == 0.0:
+        return tau.copy()
+    mag = np.abs(tau)
+    lo, hi = np.zeros_like(mag), mag.copy()
+    g = mag * law.locked_stiffness / (law.locked_stiffness + parallel)
+    for _ in range(200):
+        phi = g + parallel * actuator_displacement(law, g) - mag
+        lo = np.where(phi <= 0, g, lo)
+        hi = np.where(phi >= 0, g, hi)
+        if np.all(np.abs(phi) <= 4 * np.finfo(float).eps * np.maximum(mag, 1e-300)):
+            break
+        step = g - phi / (1.0 + parallel / stiffness_from_force(law, g))
+        g = np.where((step > lo) & (step < hi), step, 0.5 * (lo + hi))
+    return np.asarray(np.sign(tau) * g)
+
+
 # -- each leg's law, a passive constraining leg included -------------------------------
 # A passive leg (no actuated joint, LegModel.actuator None) has no actuator column: its
 # actuator twist is zero, so its "force" is exactly 0, its displacement 0 and its

@@ -44,7 +44,7 @@ from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a, wre
 from ppm_stiffness.core.errors import EquilibriumError, InputDataError
 from ppm_stiffness.core.pose import displaced_pose
 from ppm_stiffness.design import Design
-from ppm_stiffness.model import tool_offset, validate_pose
+from ppm_stiffness.model import parallel_stiffnesses, tool_offset, validate_pose
 from ppm_stiffness.statics.actuator import (
     actuator_displacement,
     leg_displacement,
@@ -284,6 +284,7 @@ def _integrate(
     """t(L) (n_loads, 6) and G(L) (n_loads, n_legs) by integrating the tangent model."""
     n = structures.n_legs
     g_th = np.array([leg_threshold_force(leg) for leg in design.legs])
+    k_h = parallel_stiffnesses(design)
 
     def rates(state: FloatArray, branch: FloatArray) -> FloatArray:
         g = state[6:]
@@ -297,7 +298,8 @@ def _integrate(
         )
         legs_k = structures.leg_stiffnesses(k)
         dt = np.linalg.solve(legs_k.sum(axis=0), unit_wrench)
-        dg = np.einsum("li,lij,j->l", structures.actuator, legs_k, dt)
+        # the joint's load increment, of which a drive takes k / (k + k_h)
+        dg = np.einsum("li,lij,j->l", structures.actuator, legs_k, dt) * _share(k, k_h)
         return np.concatenate([dt, dg])
 
     def crossing(i: int, powered: bool) -> object:
@@ -352,6 +354,13 @@ def _integrate(
         if end >= top:
             return out_t, out_g
     raise InputDataError("deflection integration: too many actuator branch changes")
+
+
+def _share(k_act: FloatArray, k_h: FloatArray) -> FloatArray:
+    """A drive's share ``k_act / (k_act + k_h)`` of its joint's load increment (1
+    without a flexure in parallel, a passive leg's ``inf`` included)."""
+    with np.errstate(invalid="ignore"):
+        return np.asarray(np.where(k_h > 0, k_act / (k_act + k_h), 1.0))
 
 
 def deflection_path(
@@ -412,6 +421,7 @@ def deflection_path(
         c0 = np.linalg.inv(legs_k.sum(axis=0))
         t_unit = c0 @ w_hat
         g_unit = np.einsum("li,lij,j->l", structures.actuator, legs_k, t_unit)
+        g_unit = g_unit * _share(locked, parallel_stiffnesses(design))  # the drives' shares
         twists = x[:, None] * t_unit[None, :]
         forces = x[:, None] * g_unit[None, :]
         k_act = np.broadcast_to(locked, forces.shape).copy()

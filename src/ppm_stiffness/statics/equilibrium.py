@@ -24,6 +24,14 @@ determinate (a 3-leg planar design) ``M = 0`` and ``G = g0`` whatever the law: t
 secant stiffness ``G/delta(G)`` only shares the load between legs when there is more
 than one way to share it (redundant designs).
 
+A drive in parallel with a flexure (its actuated joint's elastic stiffness ``k_h``,
+a piezo stack on the lever of a notch hinge; the flexure rests at the unloaded pose):
+the joint carries ``a_i . w_i = G_i + k_h,i delta_i(G_i)``, G_i the drive's force, so
+the same equations hold in the drives' forces with ``M + diag(k_h)`` in place of M
+(never determinate: the flexure shares each joint's load with its drive); the
+tangent stiffness of the actuated freedom is ``K_act(G) + k_h``, which the legs' terms
+add (:func:`ppm_stiffness.legs.chain.parallel_stiffness`).
+
 At the solution the module reports the forces, the displacements ``delta(G)``, the
 tangent stiffness ``K_act(G)`` (eq. 21), the secant stiffness ``G/delta(G)``, the
 platform twist t and the tangent Cartesian stiffness
@@ -70,6 +78,7 @@ from ppm_stiffness.core.refusals import Refusal, RefusalArray, first_refusal
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     locked_actuator_stiffness,
+    parallel_stiffnesses,
     pose_label,
     singular_message,
     solve_legs,
@@ -231,7 +240,8 @@ class LoadedState:
     wrench : ndarray (6,)
         (m_x, m_y, m_z, f_x, f_y, f_z) [N·m, N] at P, axes of F_b.
     actuator_forces : ndarray (n,) [N or N·m]
-        Signed, ``G_i = a_i . w_i``.
+        Signed, ``G_i = a_i . w_i`` (the drive's share, ``a_i . w_i - k_h delta_i``,
+        where a flexure acts in parallel with it: module doc).
     actuator_displacements : ndarray (n,) [m or rad]
         ``delta_i(G_i)`` (integral of 1/K_act).
     actuator_stiffness : ndarray (n,)
@@ -355,6 +365,7 @@ def solve_loaded(
     m = -np.einsum("kli,kji->klj", b, cb)
     m[:, np.arange(n), np.arange(n)] += ab
     m = 0.5 * (m + np.swapaxes(m, 1, 2))
+    m[:, np.arange(n), np.arange(n)] += parallel_stiffnesses(design)  # module doc
     forces = np.zeros((k, n))
     converged = np.zeros(k, dtype=bool)
     iterations = np.full(k, -1)

@@ -155,6 +155,9 @@ class HingeRecord:
     drive : float
         Its moment per unit drive input from the drive's offset, k_h k_a / k [N·m/rad]
         at a drive in parallel (module doc), else 0.
+    parallel : float
+        k_h [N·m/rad] at a drive in parallel (the hinge's moment about its axis is
+        ``k_h theta``, theta the joint's rotation), else 0.
     """
 
     leg: int
@@ -164,6 +167,7 @@ class HingeRecord:
     axes: FloatArray
     share: float
     drive: float
+    parallel: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -225,6 +229,24 @@ class HingeModel:
             [peak_stress(h.hinge, loads[..., i, :]) for i, h in enumerate(self.hinges)], axis=-1
         )
 
+    def carried_stresses(self, leg_wrenches: ArrayLike, rotations: ArrayLike) -> FloatArray:
+        """Peak stress [Pa] of each hinge, shape (..., n_hinges), from the wrenches the
+        legs carry (..., n_legs, 6) [N·m, N at P, F_b] and their actuated joints'
+        displacements (..., n_legs) [rad or m] (a loaded state, the actuator law in
+        the loop): a hinge in parallel with a drive bends by its joint's rotation
+        theta, ``m_z = k_h theta``, the drive carrying the rest of the joint's moment."""
+        legs = np.asarray(leg_wrenches, dtype=float)
+        theta = np.asarray(rotations, dtype=float)
+        out = []
+        for h in self.hinges:
+            w = legs[..., h.leg, :]
+            m_c = w[..., :3] - np.cross(h.centre, w[..., 3:])
+            m_local, f_local = m_c @ h.axes, w[..., 3:] @ h.axes
+            if h.parallel > 0.0:
+                m_local[..., 2] = h.parallel * theta[..., h.leg]
+            out.append(peak_stress(h.hinge, np.concatenate([m_local, f_local], axis=-1)))
+        return np.stack(out, axis=-1)
+
     def limits(self, safety_factor: float) -> FloatArray:
         """Allowed stress yield / SF [Pa] of each hinge, shape (n_hinges,)."""
         return np.array([yield_strength(h.hinge) / safety_factor for h in self.hinges])
@@ -248,13 +270,13 @@ def _hinge_records(leg: Any, index: int, chain: list[Any], k_total: float) -> li
         x = np.asarray(joint.axis2, dtype=float).reshape(3)
         x = x - (x @ z) * z
         x = x / np.linalg.norm(x)
-        share, drive = 1.0, 0.0
+        share, drive, k_h = 1.0, 0.0, 0.0
         if joint.actuated:
             k_h = parallel_stiffness(chain)
             share, drive = k_h / k_total, k_h * (k_total - k_h) / k_total
         centre = np.asarray(joint.point, dtype=float).reshape(3)
         axes = np.stack([x, np.cross(z, x), z], axis=1)
-        out.append(HingeRecord(index, name, hinge, centre, axes, share, drive))
+        out.append(HingeRecord(index, name, hinge, centre, axes, share, drive, k_h))
     return out
 
 
@@ -542,3 +564,58 @@ def pose_figures(
         if corners is not None:
             stresses[k] = _stroke_stress(model, corners)
     return ranges, stresses
+
+
+def curve_stresses(design: Design, curve: Any, safety_factor: float = 1.0) -> dict[str, Any]:
+    """The largest hinge stress at each load of a frozen-geometry deflection curve
+    (:class:`~ppm_stiffness.statics.deflection.DeflectionCurve`, the actuator law in
+    the loop) and its ratio to the allowed stress.
+
+    Each leg carries ``w_i = K_i^S (t - a_i delta_i)`` (the equilibrium of
+    :mod:`ppm_stiffness.statics.equilibrium`, t the platform twist at P, delta_i the
+    actuated joint's displacement), through all its joints; each hinge's peak stress
+    from it (:meth:`HingeModel.carried_stresses`). For a linear law this is
+    :meth:`HingeModel.stresses` under the load (tested).
+
+    Parameters
+    ----------
+    design : Design
+        With notch hinges whose materials give their yield strengths.
+    curve : DeflectionCurve
+    safety_factor : float
+        Allowed stress = yield strength / safety_factor (> 0).
+
+    Returns
+    -------
+    dict
+        ``safety_factor``; at each load the hinge nearest its allowed stress (the
+        most stressed one when the hinges share a material): ``hinge`` (n,) its name
+        (``leg<i>.<name>``; "" where no hinge is loaded), ``stress`` (n,) [Pa] its
+        peak stress, ``utilisation`` (n,) its stress / (yield / SF).
+    """
+    from ppm_stiffness.core.conventions import twist_b_from_twist_a
+    from ppm_stiffness.model import tool_offset
+    from ppm_stiffness.statics.structures import LegStructures
+
+    if not (np.isfinite(safety_factor) and safety_factor > 0.0):
+        raise DesignError(f"safety factor {safety_factor!r}: must be positive and finite")
+    model = hinge_model(design, curve.pose)
+    limits = model.limits(safety_factor)
+    offset = tool_offset(curve.pose, curve.tool_point)
+    at_p = np.asarray(curve.twists) @ twist_b_from_twist_a(np.eye(3), offset).T
+    terms = LegStructures(design, curve.pose).terms
+    delta = np.asarray(curve.actuator_displacements, dtype=float)
+    rel = at_p[:, None, :] - delta[..., None] * terms.actuator[0][None]
+    legs = np.einsum("lij,klj->kli", terms.rigid[0], rel)
+    sigma = model.carried_stresses(legs, delta)  # (n, n_hinges)
+    ratio = sigma / limits
+    names = [f"leg{h.leg + 1}.{h.name}" for h in model.hinges]
+    # the first hinge within round-off of the largest ratio (symmetric hinges tie)
+    worst = np.argmax(ratio >= (1.0 - 1e-9) * np.max(ratio, axis=1, keepdims=True), axis=1)
+    rows = np.arange(sigma.shape[0])
+    return {
+        "safety_factor": float(safety_factor),
+        "stress": sigma[rows, worst],
+        "hinge": [names[j] if sigma[k, j] > 0 else "" for k, j in enumerate(worst)],
+        "utilisation": ratio[rows, worst],
+    }

@@ -9,7 +9,9 @@ stiffnesses), an approximation for a redundant one.
 
 Sign: ``G_i = a_i . w_i`` with ``a_i`` the actuated joint's unit twist
 (for a linear actuator along u_i, ``G_i = u_i . f_i``); the actuator law is odd, so
-only ``|G_i|`` sets its stiffness.
+only ``|G_i|`` sets its stiffness. Where a flexure of stiffness ``k_h`` acts in
+parallel with the drive (its actuated joint is elastic) G_i is the drive's share,
+``a_i . w_i k_act / (k_act + k_h)``.
 """
 
 from __future__ import annotations
@@ -22,7 +24,9 @@ from ppm_stiffness.core.inputs import validate_wrench
 from ppm_stiffness.design import Design
 from ppm_stiffness.model import (
     actuator_screws_at_pose,
+    actuator_stiffness_vector,
     leg_stiffnesses_at_pose,
+    parallel_stiffnesses,
     validate_pose,
 )
 from ppm_stiffness.statics.equilibrium import (
@@ -32,7 +36,6 @@ from ppm_stiffness.statics.equilibrium import (
     check_small_rotation,
     equilibrium,
 )
-from ppm_stiffness.statics.structures import refuse_parallel_flexures
 
 
 def leg_wrenches(leg_stiffnesses: list[FloatArray], wrench: ArrayLike) -> FloatArray:
@@ -54,13 +57,18 @@ def actuator_forces(
     redundant design it is the split of a linear model with those stiffnesses (the
     locked ones by default), *not* the loaded equilibrium: use :func:`loaded_state`.
     """
-    refuse_parallel_flexures(design)
     w = validate_wrench(wrench)
     p = validate_pose(design, pose)
     legs = leg_stiffnesses_at_pose(design, p, actuator_stiffness)
     shares = leg_wrenches(legs, w)
     screws = actuator_screws_at_pose(design, p)
-    return np.einsum("ij,ij->i", shares, screws)
+    joint = np.einsum("ij,ij->i", shares, screws)  # the actuated joints' forces
+    k_h = parallel_stiffnesses(design)
+    if not np.any(k_h):
+        return joint
+    k_act = actuator_stiffness_vector(design, actuator_stiffness)
+    with np.errstate(invalid="ignore"):  # a passive leg's inf: no flexure, share 1
+        return np.asarray(joint * np.where(k_h > 0, k_act / (k_act + k_h), 1.0))
 
 
 def loaded_state(design: Design, wrench: ArrayLike, pose: ArrayLike | None = None) -> LoadedState:

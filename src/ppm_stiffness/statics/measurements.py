@@ -99,8 +99,17 @@ PHI_COLUMN = "pose_phi_deg"
 #: differ by at most this, in the column's unit (mm or deg), times max(1, |value|):
 #: six significant digits, or 1e-5 mm / 1e-5 deg near zero.
 POSE_AGREEMENT = 1e-5
+#: The model's hinge stress columns ``deflect --csv`` writes for a design with notch
+#: hinges: read back (a curve file is a measurement file) and ignored.
+HINGE_COLUMNS = ("hinge_stress_max_MPa", "hinge_utilisation")
 ALL_COLUMNS = (
-    LOAD_COLUMNS + POSE_COLUMNS + (PHI_COLUMN,) + WRENCH_COLUMNS + COMPONENT_COLUMNS + SIGMA_COLUMNS
+    LOAD_COLUMNS
+    + POSE_COLUMNS
+    + (PHI_COLUMN,)
+    + WRENCH_COLUMNS
+    + COMPONENT_COLUMNS
+    + SIGMA_COLUMNS
+    + HINGE_COLUMNS
 )
 ORIENTATION = (0, 1, 2)
 POSITION = (3, 4, 5)

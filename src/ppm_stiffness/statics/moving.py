@@ -357,9 +357,10 @@ def _fill(
         a = chain.actuator
         if a is None:  # a passive constraining leg: no actuator force (its defaults)
             continue
-        g = path.forces[i][:, a]
+        x_a = st.coordinates[i][:, a]
+        g = path.forces[i][:, a] - chain.parallel * x_a  # the drive's share (a flexure's)
         out.actuator_forces[idx, i] = g
-        out.actuator_displacements[idx, i] = st.coordinates[i][:, a]
+        out.actuator_displacements[idx, i] = x_a
         out.actuator_stiffness[idx, i] = act.leg_tangent_stiffness(leg, g)
     out.factor[idx] = path.factor
     out.unstable_between[idx] = path.unstable_between

@@ -121,9 +121,7 @@ class PlatformChains:
         """The problems ``index``."""
         return PlatformChains(
             tuple(
-                ScrewChain(
-                    c.screws[index], c.compliance[index], c.passive, c.actuator, c.law, c.elastic
-                )
+                replace(c, screws=c.screws[index], compliance=c.compliance[index])
                 for c in self.chains
             ),
             self.strokes,
@@ -195,7 +193,10 @@ def zero_state(system: PlatformChains) -> ChainState:
 def spring_law(chain: ScrewChain, tau: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Deflections (k, n) of the chain's springs under generalised forces ``tau`` (k, n)
     and their tangent compliance (k, n, n): the linear springs' compliance, the
-    actuator's ``delta(G)`` and ``1/K_act(G)`` (eq. 20-21); 0 for passive coordinates."""
+    actuator's ``delta(G)`` and ``1/K_act(G)`` (eq. 20-21); 0 for passive coordinates.
+    A drive in parallel with a flexure k_h: the drive's share G of the column's force
+    (:func:`ppm_stiffness.statics.actuator.drive_force`), ``delta(G)`` and
+    ``1/(K_act(G) + k_h)``."""
     defl = np.einsum("kij,kj->ki", chain.compliance, tau)
     c_tan = chain.compliance.copy()
     if chain.elastic is not None:  # an elastic coordinate's deflection tau / k
@@ -205,8 +206,9 @@ def spring_law(chain: ScrewChain, tau: FloatArray) -> tuple[FloatArray, FloatArr
         a = chain.actuator
         if chain.law is None:  # pragma: no cover - a ScrewChain is built with its law
             raise ValueError("an actuator column needs its law")
-        defl[:, a] = act.actuator_displacement(chain.law, tau[:, a])
-        c_tan[:, a, a] = 1.0 / act.stiffness_from_force(chain.law, tau[:, a])
+        g = act.drive_force(chain.law, chain.parallel, tau[:, a])
+        defl[:, a] = act.actuator_displacement(chain.law, g)
+        c_tan[:, a, a] = 1.0 / (act.stiffness_from_force(chain.law, g) + chain.parallel)
     return defl, c_tan
 
 

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import BoolArray, FloatArray
-from ppm_stiffness.core.errors import DesignError, SingularConfigurationError
+from ppm_stiffness.core.errors import SingularConfigurationError
 from ppm_stiffness.core.singularity import (
     assemble_blocks,
     basis_projector,
@@ -168,27 +168,6 @@ def _engine_terms(design: Design, leg_poses: list[LegPose], k: int) -> LegTerms:
     )
 
 
-def refuse_parallel_flexures(design: Design) -> None:
-    """Refuse a design whose actuated joint is elastic (a drive in parallel with a
-    flexure: an ``elastic`` joint or a notch ``hinge``) for the loaded states: their
-    actuator forces and laws would take the flexure's share of the joint's generalised
-    force as the drive's.
-
-    Raises
-    ------
-    DesignError
-    """
-    for i, leg in enumerate(design.legs):
-        for element in getattr(leg, "elements", []):
-            flexure = getattr(element, "elastic", None) or getattr(element, "hinge", None)
-            if getattr(element, "actuated", False) and flexure is not None:
-                raise DesignError(
-                    f"leg {i + 1}: its actuated joint is elastic (a drive in parallel with a "
-                    "flexure): loaded states, actuator forces and deflections are not "
-                    "supported for it yet (its stiffness, maps, modes and validate are)"
-                )
-
-
 def leg_terms(design: Design, leg_poses: list[LegPose]) -> LegTerms:
     """The legs' linear parts from every leg's solved poses (``leg.solve``), one pose
     (points of shape (3,)) or k poses ((k, 3)), solved at full poses (k, 6);
@@ -199,7 +178,6 @@ def leg_terms(design: Design, leg_poses: list[LegPose]) -> LegTerms:
     LegTerms
         With k = 1 for one pose.
     """
-    refuse_parallel_flexures(design)
     shape = np.shape(leg_poses[0].poses)[:-1]
     k = int(np.prod(shape)) if shape else 1
     found = _planar_terms(design, leg_poses, k) if design.planar else None

@@ -41,13 +41,21 @@ DPI = 150
 _STATE_TEXT = {"max": "actuators locked (maximum)", "min": "actuators at minimum"}
 
 
+#: What a hinge_range map shows (the drives as the design gives them, no load).
+HINGE_RANGE_TEXT = "each drive alone (the others held, no load) until a hinge yields"
+
+
 def _state_label(smap: StiffnessMap) -> str:
+    if set(smap.quantities) == {"hinge_range"}:
+        return HINGE_RANGE_TEXT
     if smap.actuators == "min" and smap.reference_force is not None:
-        return f"actuators at minimum ({smap.reference_force:g} N reference force)"
-    if smap.actuators == "wrench" and smap.wrench is not None:
+        text = f"actuators at minimum ({smap.reference_force:g} N reference force)"
+    elif smap.actuators == "wrench" and smap.wrench is not None:
         m, f = smap.wrench[:3], smap.wrench[3:]
-        return f"loaded: f = {np.round(f, 3).tolist()} N, m = {np.round(m, 3).tolist()} N·m"
-    return _STATE_TEXT.get(smap.actuators, smap.actuators)
+        text = f"loaded: f = {np.round(f, 3).tolist()} N, m = {np.round(m, 3).tolist()} N·m"
+    else:
+        text = _STATE_TEXT.get(smap.actuators, smap.actuators)
+    return text + ("; hinge range: " + HINGE_RANGE_TEXT if "hinge_range" in smap.quantities else "")
 
 
 def slice_label(smap: StiffnessMap) -> str:
@@ -126,7 +134,7 @@ def plot_stiffness_maps(
         for ax in axes[len(m.quantities) :]:
             ax.set_axis_off()
         for ax, (name, values) in zip(axes, m.quantities.items(), strict=False):
-            unit, symbol = QUANTITIES[name][0], QUANTITIES[name][2]
+            unit, symbol = m.unit(name), QUANTITIES[name][2]
             panel_title = symbol
             if np.any(m.reachable):
                 levels = _levels(values)

@@ -232,7 +232,7 @@ def plot_top_view(view: MechanismView, title: str | None = None, ax: Any = None)
                 lw=1.3,
                 zorder=2,
                 gid=f"rigid-{i}-{k + 1}",
-                label=once("rigid connection (no link modelled)"),
+                label=once("rigid connection (a rigid body: no compliance)"),
             )
         for j, link in enumerate(v.links, start=1):
             if link.name not in link_names:

@@ -276,7 +276,7 @@ def _draw(
                     color="0.35",
                     lw=1.2,
                     gid=f"rigid-{i}-{k + 1}",
-                    label=minor("rigid connection (no link modelled)"),
+                    label=minor("rigid connection (a rigid body: no compliance)"),
                 )
         for j, link in enumerate(v.links, start=1):
             if link.name not in link_names:

@@ -11,7 +11,10 @@ loading wrench. Both dicts are embedded verbatim as JSON in
 ``id="analysis-loaded"``, and every number of the tables is rendered from them. Each
 such table cell carries ``data-path`` (``unloaded/stiffness_matrix/2/3``: the key
 path in those blocks) and ``data-scale`` (displayed value = SI value x scale), so a
-reader or a test can trace each printed number back to the analysis.
+reader or a test can trace each printed number back to the analysis. A design with
+notch hinges adds their stress and range (``id="analysis-hinges"``,
+:mod:`ppm_stiffness.visuals.report_hinges`), one with a mass model its natural
+frequencies (``id="analysis-modes"``, :mod:`ppm_stiffness.visuals.report_dynamics`).
 """
 
 from __future__ import annotations
@@ -222,8 +225,14 @@ def build_report(
         map_figs.append((f"{key}-{acts}", caption, uri, tables.map_summary(design, smap)))
     finish(4)
     from ppm_stiffness.visuals.report_dynamics import dynamics_sections
+    from ppm_stiffness.visuals.report_hinges import hinge_sections
 
-    extra_sections = dynamics_sections(design, p, grid) + (extra_sections or [])
+    w_text = f"f = ({w[3]:g}, {w[4]:g}, {w[5]:g}) N, m = ({w[0]:g}, {w[1]:g}, {w[2]:g}) N·m"
+    extra_sections = (
+        hinge_sections(design, p, w, design.tool_point, w_text)
+        + dynamics_sections(design, p, grid)
+        + (extra_sections or [])
+    )
     if wrench is not None:  # a given wrench: the "Loaded geometry" section
         from ppm_stiffness.visuals.report_loaded import loaded_geometry_section
 

@@ -390,6 +390,14 @@ def loaded_section(design: Design, loaded: dict[str, Any], unloaded: dict[str, A
 _QUANTITY_HTML = {"k_phi": "k<sub>φ</sub>", "k_x": "k<sub>x</sub>", "k_y": "k<sub>y</sub>"}
 
 
+def _grid_end(value: float, values: np.ndarray) -> str:
+    """An end of a map's grid axis: one decimal (mm, deg) for a grid spanning 1 and
+    more, else four significant digits (a flexure stage's slice spans micrometres: its
+    ends at one decimal of a millimetre read [-0.0, 0.0])."""
+    span = float(np.max(values) - np.min(values))
+    return f"{value:.1f}" if span >= 1.0 else f"{value:.4g}"
+
+
 def map_summary(design: Design, smap: Any) -> str:
     """Actuator stiffness of the map and the range of each of its quantities over it."""
     k_act = np.asarray(smap.actuator_stiffness, dtype=float).reshape(-1, len(design.legs))
@@ -422,7 +430,7 @@ def map_summary(design: Design, smap: Any) -> str:
     for name, values in zip(smap.axes, (smap.u, smap.v), strict=True):
         scale, unit = cli_scale(name)
         v = np.asarray(values) * scale
-        ranges.append(f"{name} ∈ [{v[0]:.1f}, {v[-1]:.1f}] {unit}")
+        ranges.append(f"{name} ∈ [{_grid_end(v[0], v)}, {_grid_end(v[-1], v)}] {unit}")
     reach = float(np.mean(np.asarray(smap.reachable)))
     cap = f"{act_txt}; grid {', '.join(ranges)}, {reach * 100:.0f}% reachable"
     return f'<p class="meta">{cap}</p>' + _table(["", "min", "max", "max/min", "unit"], rows)

@@ -30,7 +30,8 @@ def scaled_unit(largest: float, unit: str) -> tuple[float, str]:
     factor : float
         Shown value = value / factor (a power of 1000).
     text : str
-        The unit with its SI prefix (``"MN/m"``) when it starts with N or Hz, else
+        The unit with its SI prefix (``"MN/m"``) when it starts with N or Hz, or is rad
+        or m below 1 (``"mrad"``, ``"µm"``), else
         ``"×10^e unit"``; the unit unchanged when the factor is 1.
     """
     if not math.isfinite(largest) or largest <= 0:
@@ -39,7 +40,7 @@ def scaled_unit(largest: float, unit: str) -> tuple[float, str]:
     e = min(max(e, -9), 12)
     if e == 0:
         return 1.0, unit
-    if unit.startswith(("N", "Hz")):
+    if unit.startswith(("N", "Hz")) or (unit in ("rad", "m") and e < 0):
         return 10.0**e, _PREFIXES[e] + unit
     return 10.0**e, f"×10^{e} {unit}".strip()
 

@@ -738,6 +738,15 @@ class ChainLeg(LegModel):
         bars = "(SS)2" if self._parallelogram() is not None else ""
         return "".join(e.joint for e in self.joints()) + bars
 
+    def parallel_stiffness(self) -> float:
+        """The actuated joint's elastic stiffness along its freedom (an ``elastic``
+        joint or a notch ``hinge``: the drive acts in parallel with it), 0 without."""
+        for element in self.joints():
+            if element.actuated:
+                k = element.elastic_stiffnesses()
+                return 0.0 if k is None else float(k[0])
+        return 0.0
+
     def actuated_kind(self) -> str:
         """The actuated joint's kind ("P" until the leg's own check has refused a leg
         without one: the base checks run first)."""
@@ -925,15 +934,8 @@ class ChainLeg(LegModel):
     def moving_geometry_gap(self) -> str | None:
         """A parallelogram's chain (two P joints and a U) is exact to first order only:
         its bars' own swing under their axial loads (their geometric stiffness) is not
-        in it, so the moving geometry (K_F, the load margin) refuses it. A drive in
-        parallel with a flexure (an actuated ``elastic`` joint or notch ``hinge``) is
-        refused too: the loaded states would count the flexure's share of the joint's
-        generalised force as the drive's (``statics/structures.py``)."""
-        if any(e.actuated and (e.elastic or e.hinge is not None) for e in self.joints()):
-            return (
-                "the moving geometry does not model a drive in parallel with a flexure "
-                "(its actuated joint is elastic or a notch hinge)"
-            )
+        in it, so the moving geometry (K_F, the load margin) refuses it. (A drive in
+        parallel with a flexure is modelled: :mod:`ppm_stiffness.legs.screw_chain`.)"""
         if self._parallelogram() is None:
             return None
         return (
