@@ -222,12 +222,44 @@ def closure_error(
 ) -> FloatArray:
     """Balanced error twist (n, 6) from the chain's end to the target poses (n, 6):
     the rotation vector of ``R_target R_now^T`` and the position error of P."""
-    p_home = pose6.position(home)
-    r_home = pose6.rotation(home)
-    p_now = (rot_end @ p_home) + trans_end
-    r_now = rot_end @ r_home
-    dr = rotation_log(pose6.rotation(target) @ np.swapaxes(r_now, -1, -2))
-    return np.concatenate([dr, pose6.position(target) - p_now], axis=-1) * _BALANCE_TWIST
+    return _end_error(rot_end, trans_end, _Goal.of(home, target, None))
+
+
+@dataclass(frozen=True)
+class _Goal:
+    """What a closure compares the chain's end with, computed once per solve: the
+    platform's home position (3,) and rotation (3, 3), the target positions (n, 3) and
+    rotations (n, 3, 3), and for a chain closed by bars their far ends (n, m, 3)."""
+
+    p_home: FloatArray
+    r_home: FloatArray
+    p_target: FloatArray
+    r_target: FloatArray
+    far: FloatArray | None
+
+    @classmethod
+    def of(cls, home: FloatArray, target: FloatArray, bars: Bars | None) -> _Goal:
+        far = None if bars is None else bars.far_points(home, target)
+        return cls(
+            pose6.position(home),
+            pose6.rotation(home),
+            pose6.position(target),
+            pose6.rotation(target),
+            far,
+        )
+
+    def take(self, rows: np.ndarray) -> _Goal:
+        """The goal of the rows ``rows`` of the batch."""
+        far = None if self.far is None else self.far[rows]
+        return _Goal(self.p_home, self.r_home, self.p_target[rows], self.r_target[rows], far)
+
+
+def _end_error(rot_end: FloatArray, trans_end: FloatArray, goal: _Goal) -> FloatArray:
+    """:func:`closure_error` against a precomputed goal."""
+    p_now = (rot_end @ goal.p_home) + trans_end
+    r_now = rot_end @ goal.r_home
+    dr = rotation_log(goal.r_target @ np.swapaxes(r_now, -1, -2))
+    return np.concatenate([dr, goal.p_target - p_now], axis=-1) * _BALANCE_TWIST
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,13 +303,20 @@ def closure(
     Jacobian (n, m, f) in the joint coordinates, both length-balanced: the end body's
     error twist (m = 6), or the bars' lengths less their distances now (m = the number
     of bars)."""
+    return _closure(freedoms, _Goal.of(home, target, bars), q, bars)
+
+
+def _closure(
+    freedoms: Freedoms, goal: _Goal, q: FloatArray, bars: Bars | None
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`closure` against a precomputed goal."""
     rot, trans = forward(freedoms, q)
-    if bars is None:
-        error = closure_error(rot[:, -1], trans[:, -1], home, target)
-        reference = (rot[:, -1] @ pose6.position(home)) + trans[:, -1]
+    if bars is None or goal.far is None:
+        error = _end_error(rot[:, -1], trans[:, -1], goal)
+        reference = (rot[:, -1] @ goal.p_home) + trans[:, -1]
         return error, jacobian(freedoms, rot, trans, reference) * _BALANCE_TWIST[:, None]
     near = bars.near_points(rot[:, -1], trans[:, -1])
-    far = bars.far_points(home, target)
+    far = goal.far
     error = bars.lengths - np.linalg.norm(far - near, axis=-1)  # target less now
     n = bars.directions(near, far)
     jac = jacobian(freedoms, rot, trans, np.zeros_like(trans[:, -1]))
@@ -303,9 +342,11 @@ def _newton(
     q = q.copy()
     converged = np.zeros(q.shape[0], dtype=bool)
     active = np.arange(q.shape[0])
+    whole = _Goal.of(home, target, bars)
     for _ in range(MAX_ITERATIONS):
         qa = q[active]
-        error, jac = closure(freedoms, home, target[active], qa, bars)
+        goal = whole if active.size == q.shape[0] else whole.take(active)
+        error, jac = _closure(freedoms, goal, qa, bars)
         step = _least_squares(jac, error)
         size = np.max(np.abs(step), axis=-1, initial=0.0)
         with np.errstate(invalid="ignore"):
