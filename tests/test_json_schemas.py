@@ -102,6 +102,8 @@ CASES = [
             str(ROOT / "examples/hexapod_6ups.toml"),
             "--quantities",
             "f1,translational_min",
+            "--link-modes",
+            "0",
         ],
     ),
     ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),

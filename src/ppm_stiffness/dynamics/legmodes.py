@@ -48,7 +48,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ppm_stiffness.core.beam import cantilever_compliance
 from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
@@ -66,6 +66,8 @@ from ppm_stiffness.legs.chain import (
     freedom_screws,
     link_screws,
 )
+
+IntArray = NDArray[np.int_]
 
 #: Euler-Bernoulli elements per link of a leg's FE model. With 8 a pinned-pinned
 #: uniform strut (two links) has its first frequency 1.3e-6 high; the shipped
@@ -116,7 +118,9 @@ class LegModes:
     Attributes
     ----------
     omega2 : ndarray (n, k) [rad^2/s^2]
-        Ascending.
+        Ascending; NaN with a zero coupling in a slot a pose does not have (another
+        pose of the batch keeps more: a degenerate pair kept whole there), NaN with a
+        NaN coupling at a pose whose model is not finite.
     coupling : ndarray (n, 6, k)
         ``C = Psi^T M_x phi``: the kinetic coupling of the platform twist at P (axes of
         F_b, order (omega, v)) with each mass-normalised mode.
@@ -406,8 +410,8 @@ def fixed_interface_modes(
     basis_t = np.swapaxes(basis, -1, -2)
     # the static (constraint) shapes: Psi = J^+ - N Kz^+ N^T K J^+, Kz^+ = basis basis^T
     psi = particular - null @ (basis @ (basis_t @ (null_t @ (k_x @ particular))))
-    mu, y = _mass_modes((b_x @ null) @ basis, count)
-    phi = null @ (basis @ y)  # (n, N, k)
+    mu, y, present = _mass_modes((b_x @ null) @ basis, count)
+    phi = null @ (basis @ y)  # (n, N, k), zero in a slot the pose does not have
     bp = b_x @ psi
     coupling = np.swapaxes(bp, -1, -2) @ (b_x @ phi)
     bad = ~good[:, None, None]
@@ -418,35 +422,40 @@ def fixed_interface_modes(
     else:
         cm = ck = np.full((n, 6, 6), np.nan)
     return LegModes(
-        omega2=np.where(good[:, None], 1.0 / mu, np.nan),
+        omega2=np.where(good[:, None] & present, 1.0 / mu, np.nan),
         coupling=np.where(bad, np.nan, coupling),
         condensed_mass=cm,
         condensed_stiffness=ck,
     )
 
 
-def _mass_modes(h: FloatArray, count: int) -> tuple[FloatArray, FloatArray]:
+def _mass_modes(h: FloatArray, count: int) -> tuple[FloatArray, FloatArray, BoolArray]:
     """The largest mu (n, k) of ``A y = mu y`` with ``A = H^T H`` (n, m, m) (``H = B
-    N basis`` (n, r, m): the mass in the K-orthonormal basis) and ``y / sqrt(mu)`` (n,
-    m, k) (the mass-normalised modes over that basis), k by :func:`_whole_pairs`.
+    N basis`` (n, r, m): the mass in the K-orthonormal basis), ``y / sqrt(mu)`` (n, m,
+    k) (the mass-normalised modes over that basis) and which of the k slots each pose
+    has (n, k): its ``count`` modes with mass, more where the last would split a
+    degenerate pair (:func:`_whole_pairs`), pose by pose (k: the most of any pose; a
+    slot a pose does not have: mu 1, a zero mode).
 
     With fewer mass rows than directions (r < m: links given as bodies, a few rows
     each, against every coordinate of the FE) the same nonzero mu come from the Gram
     matrix ``H H^T`` (n, r, r), ``y = H^T u / sqrt(mu)``."""
-    r, m = h.shape[-2], h.shape[-1]
+    n, r, m = h.shape
     gram = 0 < r < m
     ht = np.swapaxes(h, -1, -2)
     a = h @ ht if gram else ht @ h
     mu, y = np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))  # ascending
-    top = np.max(mu, axis=-1, keepdims=True) if mu.shape[-1] else np.zeros((mu.shape[0], 1))
-    massive = mu > 1e-12 * top
-    available = int(np.min(np.sum(massive, axis=-1))) if mu.shape[0] else 0
-    want = _whole_pairs(mu, min(count, available), available)
-    mu_k = mu[:, ::-1][:, :want]
-    y_k = y[:, :, ::-1][:, :, :want]
+    mu, y = mu[:, ::-1], y[:, :, ::-1]  # descending: the lowest frequencies first
+    top = mu[:, :1] if mu.shape[-1] else np.zeros((n, 1))
+    available = np.sum(mu > 1e-12 * top, axis=-1)  # a prefix: those with mass
+    want = _whole_pairs(mu, np.minimum(count, available), available)
+    k = int(np.max(want)) if n else 0
+    present = np.arange(k)[None, :] < want[:, None]
+    mu_k = np.where(present, mu[:, :k], 1.0)
+    y_k = y[:, :, :k]
     if gram:
         y_k = ht @ y_k / np.sqrt(mu_k)[:, None, :]
-    return mu_k, y_k / np.sqrt(mu_k)[:, None, :]
+    return mu_k, np.where(present[:, None, :], y_k / np.sqrt(mu_k)[:, None, :], 0.0), present
 
 
 def _stiff_basis(kz: FloatArray, general: bool = False) -> FloatArray:
@@ -485,7 +494,7 @@ def _batched_cholesky(a: FloatArray) -> tuple[FloatArray, BoolArray]:
     """Lower Cholesky factors of a stack (n, m, m) and where they exist (n,) (one
     matrix at a time only when the batched factorisation fails)."""
     try:
-        return np.linalg.cholesky(a), np.ones(a.shape[0], dtype=bool)
+        return np.asarray(np.linalg.cholesky(a), dtype=float), np.ones(a.shape[0], dtype=bool)
     except np.linalg.LinAlgError:
         pass
     low = np.zeros_like(a)
@@ -499,18 +508,21 @@ def _batched_cholesky(a: FloatArray) -> tuple[FloatArray, BoolArray]:
     return low, ok
 
 
-def _whole_pairs(mu: FloatArray, count: int, available: int) -> int:
-    """``count`` raised while the next mode (descending mu) repeats the last one."""
-    if count <= 0:
-        return 0
-    desc = mu[:, ::-1]
-    k = count
-    while k < available:
-        last, nxt = desc[:, k - 1], desc[:, k]
-        if np.any(np.abs(last - nxt) <= DEGENERATE_TOLERANCE * np.abs(last)):
-            k += 1
-        else:
+def _whole_pairs(mu: FloatArray, count: IntArray, available: IntArray) -> IntArray:
+    """Each pose's ``count`` (n,) raised while its next mode (``mu`` (n, s) descending)
+    repeats its last one, up to its ``available`` (n,)."""
+    k = np.array(count, dtype=int)
+    rows = np.arange(mu.shape[0])
+    for _ in range(mu.shape[-1]):
+        grow = (k > 0) & (k < available)
+        if not np.any(grow):
             break
+        last = mu[rows, np.maximum(k - 1, 0)]
+        nxt = mu[rows, np.minimum(k, mu.shape[-1] - 1)]
+        grow &= np.abs(last - nxt) <= DEGENERATE_TOLERANCE * np.abs(last)
+        if not np.any(grow):
+            break
+        k = k + grow
     return k
 
 
@@ -606,8 +618,29 @@ def reduced_frequencies(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
     """The six lowest frequencies (n, 6) [Hz] of stacks of K_r, M_r (n, s, s); NaN where
     they are not finite or M_r is not positive definite.
 
-    Batched: one Cholesky factorisation of every M_r (one pose at a time only where
-    the batched one fails), one eigvalsh of every ``L^-1 K_r L^-T``."""
+    A mode slot a pose does not have (:class:`LegModes`: omega^2 NaN, a zero coupling;
+    :func:`reduced_matrices` puts it on the diagonal) is left out of that pose's
+    problem; the poses are solved in groups with the same slots, each batched."""
+    n, size = stiffness.shape[0], stiffness.shape[-1]
+    out = np.full((n, 6), np.nan)
+    idx = np.arange(size)
+    off = mass.copy()
+    off[:, idx, idx] = 0.0
+    absent = np.isnan(stiffness[:, idx, idx]) & np.all(off == 0.0, axis=-1)
+    absent[:, :6] = False
+    patterns, which = np.unique(absent, axis=0, return_inverse=True)
+    for g, pattern in enumerate(patterns):
+        poses = np.flatnonzero(np.ravel(which) == g)
+        keep = np.flatnonzero(~pattern)
+        sub = np.ix_(poses, keep, keep)
+        out[poses] = _lowest_six(stiffness[sub], mass[sub])
+    return out
+
+
+def _lowest_six(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
+    """:func:`reduced_frequencies` of stacks without absent slots: one Cholesky
+    factorisation of every M_r (one pose at a time only where the batched one fails),
+    one eigvalsh of every ``L^-1 K_r L^-T``."""
     n = stiffness.shape[0]
     out = np.full((n, 6), np.nan)
     good = np.isfinite(stiffness).all(axis=(1, 2)) & np.isfinite(mass).all(axis=(1, 2))

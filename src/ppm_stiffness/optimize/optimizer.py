@@ -240,9 +240,11 @@ class _Evaluator:
         margin: bool = False,
         frequencies: bool = False,
         hinges: bool = False,
+        link_modes: int = 0,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
         self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
+        self.link_modes = link_modes
         self.objective, self.constraints = objective, constraints
         self.executor, self.scale, self.advance = executor, scale, advance
         self.cache: dict[tuple[float, ...], RegionSummary] = {}
@@ -297,6 +299,7 @@ class _Evaluator:
                 self.margin,
                 self.frequencies,
                 self.hinges,
+                self.link_modes,
             )
             for k in todo
         ]
@@ -316,6 +319,12 @@ class _Evaluator:
         return energies
 
 
+def _link_modes(link_modes: int | None) -> int:
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    return resolve_link_modes(link_modes)
+
+
 def optimize_design(
     design: Design,
     variables: Sequence[Variable],
@@ -328,6 +337,7 @@ def optimize_design(
     constraints: Sequence[Constraint] = (),
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
+    link_modes: int | None = None,
 ) -> OptimizationResult:
     """Optimise ``design`` over ``region`` (module doc).
 
@@ -352,6 +362,11 @@ def optimize_design(
         Default :class:`~ppm_stiffness.optimize.executors.SerialExecutor`.
     progress : callable(amount), optional
         Called with 1 after each evaluation.
+    link_modes : int, optional
+        The f1 objective and constraints with each leg's own modes with the platform
+        held (Craig-Bampton, :mod:`ppm_stiffness.dynamics.legmodes`), as ``analyze``;
+        None: :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`; 0: the legs
+        condensed statically (cheaper: measured figures in docs/optimization.md).
 
     Returns
     -------
@@ -381,10 +396,11 @@ def optimize_design(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)  # f1 only when used: it costs
     hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
+    count = _link_modes(link_modes) if frequencies else 0
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies, hinges)]
+        args = [(design, None, region, w, margin, frequencies, hinges, count)]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -415,6 +431,7 @@ def optimize_design(
         margin,
         frequencies,
         hinges,
+        count,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))

@@ -445,6 +445,7 @@ def optimize_front(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     choices: Sequence[Choice] = (),
+    link_modes: int | None = None,
 ) -> FrontResult:
     """The Pareto front of ``objectives`` over ``region`` (module doc).
 
@@ -471,6 +472,9 @@ def optimize_front(
     choices : sequence of Choice
         Catalogue choices (:func:`~ppm_stiffness.optimize.catalogue.parse_choice`):
         integer variables, the entry's index, rounded by a repair step.
+    link_modes : int, optional
+        f1 with each leg's own modes, as :func:`~ppm_stiffness.optimize.optimizer
+        .optimize_design` takes it (None: the default; 0: the legs condensed).
 
     Returns
     -------
@@ -507,6 +511,11 @@ def optimize_front(
     margin = any(q.needs_margin for q in quantities)
     frequencies = any(q.needs_frequencies for q in quantities)
     hinges = any(q.needs_hinges for q in quantities)
+    count = 0
+    if frequencies:  # f1 as optimize_design takes it
+        from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+        count = resolve_link_modes(link_modes)
     executor = SerialExecutor() if executor is None else executor
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
@@ -519,6 +528,7 @@ def optimize_front(
                 margin,
                 frequencies,
                 hinges,
+                count,
             )
             for k in keys
         ]

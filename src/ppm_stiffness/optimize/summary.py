@@ -269,15 +269,28 @@ def first_frequencies(
     poses: FloatArray,
     stiffness: FloatArray,
     actuator_stiffness: ArrayLike | None = None,
+    link_modes: int = 0,
 ) -> FloatArray:
     """The first natural frequency [Hz] (n,) from K at P (n, 6, 6) at full poses (n, 6),
     the legs' motion with ``actuator_stiffness`` (n, n_legs) (locked if None); NaN
-    where K or M is not finite. Frequencies do not depend on the reference point."""
+    where K or M is not finite. Frequencies do not depend on the reference point.
+    ``link_modes``: each leg's own modes with the platform held
+    (:func:`ppm_stiffness.dynamics.batch.first_frequencies`); 0: the legs condensed."""
     from ppm_stiffness.dynamics.mass import mass_matrix
     from ppm_stiffness.dynamics.modes import natural_frequencies
 
     if poses.shape[0] == 0:
         return np.zeros(0)
+    if link_modes:
+        from ppm_stiffness.dynamics import batch
+        from ppm_stiffness.model import actuator_stiffness_vector
+
+        k_act = (
+            actuator_stiffness_vector(design, None)
+            if actuator_stiffness is None
+            else actuator_stiffness
+        )
+        return batch.first_frequencies(design, poses, stiffness, k_act, link_modes=link_modes)[0]
     m = mass_matrix(design, poses, actuator_stiffness)
     return np.asarray(natural_frequencies(stiffness, m)[:, 0])
 
@@ -289,6 +302,7 @@ def summarize(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    link_modes: int = 0,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -311,6 +325,10 @@ def summarize(
     hinges : bool
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``; NaN without):
         about 0.1 s per pose for the shipped 3-RRR stage.
+    link_modes : int
+        The f1 figures with each leg's own modes with the platform held (Craig-Bampton,
+        :mod:`ppm_stiffness.dynamics.legmodes`), this many per leg; 0: the legs
+        condensed statically.
 
     Returns
     -------
@@ -355,7 +373,7 @@ def summarize(
             from ppm_stiffness.poses import full_poses
 
             full = full_poses(design, poses)[0].reshape(-1, 6)
-        f1 = first_frequencies(design, full[covered], stiffness[covered])
+        f1 = first_frequencies(design, full[covered], stiffness[covered], None, link_modes)
         values.update(_statistics(f1, "f1"))
     failures = 0
     first: tuple[float, ...] | None = None
@@ -377,7 +395,7 @@ def summarize(
             if mass:
                 assert state.stiffness is not None and state.poses is not None
                 f1 = first_frequencies(
-                    design, state.poses, state.stiffness, state.actuator_stiffness
+                    design, state.poses, state.stiffness, state.actuator_stiffness, link_modes
                 )
                 values.update(_statistics(f1, "f1"))
     if hinges and np.any(covered):
@@ -448,6 +466,7 @@ def summarize_candidate(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    link_modes: int = 0,
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
@@ -464,7 +483,7 @@ def summarize_candidate(
             design = apply_values(design, dict(values))
         except DesignError as exc:
             return RegionSummary.failed(math.prod(region.grid), str(exc), design.planar)
-    return summarize(design, region, wrench, margin, frequencies, hinges)
+    return summarize(design, region, wrench, margin, frequencies, hinges, link_modes)
 
 
 def summary_names(summaries: Sequence[RegionSummary], wrench: bool, mass: bool) -> list[str]:
