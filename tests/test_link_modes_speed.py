@@ -9,6 +9,7 @@ given next to each assertion."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -134,3 +135,43 @@ def test_few_modes_use_few_elements_within_the_stated_error() -> None:
         fine = fixed_interface_modes(chain, k_act, 2, 8).frequencies[0]  # type: ignore[arg-type]
         assert coarse == pytest.approx(fine, rel=5e-5)
         assert np.all(coarse >= fine)  # a coarser mesh is stiffer
+
+
+def test_each_pose_keeps_its_own_modes_in_a_batch() -> None:
+    """A batch of three strut poses (the base moved sideways), the middle one not
+    finite: the others keep their modes, each as alone (measured equal to 1e-15;
+    before, the non-finite pose left every pose of the batch without modes), the
+    middle one NaN; the reduced problem of a pose leaves out a slot it does not have."""
+    from ppm_stiffness.dynamics.legmodes import reduced_matrices
+
+    good = _strut()
+    shift = np.array([[0.0, 0.0, 0.0], [np.nan, 0.0, 0.0], [0.03, -0.02, 0.0]])
+    base, guide = good[1].start + shift, good[1].end + shift
+    chain = [
+        replace(good[0], point=base),
+        replace(good[1], start=base, end=guide),
+        replace(good[2], point=guide),
+        replace(good[3], start=guide),
+        good[4],
+    ]
+    batch = fixed_interface_modes(chain, 3e7, 2, 4)
+    assert np.all(np.isnan(batch.omega2[1])) and np.all(np.isnan(batch.coupling[1]))
+    for i in (0, 2):
+        alone = [
+            replace(e, **{f: getattr(e, f)[i] for f in ("point", "start", "end") if _batched(e, f)})
+            for e in chain
+        ]
+        ref = fixed_interface_modes(alone, 3e7, 2, 4)
+        assert batch.omega2[i] == pytest.approx(ref.omega2[0], rel=1e-12)
+    k = np.stack([np.diag([1.0, 2, 3, 4, 5, 6])] * 2)
+    m = np.stack([np.eye(6)] * 2)
+    omega2 = np.array([[9.0, np.nan], [9.0, 16.0]])
+    coupling = np.zeros((2, 6, 2))
+    coupling[1, 0, 1] = 0.1
+    f = reduced_frequencies(*reduced_matrices(k, m, omega2, coupling))
+    assert f[0] == pytest.approx(np.sqrt([1, 2, 3, 4, 5, 6]) / (2 * math.pi), rel=1e-14)
+    assert np.all(np.isfinite(f[1]))
+
+
+def _batched(element: object, name: str) -> bool:
+    return np.ndim(getattr(element, name, None)) == 2
