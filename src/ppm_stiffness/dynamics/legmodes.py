@@ -526,9 +526,10 @@ def _whole_pairs(mu: FloatArray, count: IntArray, available: IntArray) -> IntArr
     return k
 
 
-#: Fixed-interface modes per leg by default (``modes --link-modes``): measured to put
-#: f1..f6 of every shipped example at home within 4e-5 of their values with all the
-#: legs' modes (4 modes: f1 within 7e-5, f1..f6 within 1.2e-3; docs/dynamics.md).
+#: Fixed-interface modes per leg by default (``modes --link-modes``, ``map``,
+#: ``optimize``): measured to put f1..f6 of every shipped example at home within 3.9e-5
+#: of their values with all the legs' modes, f1 within 1.8e-5 (4 modes: f1 within
+#: 7.5e-5, f1..f6 within 1.1e-3; 2 modes: f1 within 3.2e-3 of 8; docs/dynamics.md).
 DEFAULT_LINK_MODES = 8
 #: A warning when a leg's first fixed-interface frequency is below this multiple of
 #: the condensed f1 and its modes are left out (the error of f1 is of the order
