@@ -109,6 +109,7 @@ def test_map_cli_link_modes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     argv = ["map", "--design", HEXAPOD, "--grid", "3", "--quantities", "f1", "--json"]
     assert main([*argv, "--link-modes", "2"]) == 0
     doc = json.loads(capsys.readouterr().out)
+    assert doc["link_modes"] == 2
     smap = stiffness_map(design_named("hexapod_6ups"), grid=3, quantities=["f1"], link_modes=2)
     assert doc["summary"]["f1"]["min"] == pytest.approx(float(smap.quantities["f1"].min()))
     data = tmp_path / "m.csv"

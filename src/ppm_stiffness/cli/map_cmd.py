@@ -438,6 +438,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
         "phi": smap.fixed.get("rz"),
         "actuators": smap.actuators,
         "geometry": smap.geometry,
+        "link_modes": smap.link_modes,
         "actuator_stiffness": np.asarray(smap.actuator_stiffness).T.tolist(),
         "wrench": None if smap.wrench is None else smap.wrench,
         "tool_point": tool_point_from_args(args, design),
