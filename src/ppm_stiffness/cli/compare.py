@@ -40,6 +40,7 @@ from ppm_stiffness.cli.study_options import (
     region_json,
     region_maps,
     region_text,
+    study_link_modes,
 )
 from ppm_stiffness.core.errors import InputDataError
 
@@ -105,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
     wrench = parse_wrench(args.wrench)
     if args.load_margin and wrench is None:
         raise InputDataError("--load-margin needs --wrench (the load whose margin it finds)")
+    link_modes = study_link_modes(args, not args.no_f1)
 
     start = time.perf_counter()
     with (
@@ -120,6 +122,7 @@ def run(args: argparse.Namespace) -> int:
                 progress=advance,
                 margin=args.load_margin,
                 frequencies=not args.no_f1,
+                link_modes=link_modes,
             )
         except Interrupted:
             raise KeyboardInterrupt from None

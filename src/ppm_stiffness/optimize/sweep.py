@@ -116,6 +116,7 @@ def sweep_designs(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    link_modes: int = 0,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -146,6 +147,9 @@ def sweep_designs(
         stiffness figures); False: NaN.
     hinges : bool
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``); False: NaN.
+    link_modes : int
+        The f1 figures with each leg's own modes, this many per leg
+        (:func:`~ppm_stiffness.optimize.summary.summarize`); 0: the legs condensed.
 
     Returns
     -------
@@ -156,7 +160,8 @@ def sweep_designs(
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
     args = [
-        (design, assignments(variables, p), region, w, margin, frequencies, hinges) for p in points
+        (design, assignments(variables, p), region, w, margin, frequencies, hinges, link_modes)
+        for p in points
     ]
     try:
         summaries = run_ordered(executor, summarize_candidate, args, progress)
@@ -179,10 +184,12 @@ def summarize_designs(
     progress: Callable[[float], None] | None = None,
     margin: bool = False,
     frequencies: bool = True,
+    link_modes: int = 0,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
-    with a mass model.
+    with a mass model, with each leg's ``link_modes`` own modes (0: the legs
+    condensed).
 
     Raises
     ------
@@ -200,6 +207,6 @@ def summarize_designs(
     return run_ordered(
         executor,
         summarize_candidate,
-        [(d, None, region, w, margin, frequencies) for d in designs],
+        [(d, None, region, w, margin, frequencies, False, link_modes) for d in designs],
         progress,
     )
