@@ -104,6 +104,8 @@ WRITERS = {
         "{d}/s.csv",
         "--out",
         "{d}/s.png",
+        "--link-modes",
+        "0",
     ],
     "optimize": [
         "optimize",
@@ -121,7 +123,7 @@ WRITERS = {
         "{d}/conv.png",
     ],
     "compare": ["compare", "--design", SYMMETRIC, REGION, "--quiet", "--map-grid", "4"]
-    + ["--out", "{d}/cmp.png"],
+    + ["--out", "{d}/cmp.png", "--link-modes", "0"],
     "identify": [
         "identify",
         "--measurements",

@@ -45,7 +45,7 @@ def test_optimize_writes_a_design_that_every_command_reads(
         design.parameter("leg*.platform_radius") == doc["best_parameters"]["leg*.platform_radius"]
     )
     # compare re-evaluates it over the region it carries: the same objective
-    again = _json(capsys, ["compare", "--json", "--design", str(best)])
+    again = _json(capsys, ["compare", "--json", "--design", str(best), "--link-modes", "0"])
     figures = again["designs"][0]["figures"]
     assert min(figures["k_x_min"], figures["k_y_min"]) == doc["best_objective"]
     assert main(["analyze", "--design", str(best), "--json"]) == 0
@@ -134,6 +134,7 @@ def test_a_start_design_outside_the_ranges_is_warned_and_a_worse_best_said(
     assert start == 0.25
     argv = ["optimize", "--design", str(ROOT / "examples/3rps.toml"), "--quiet", "--seed", "1"]
     argv += ["--vary", "leg*.cylinder_length=0.15:0.22", "--objective", "first-frequency"]
+    argv += ["--link-modes", "0"]  # the reporting under test, on the cheaper condensed f1
     assert main([*argv, "--budget", "10", "--out", str(tmp_path / "no.toml")]) == 2
     assert "needs at least 11 evaluations" in capsys.readouterr().err
     assert main([*argv, "--budget", "11", "--out", str(tmp_path / "best.toml")]) == 0
@@ -204,7 +205,7 @@ def test_sweep_grid_csv_and_heat_map(tmp_path: Path, capsys: pytest.CaptureFixtu
     table, picture = tmp_path / "s.csv", tmp_path / "s.png"
     argv = ["sweep", "--design", SYMMETRIC, REGION, "--quiet", "--csv", str(table)]
     argv += ["--vary", "leg*.platform_radius=0.02:0.04:3", "--vary", "leg1.alpha=-0.01:0.01:2"]
-    assert main([*argv, "--out", str(picture)]) == 0
+    assert main([*argv, "--out", str(picture), "--link-modes", "0"]) == 0
     rows = list(csv.DictReader(table.open(encoding="utf-8")))
     assert len(rows) == 6 and picture.is_file()
     # the first variable varies slowest; the figures are the summary's
@@ -215,7 +216,7 @@ def test_sweep_grid_csv_and_heat_map(tmp_path: Path, capsys: pytest.CaptureFixtu
 
 def test_sweep_sobol_is_seeded(capsys: pytest.CaptureFixture[str]) -> None:
     argv = ["sweep", "--design", SYMMETRIC, REGION, "--json", "--sample", "sobol:8"]
-    argv += ["--vary", "leg*.platform_radius=0.02:0.04"]
+    argv += ["--vary", "leg*.platform_radius=0.02:0.04", "--link-modes", "0"]
     first = _json(capsys, [*argv, "--seed", "3"])["rows"]
     assert len(first) == 8 and first == _json(capsys, [*argv, "--seed", "3"])["rows"]
     assert first != _json(capsys, [*argv, "--seed", "4"])["rows"]
@@ -236,6 +237,7 @@ def test_compare_of_the_examples_fits_80_columns(
     argv = ["compare", "--quiet", "--region=-10,10,-10,10,-5,5,3,3,2", "--wrench", "5,5,0,0,0,0.1"]
     for f in files:
         argv += ["--design", str(ROOT / f)]
+    argv += ["--link-modes", "0"]
     assert main([*argv, "--out", str(tmp_path / "c.png"), "--map-grid", "6"]) == 0
     out = capsys.readouterr().out
     assert max(len(line) for line in out.splitlines()) <= 80

@@ -128,7 +128,7 @@ def test_sigterm_during_a_sweep_writes_the_partial_csv_and_exits_143(
     table = tmp_path / "s.csv"
     argv = ["sweep", "--design", str(Path(__file__).parents[1] / "examples/symmetric_3ppr.toml")]
     argv += ["--region=-10,10,-10,10,-5.7,5.7,3,3,3", "--quiet", "--csv", str(table)]
-    argv += ["--vary", "leg*.platform_radius=0.02:0.04:6"]
+    argv += ["--vary", "leg*.platform_radius=0.02:0.04:6", "--link-modes", "0"]
     assert main(argv) == 128 + 15
     assert signal.getsignal(signal.SIGTERM) is before
     lines = table.read_text(encoding="utf-8").splitlines()

@@ -37,6 +37,7 @@ def test_compare_two_tripods_with_f1_and_the_load_margin(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     argv = ["compare", "--json", "--quiet", "--design", PRS, "--design", RPS, TRIPOD_REGION]
+    argv += ["--link-modes", "2"]  # the loaded f1 with each leg's first pair (cheap)
     doc = _json(capsys, [*argv, *WRENCH, "--load-margin"], "compare")
     assert doc["region"]["task_coordinates"] == ["z", "rx", "ry"]
     assert doc["region"]["z"] == pytest.approx([0.34, 0.36], rel=1e-15)
@@ -73,6 +74,7 @@ def test_sweep_a_spatial_design_writes_f1(
     table = tmp_path / "sweep.csv"
     argv = ["sweep", "--json", "--quiet", "--design", RPS, TRIPOD_REGION]
     argv += ["--vary", "leg*.cylinder_length=0.2:0.25:2", "--quantity", "f1", "--csv", str(table)]
+    argv += ["--link-modes", "0"]
     doc = _json(capsys, argv, "sweep")
     rows = doc["rows"]
     assert [r["leg*.cylinder_length"] for r in rows] == [0.2, 0.25]
@@ -89,6 +91,7 @@ def test_optimize_a_hexapod_by_its_first_frequency(
     region = "--region=0,0,0,0,195,205,0,0,0,0,-2,2,1,1,2,1,1,2"
     argv = ["optimize", "--json", "--quiet", "--design", HEXAPOD, region, "--out", str(out)]
     argv += ["--objective", "first-frequency", "--budget", "10", "--seed", "2"]
+    argv += ["--link-modes", "2"]  # each leg's first pair: cheap (2 elements per link)
     argv += ["--vary", "leg*.actuator.locked_stiffness=2e7:2e8"]
     doc = _json(capsys, argv, "optimize")
     assert doc["objective"] == "first-frequency" and doc["objective_unit"] == "Hz"

@@ -62,6 +62,8 @@ LINES = [
         "--region=-10,10,-10,10,-5,5,3,3,2",
         "--wrench",
         "5,5,0,0,0,0.1",
+        "--link-modes",
+        "0",
     ],
     [
         "sweep",
@@ -74,6 +76,8 @@ LINES = [
         "--vary",
         "leg1.actuator.locked_stiffness=1e7:2e7:2",
         "--region=-10,10,-10,10,0,0,3,3,1",
+        "--link-modes",
+        "0",
     ],
     [
         "optimize",

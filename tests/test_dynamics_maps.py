@@ -28,7 +28,8 @@ from ppm_stiffness.dynamics.analysis import modal_analysis
 from ppm_stiffness.maps.result import StiffnessMap, load_npz
 from ppm_stiffness.maps.workspace import stiffness_map
 
-#: Largest relative difference of the map's f1 to the single-pose analysis.
+#: Largest relative difference of the map's f1 to the single-pose analysis (the legs
+#: condensed here, ``link_modes=0``; with link modes: tests/test_link_modes_maps.py).
 AGREEMENT = 1e-12
 
 
@@ -64,7 +65,9 @@ def test_f1_map_equals_the_single_pose_modal_analysis(
     name: str, axes: tuple[str, str] | None, actuators: str
 ) -> None:
     design = design_named(name)
-    smap = stiffness_map(design, grid=5, axes=axes, actuators=actuators, quantities=["f1"])
+    smap = stiffness_map(
+        design, grid=5, axes=axes, actuators=actuators, quantities=["f1"], link_modes=0
+    )
     assert smap.reachable.sum() >= 9
     if actuators == "min":  # the "min" actuators: compare with them given to the analysis
         k_min = smap.actuator_stiffness[0]
@@ -89,8 +92,10 @@ def test_f1_map_under_a_wrench_uses_the_loaded_tangent_k() -> None:
     (the paper's soft actuators make the difference to the locked map visible)."""
     design = design_named("paper")
     wrench = np.array([0.0, 0.0, 0.1, 5.0, 5.0, 20.0])
-    loaded = stiffness_map(design, grid=4, actuators="wrench", wrench=wrench, quantities=["f1"])
-    locked = stiffness_map(design, grid=4, quantities=["f1"])
+    loaded = stiffness_map(
+        design, grid=4, actuators="wrench", wrench=wrench, quantities=["f1"], link_modes=0
+    )
+    locked = stiffness_map(design, grid=4, quantities=["f1"], link_modes=0)
     assert loaded.reachable.sum() >= 8
     assert _agreement(design, loaded, wrench) <= AGREEMENT
     ok = loaded.reachable & locked.reachable
@@ -102,7 +107,7 @@ def test_f1_masks_are_the_maps_refusals_and_with_the_stiffnesses() -> None:
     """f1 next to the principal stiffnesses: the same masks and codes as without it,
     and the stiffnesses unchanged; masked points NaN, valid ones finite."""
     design = design_named("hexapod_6ups")
-    both = stiffness_map(design, grid=12, quantities=["f1", "translational_min"])
+    both = stiffness_map(design, grid=12, quantities=["f1", "translational_min"], link_modes=0)
     alone = stiffness_map(design, grid=12, quantities=["translational_min"])
     assert (~both.reachable).any() and both.reachable.any()
     assert both.refusal is not None and alone.refusal is not None
@@ -131,9 +136,9 @@ def test_a_pose_where_the_mass_matrix_fails_is_refused_not_a_nan(
         m[0, 0, 0] = np.nan
         return m
 
-    good = stiffness_map(design, grid=6, quantities=["f1"])
+    good = stiffness_map(design, grid=6, quantities=["f1"], link_modes=0)
     monkeypatch.setattr(dyn_batch, "mass_matrix", broken)
-    smap = stiffness_map(design, grid=6, quantities=["f1"])
+    smap = stiffness_map(design, grid=6, quantities=["f1"], link_modes=0)
     first = np.flatnonzero(good.reachable.ravel())[0]
     assert smap.refusal is not None and good.refusal is not None
     assert smap.refusal.ravel()[first] == Refusal.SINGULAR
@@ -163,7 +168,7 @@ def test_f1_without_a_mass_model_names_the_platform_table(
     from ppm_stiffness.design import load_design
 
     with pytest.raises(DesignError, match=r"no mass model: add a \[platform\] table"):
-        stiffness_map(load_design(path), grid=3, quantities=["f1"])
+        stiffness_map(load_design(path), grid=3, quantities=["f1"], link_modes=0)
     out_file = tmp_path / "m.csv"
     code = main(
         ["map", "--design", str(path), "--quantities", "f1", "--grid", "4", "--data", str(out_file)]
@@ -179,6 +184,7 @@ def test_f1_in_the_files_and_the_json(tmp_path: Path, capsys: pytest.CaptureFixt
     hexapod = str(Path(__file__).parent.parent / "examples" / "hexapod_6ups.toml")
     npz, csv, png = tmp_path / "m.npz", tmp_path / "m.csv", tmp_path / "m.png"
     args = ["map", "--design", hexapod, "--grid", "5", "--quantities", "f1,translational_min"]
+    args += ["--link-modes", "0"]
     assert main([*args, "--data", str(npz), "--out", str(png), "--quiet"]) == 0
     capsys.readouterr()
     assert main([*args, "--data", str(csv), "--json"]) == 0
@@ -290,9 +296,9 @@ def test_f1_with_moving_geometry_is_refused_and_the_load_margin_can_join_it() ->
     wrench = np.array([0.0, 0.0, 0.1, 5.0, 5.0, 20.0])
     common: dict[str, Any] = {"actuators": "wrench", "wrench": wrench, "grid": 3}
     with pytest.raises(InputDataError, match="geometry 'frozen'"):
-        stiffness_map(design, geometry="moving", quantities=["f1"], **common)
-    both = stiffness_map(design, quantities="f1,load-margin", **common)
-    alone = stiffness_map(design, quantities=["f1"], **common)
+        stiffness_map(design, geometry="moving", quantities=["f1"], link_modes=0, **common)
+    both = stiffness_map(design, quantities="f1,load-margin", link_modes=0, **common)
+    alone = stiffness_map(design, quantities=["f1"], link_modes=0, **common)
     assert both.quantities.keys() == {"f1", "load_margin"}
     np.testing.assert_array_equal(
         np.ma.filled(both.fields()["f1"], np.nan), np.ma.filled(alone.fields()["f1"], np.nan)

@@ -102,9 +102,15 @@ CASES = [
             str(ROOT / "examples/hexapod_6ups.toml"),
             "--quantities",
             "f1,translational_min",
+            "--link-modes",
+            "0",
         ],
     ),
-    ("compare", ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]),
+    (
+        "compare",
+        ["compare", "--json", "--design", str(ROOT / "examples/3rrr.toml"), *_REGION]
+        + ["--link-modes", "0"],
+    ),
     (
         "compare",
         [
@@ -115,6 +121,8 @@ CASES = [
             "--wrench",
             "5,5,0,0,0,0.1",
             *_REGION,
+            "--link-modes",
+            "2",
         ],
     ),
     (
@@ -127,6 +135,8 @@ CASES = [
             "--vary",
             "leg*.platform_radius=0.05:0.07:3",
             *_REGION,
+            "--link-modes",
+            "0",
         ],
     ),
     # spatial designs: 6-D poses, a load along a direction, bands, 6-D measurement rows

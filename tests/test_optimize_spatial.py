@@ -164,8 +164,8 @@ def test_f1_objective_is_the_minimum_of_the_modes_f1(name: str, loaded: bool) ->
     wrench = WRENCH if loaded else None
     summary = summarize(design, region, wrench)
     poses = region_poses(region).reshape(-1, len(design.task_coordinates))
-    # the objective is the condensed f1 (maps and optimize do not take the legs' own
-    # modes yet, issue 30): against modal_analysis without them
+    # summarize's default is the condensed f1 (optimize passes its link modes:
+    # tests/test_link_modes_maps.py): against modal_analysis without them
     f1 = np.array([modal_analysis(design, p, wrench, link_modes=0).frequencies[0] for p in poses])
     value = OBJECTIVES["first-frequency"].value(summary)
     # K, M at P (batched) vs at the tool point (single pose): the congruence leaves the
@@ -221,6 +221,7 @@ def test_optimize_improves_a_spatial_design() -> None:
         region,
         budget=20,
         seed=3,
+        link_modes=0,  # the optimiser under test, on the cheaper condensed f1
     )
     check = summarize(result.best_design, region)
     assert result.best_objective == check["f1_min"]  # the same model, same poses

@@ -280,6 +280,37 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--phi", type=float, metavar="DEG", help="orientation [deg]: --rz")
 
 
+#: What uses --link-modes in optimize (its refusal names them).
+F1_QUANTITIES = "a first-frequency objective or an f1 constraint"
+
+
+def add_link_modes_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--link-modes N``: f1 (``what``) with each leg's own modes, as ``analyze``."""
+    parser.add_argument(
+        "--link-modes",
+        type=int,
+        metavar="N",
+        help=f"{what} with each leg's N lowest own modes with the platform held "
+        "(Craig-Bampton, a degenerate pair kept whole), as 'analyze' and 'modes'; 0: the "
+        "legs follow statically (condensed; faster) (default: 8)",
+    )
+
+
+def link_modes_from_args(
+    args: argparse.Namespace, used: bool = True, without: str = ""
+) -> int | None:
+    """--link-modes, None when not given; a negative count, or one given where f1 is
+    not computed (``used`` False; ``without``: what is missing), an InputDataError."""
+    n: int | None = args.link_modes
+    if n is not None and n < 0:
+        raise InputDataError(f"--link-modes {n}: a number of modes per leg, 0 or more")
+    if n is not None and not used:
+        raise InputDataError(
+            f"--link-modes {n}: it sets the legs' own modes of f1, unused without {without}"
+        )
+    return n
+
+
 def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--tool-point",

@@ -40,6 +40,7 @@ from ppm_stiffness.cli.study_options import (
     region_json,
     region_maps,
     region_text,
+    study_link_modes,
 )
 from ppm_stiffness.core.errors import InputDataError
 
@@ -106,6 +107,7 @@ def run(args: argparse.Namespace) -> int:
     wrench = parse_wrench(args.wrench)
     if args.load_margin and wrench is None:
         raise InputDataError("--load-margin needs --wrench (the load whose margin it finds)")
+    link_modes = study_link_modes(args, not args.no_f1)
 
     start = time.perf_counter()
     with (
@@ -122,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
                 margin=args.load_margin,
                 frequencies=not args.no_f1,
                 hinges=any(has_hinges(d) for d in designs),
+                link_modes=link_modes,
             )
         except Interrupted:
             raise KeyboardInterrupt from None

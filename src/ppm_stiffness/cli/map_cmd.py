@@ -18,6 +18,7 @@ from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     actuator_stiffness_text,
     add_design_argument,
+    add_link_modes_argument,
     add_overwrite_argument,
     add_pose_arguments,
     add_tool_point_argument,
@@ -28,6 +29,7 @@ from ppm_stiffness.cli.common import (
     design_size_mm,
     eng,
     json_document,
+    link_modes_from_args,
     load_design_arg,
     parse_floats,
     parse_wrench,
@@ -84,8 +86,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "translational_max [N/m] (any design, the others' default); all: both; "
         "and, comma-separated, quantity names, e.g. paper,load-margin (the load margin "
         "of the --actuators wrench, moving geometry) or f1,translational_min (f1: the "
-        "first natural frequency [Hz] of the condensed legs, without their own modes that "
-        "'modes' and 'analyze' include; a design with a mass model) or hinge_range (the "
+        "first natural frequency [Hz], with the legs' own modes as 'analyze' and 'modes' "
+        "(--link-modes); a design with a mass model) or hinge_range (the "
         "smallest drive's range to yield [rad or m], notch hinges with yield strengths)",
     )
     parser.add_argument(
@@ -122,6 +124,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "of the slice); write --bounds=-20,10,-30,30 when the first number is negative",
     )
     add_tool_point_argument(parser)
+    add_link_modes_argument(parser, "f1")
     add_tolerance_arguments(parser)
     parser.add_argument("--out", metavar="FIG", help="write the figure (.png, .svg or .pdf)")
     parser.add_argument("--data", metavar="FILE", help="write the map data (.csv or .npz, SI)")
@@ -209,7 +212,7 @@ def _table_heading(names: list[str]) -> str:
 
     if all(n in PAPER or n in PRINCIPAL for n in names):
         return "principal stiffness"
-    alone = {"load_margin": "load margin", "f1": "first natural frequency (legs condensed)"}
+    alone = {"load_margin": "load margin", "f1": "first natural frequency"}
     return alone[names[0]] if len(names) == 1 and names[0] in alone else "quantities"
 
 
@@ -266,7 +269,7 @@ def _estimate(args: argparse.Namespace, design: Design) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ppm_stiffness.maps.slices import map_slice
-    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.maps.workspace import quantity_names, stiffness_map
 
     design = load_design_arg(args)
     check_output_path(args.out, "--out", FIGURE_FORMATS, overwrite=args.overwrite)
@@ -296,6 +299,9 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.reference_force is None:
         args.reference_force = DEFAULT_REFERENCE_FORCE
+    link_modes = link_modes_from_args(
+        args, "f1" in quantity_names(design, args.quantities), "f1 in --quantities"
+    )
     bounds = _parse_bounds(args.bounds, axes, design)
     variables = read_tolerance_args(args, design)
     if args.geometry == "moving" and variables is not None:
@@ -322,6 +328,7 @@ def run(args: argparse.Namespace) -> int:
             tool_point=tool_point_from_args(args, design),
             quantities=args.quantities,
             geometry=args.geometry,
+            link_modes=link_modes,
         )
 
     if not np.any(smap.reachable):
@@ -427,6 +434,7 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
         "phi": smap.fixed.get("rz"),
         "actuators": smap.actuators,
         "geometry": smap.geometry,
+        "link_modes": smap.link_modes,
         "actuator_stiffness": np.asarray(smap.actuator_stiffness).T.tolist(),
         "wrench": None if smap.wrench is None else smap.wrench,
         "tool_point": tool_point_from_args(args, design),

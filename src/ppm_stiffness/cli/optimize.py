@@ -14,8 +14,10 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
+    F1_QUANTITIES,
     FIGURE_FORMATS,
     add_design_argument,
+    add_link_modes_argument,
     add_overwrite_argument,
     add_seed_argument,
     add_wrench_argument,
@@ -23,6 +25,7 @@ from ppm_stiffness.cli.common import (
     console,
     err_console,
     json_document,
+    link_modes_from_args,
     load_design_arg,
     parse_wrench,
     progress,
@@ -120,6 +123,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_seed_argument(parser, "the initial population and the evolution")
     add_region_argument(parser)
     add_wrench_argument(parser)
+    add_link_modes_argument(parser, "first-frequency and f1 constraints")
     add_execution_arguments(parser)
     parser.add_argument(
         "--out",
@@ -245,6 +249,9 @@ def run(args: argparse.Namespace) -> int:
     wrench = parse_wrench(args.wrench)
     quantities = [objective, *(c.quantity for c in constraints)]
     check_quantities(design, quantities, wrench is not None)
+    link_modes = link_modes_from_args(
+        args, any(q.needs_frequencies for q in quantities), F1_QUANTITIES
+    )
     margin = any(q.needs_margin for q in quantities)
     shown = figure_names(
         design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
@@ -271,6 +278,7 @@ def run(args: argparse.Namespace) -> int:
             constraints=constraints,
             executor=executor,
             progress=advance,
+            link_modes=link_modes,
         )
     wall = time.perf_counter() - start
 

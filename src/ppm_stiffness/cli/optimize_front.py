@@ -16,11 +16,13 @@ from rich.markup import escape
 from rich.table import Table
 
 from ppm_stiffness.cli.common import (
+    F1_QUANTITIES,
     FIGURE_FORMATS,
     check_output_path,
     console,
     err_console,
     json_document,
+    link_modes_from_args,
     load_design_arg,
     parse_wrench,
     progress,
@@ -271,7 +273,11 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     constraints = [parse_constraint(t, design) for t in args.constraint]
     region = region_from_args(args, [design])
     wrench = parse_wrench(args.wrench)
-    check_quantities(design, [*objectives, *(c.quantity for c in constraints)], wrench is not None)
+    quantities = [*objectives, *(c.quantity for c in constraints)]
+    check_quantities(design, quantities, wrench is not None)
+    link_modes = link_modes_from_args(
+        args, any(q.needs_frequencies for q in quantities), F1_QUANTITIES
+    )
     if outside or outside_choices:
         import warnings
 
@@ -300,6 +306,7 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
             executor=executor,
             progress=advance,
             choices=choices,
+            link_modes=link_modes,
         )
         wall = time.perf_counter() - start
         chosen = choose(result, rule)
@@ -308,7 +315,13 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
             from ppm_stiffness.optimize.chosen import compare_chosen
 
             comparison = compare_chosen(
-                design, result, chosen, region, wrench=wrench, executor=executor
+                design,
+                result,
+                chosen,
+                region,
+                wrench=wrench,
+                executor=executor,
+                link_modes=link_modes,
             )
     designs = (
         [str(Path(args.front_designs) / f"front_{i:03d}.toml") for i in range(len(result.front))]

@@ -12,7 +12,7 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ppm_stiffness.cli.common import parse_floats
+from ppm_stiffness.cli.common import add_link_modes_argument, link_modes_from_args, parse_floats
 from ppm_stiffness.core.errors import DesignError, InputDataError
 
 if TYPE_CHECKING:
@@ -48,10 +48,19 @@ def add_f1_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-f1",
         action="store_true",
-        help="leave out the first natural frequency (the f1 figures, legs condensed): by "
-        "default a design with a mass model gets them, at several times the cost of the "
-        "stiffness figures",
+        help="leave out the first natural frequency (the f1 figures): by default a design "
+        "with a mass model gets them, at several times the cost of the stiffness figures",
     )
+    add_link_modes_argument(parser, "the f1 figures")
+
+
+def study_link_modes(args: argparse.Namespace, frequencies: bool) -> int:
+    """--link-modes of compare and sweep: the count per leg (the default when not
+    given); 0 without the f1 figures. Refused with --no-f1."""
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    n = link_modes_from_args(args, not args.no_f1, "the f1 figures (--no-f1 given)")
+    return resolve_link_modes(n) if frequencies else 0
 
 
 def margin_note(poses: int) -> str:

@@ -41,6 +41,7 @@ from ppm_stiffness.cli.study_options import (
     region_from_args,
     region_json,
     region_text,
+    study_link_modes,
 )
 from ppm_stiffness.core.errors import InputDataError
 
@@ -150,6 +151,7 @@ def run(args: argparse.Namespace) -> int:
     if args.no_f1 and q.needs_mass:
         raise InputDataError(f"--quantity {q.name} is the first natural frequency: drop --no-f1")
     frequencies = design.has_mass_model and not args.no_f1
+    link_modes = study_link_modes(args, frequencies)
     margin = args.load_margin or q.needs_margin
     total = len(sweep_points(variables, sample, count, args.seed))
 
@@ -172,6 +174,7 @@ def run(args: argparse.Namespace) -> int:
             frequencies=frequencies,
             hinges=q.needs_hinges,
             condition=q.needs_condition,
+            link_modes=link_modes,
         )
     wall = time.perf_counter() - start
     names = figure_names(design.planar, wrench=wrench is not None, mass=frequencies, margin=margin)

@@ -5,7 +5,10 @@ by :func:`ppm_stiffness.dynamics.mass.mass_matrix` (vectorised over them, with t
 actuator stiffnesses the map's K was built with: locked, "min", or the loaded tangent
 ones under a wrench), and f1 [Hz] is the lowest of :func:`ppm_stiffness.dynamics.modes
 .natural_frequencies` of the map's own K and that M, both at P (the frequencies do not
-depend on the reference point: a tool point changes neither).
+depend on the reference point: a tool point changes neither). With link modes, each
+leg's own modes with the platform held are added (Craig-Bampton,
+:mod:`ppm_stiffness.dynamics.legmodes`, the same arithmetic as ``modal_analysis(...,
+link_modes=N)``) and f1 is the lowest frequency of the reduced pair.
 
 A pose where M is not finite or not positive definite, or where the eigenproblem has
 no real solution (K not positive semi-definite), is refused as the single-pose
@@ -54,8 +57,9 @@ def first_frequencies(
         The poses to evaluate (the others get NaN and False); all if None.
     link_modes : int
         Each leg's own modes with the platform held (Craig-Bampton,
-        :mod:`ppm_stiffness.dynamics.legmodes`), batched over the poses; 0 (the maps'
-        default for now): the static condensation alone.
+        :mod:`ppm_stiffness.dynamics.legmodes`), batched over the poses (the maps'
+        and optimize's default: :data:`~ppm_stiffness.dynamics.legmodes
+        .DEFAULT_LINK_MODES`, resolved by them); 0: the static condensation alone.
 
     Returns
     -------
@@ -110,7 +114,9 @@ def _with_link_modes(
     out = np.full(poses.shape[0], np.nan)
     for lo in range(0, poses.shape[0], MASS_CHUNK):
         hi = lo + MASS_CHUNK
-        legs = design_leg_modes(design, poses[lo:hi], actuator_stiffness[lo:hi], count)
+        legs = design_leg_modes(
+            design, poses[lo:hi], actuator_stiffness[lo:hi], count, checks=False
+        )
         kr, mr = reduced_matrices(stiffness[lo:hi], mass[lo:hi], *stack_leg_modes(legs))
         out[lo:hi] = reduced_frequencies(kr, mr)[:, 0]
     return out

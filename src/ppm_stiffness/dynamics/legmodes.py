@@ -44,22 +44,20 @@ Batched over leading axes (...) as the condensed model: every array of the chain
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ppm_stiffness.core.beam import cantilever_compliance
-from ppm_stiffness.core.conventions import FloatArray
-from ppm_stiffness.dynamics.condensation import point_inertia
-from ppm_stiffness.dynamics.links import _node_map, link_mass_matrix, section_motion
+from ppm_stiffness.core.conventions import BoolArray, FloatArray, hat
+from ppm_stiffness.dynamics.links import _node_map, section_motion
 from ppm_stiffness.legs.chain import (
     CONSTRAINED,
     Element,
     Joint,
     Link,
-    LinkMass,
     check_chain,
     constrained_screws,
     elastic_stiffnesses,
@@ -69,14 +67,22 @@ from ppm_stiffness.legs.chain import (
     link_screws,
 )
 
+IntArray = NDArray[np.int_]
+
 #: Euler-Bernoulli elements per link of a leg's FE model. With 8 a pinned-pinned
 #: uniform strut (two links) has its first frequency 1.3e-6 high; the shipped
 #: examples' f1..f6 move by at most 8.3e-5 from 8 to 16 (docs/dynamics.md).
 ELEMENTS_PER_LINK = 8
+#: Fewer elements when few modes are kept (:func:`elements_for`): (modes per leg at
+#: most, elements per link). Measured on the shipped examples (docs/dynamics.md):
+#: f1 within 3e-5 of 16 elements with 2 (its modes' own truncation is larger).
+FEWER_ELEMENTS = ((2, 2), (4, 4))
 #: Relative gap of omega^2 under which two fixed-interface modes are one degenerate pair.
 DEGENERATE_TOLERANCE = 1e-4
 #: A mechanism of the held leg: stiffness below this fraction of its largest.
 MECHANISM_TOLERANCE = 1e-13
+#: The Cholesky path needs its bound on Kz's condition this far inside the tolerance.
+CHOLESKY_MARGIN = 10.0
 
 
 @dataclass(frozen=True)
@@ -89,13 +95,20 @@ class ChainFE:
         Each coordinate's unit twist at P, axes of F_b (``t = screws @ x``).
     stiffness : ndarray (n, N, N)
         Block diagonal [SI of each coordinate].
-    mass : ndarray (n, N, N)
-        Kinetic energy ``x'^T M_x x' / 2``.
+    mass_factor : ndarray (n, r, N)
+        B with ``M_x = B^T B`` (kinetic energy ``x'^T M_x x' / 2``): each body's
+        motions (a point's velocity, a rotor's rate, a link body's section motion, a
+        uniform element's nodal motions) weighted by the square roots of its inertias.
     """
 
     screws: FloatArray
     stiffness: FloatArray
-    mass: FloatArray
+    mass_factor: FloatArray
+
+    @property
+    def mass(self) -> FloatArray:
+        """M_x (n, N, N)."""
+        return np.asarray(np.swapaxes(self.mass_factor, -1, -2) @ self.mass_factor)
 
 
 @dataclass(frozen=True)
@@ -105,7 +118,9 @@ class LegModes:
     Attributes
     ----------
     omega2 : ndarray (n, k) [rad^2/s^2]
-        Ascending.
+        Ascending; NaN with a zero coupling in a slot a pose does not have (another
+        pose of the batch keeps more: a degenerate pair kept whole there), NaN with a
+        NaN coupling at a pose whose model is not finite.
     coupling : ndarray (n, 6, k)
         ``C = Psi^T M_x phi``: the kinetic coupling of the platform twist at P (axes of
         F_b, order (omega, v)) with each mass-normalised mode.
@@ -242,44 +257,74 @@ def chain_fe(
         m = block.shape[-1]
         stiffness[:, i : i + m, i : i + m] = block
         i += m
-    return ChainFE(screws=screws, stiffness=stiffness, mass=_mass(b, screws))
+    return ChainFE(screws=screws, stiffness=stiffness, mass_factor=_mass_factor(b, screws))
 
 
-def _mass(b: _Builder, screws: FloatArray) -> FloatArray:
-    total = screws.shape[-1]
+def _mass_factor(b: _Builder, screws: FloatArray) -> FloatArray:
+    """B (n, r, N) with ``M_x = B^T B`` (:class:`ChainFE`)."""
+    n, total = b.n, screws.shape[-1]
 
-    def upto(c: int) -> FloatArray:
-        t = np.zeros_like(screws)
-        t[..., :c] = screws[..., :c]
-        return t
+    def upto(rows: FloatArray, c: int) -> FloatArray:
+        """Rows (n, q, 6) over the twist of a body after the first c coordinates."""
+        out = np.zeros(rows.shape[:-1] + (total,))
+        out[..., :c] = rows @ screws[..., :c]
+        return out
 
-    out = np.zeros((b.n, total, total))
-    for col, mass, point in b.points:
-        t = upto(col)
-        out += np.swapaxes(t, -1, -2) @ point_inertia(mass, point) @ t
+    parts: list[FloatArray] = [np.zeros((n, 0, total))]
+    for col, mass, point in b.points:  # its velocity v - hat(p) omega, times sqrt(m)
+        rows = np.concatenate([-hat(point), np.broadcast_to(np.eye(3), (n, 3, 3))], axis=-1)
+        parts.append(math.sqrt(mass) * upto(rows, col))
     for col, rotor in b.rotors:
-        out[:, col, col] += rotor
+        row = np.zeros((n, 1, total))
+        row[:, 0, col] = math.sqrt(rotor)
+        parts.append(row)
     for link, nodes, cols in b.links:
-        out += _link_mass(link, nodes, [upto(c) for c in cols])
-    return np.asarray(0.5 * (out + np.swapaxes(out, -1, -2)))
+        parts.append(_link_factor(link, nodes, cols, upto))
+    return np.concatenate(parts, axis=1)
 
 
-def _link_mass(link: Link, nodes: FloatArray, maps: list[FloatArray]) -> FloatArray:
-    """A link's mass matrix over x from its nodes (n, e + 1, 3) and their twist maps."""
+def _unit_factor(mass: float, axial: float) -> FloatArray:
+    """R (q, 12) with ``R^T R`` the consistent mass of a uniform element of length 1
+    (:func:`ppm_stiffness.dynamics.links.link_mass_matrix`), its null rows dropped."""
+    from ppm_stiffness.dynamics.links import _UNIT_TRANS, _UNIT_TWIST
+
+    lam, w = np.linalg.eigh(mass * _UNIT_TRANS + axial * _UNIT_TWIST)
+    keep = lam > 1e-14 * max(float(lam[-1]), 0.0)
+    return np.asarray(np.sqrt(lam[keep])[:, None] * w[:, keep].T)
+
+
+def _link_factor(
+    link: Link,
+    nodes: FloatArray,
+    cols: list[int],
+    upto: Callable[[FloatArray, int], FloatArray],
+) -> FloatArray:
+    """A link's rows of B (n, q, N) from its nodes (n, e + 1, 3) and the coordinates
+    upstream of each (module doc of :mod:`ppm_stiffness.dynamics.links`)."""
+    from ppm_stiffness.dynamics.links import _BENDING_ROTATIONS
+
     body = link.mass
-    n, total = maps[0].shape[0], maps[0].shape[-1]
+    n = nodes.shape[0]
     if body is None:
-        return np.zeros((n, total, total))
+        return upto(np.zeros((n, 0, 6)), 0)
     elements = nodes.shape[1] - 1
     d = nodes[:, -1] - nodes[:, 0]
     length = np.linalg.norm(d, axis=-1)
+    axes = np.stack(frame_from_axis(d), axis=-1)
+
+    def node_rows(i: int) -> FloatArray:  # node i's (displacement, rotation), local axes
+        return upto(_node_map(nodes[:, i], axes), cols[i])
+
     if body.centre is None and body.transverse is None:  # uniform: each element's share
-        out = np.zeros((n, total, total))
-        part = LinkMass(body.mass / elements, axial=body.axial / elements)
-        for i in range(elements):
-            sub = Link(nodes[:, i], nodes[:, i + 1], link.section, mass=part)
-            out += link_mass_matrix(sub, maps[i], maps[i + 1])
-        return out
+        unit = _unit_factor(body.mass / elements, body.axial / elements)
+        scale = np.ones((n, 12))
+        scale[:, _BENDING_ROTATIONS] = (length / elements)[:, None]
+        maps = [node_rows(i) for i in range(elements + 1)]
+        parts = [
+            unit @ (scale[:, :, None] * np.concatenate([maps[i], maps[i + 1]], axis=-2))
+            for i in range(elements)
+        ]
+        return np.concatenate(parts, axis=1)
     # a body: on the Hermite shape of the element holding its centre
     if body.centre is None:
         s = 0.5 * length
@@ -290,30 +335,35 @@ def _link_mass(link: Link, nodes: FloatArray, maps: list[FloatArray]) -> FloatAr
     xi = s / length * elements
     k = np.clip(np.floor(xi).astype(int), 0, elements - 1)
     local = xi - k
-    axes = np.stack(frame_from_axis(d), axis=-1)
-    stack = np.stack(maps, axis=1)  # (n, e + 1, 6, N)
     rows = np.arange(n)
-    g = np.concatenate(
-        [
-            _node_map(nodes[rows, k], axes) @ stack[rows, k],
-            _node_map(nodes[rows, k + 1], axes) @ stack[rows, k + 1],
-        ],
-        axis=-2,
-    )  # (n, 12, N)
+    stack = np.stack([node_rows(i) for i in range(elements + 1)], axis=1)  # (n, e+1, 6, N)
+    g = np.concatenate([stack[rows, k], stack[rows, k + 1]], axis=-2)  # (n, 12, N)
     transverse = body.mass * length**2 / 12.0 if body.transverse is None else body.transverse
     weights = np.zeros((n, 6))
     weights[:, :3] = body.mass
     weights[:, 3] = body.axial
     weights[:, 4] = weights[:, 5] = transverse
     motion = section_motion(local, length / elements) @ g  # (n, 6, N)
-    return np.asarray(np.swapaxes(motion, -1, -2) @ (weights[:, :, None] * motion))
+    return np.asarray(np.sqrt(weights)[:, :, None] * motion)
+
+
+def elements_for(count: int) -> int:
+    """Euler-Bernoulli elements per link for ``count`` modes per leg: 2 up to 2 modes,
+    4 up to 4, else :data:`ELEMENTS_PER_LINK` (:data:`FEWER_ELEMENTS`; nested meshes,
+    so the frequencies still fall as modes are added)."""
+    for most, elements in FEWER_ELEMENTS:
+        if count <= most:
+            return elements
+    return ELEMENTS_PER_LINK
 
 
 def fixed_interface_modes(
     chain: Sequence[Element],
     actuator_stiffness: ArrayLike,
     count: int,
-    elements: int = ELEMENTS_PER_LINK,
+    elements: int | None = None,
+    checks: bool = True,
+    general: bool = False,
 ) -> LegModes:
     """The leg's ``count`` lowest modes with the platform held (module doc), more if
     the last would split a degenerate pair; fewer if the leg has fewer with mass.
@@ -324,79 +374,162 @@ def fixed_interface_modes(
     actuator_stiffness : array_like (...) or scalar [N/m or N·m/rad]
     count : int
         Modes wanted (0: none; the coupling is then (n, 6, 0)).
-    elements : int
-        Euler-Bernoulli elements per link.
+    elements : int, optional
+        Euler-Bernoulli elements per link; :func:`elements_for` ``count`` if None.
+    checks : bool
+        Also ``condensed_mass`` and ``condensed_stiffness`` (NaN if False).
+    general : bool
+        Every pose by the eigendecomposition of Kz (:func:`_stiff_basis`; a check of
+        the Cholesky path).
 
     Returns
     -------
     LegModes
         Flattened batch n; NaN at a pose whose model is not finite.
     """
-    fe = chain_fe(chain, actuator_stiffness, elements)
-    j, k_x, m_x = fe.screws, fe.stiffness, fe.mass
+    fe = chain_fe(chain, actuator_stiffness, elements_for(count) if elements is None else elements)
+    j, k_x, b_x = fe.screws, fe.stiffness, fe.mass_factor
     n, total = j.shape[0], j.shape[-1]
     good = np.asarray(
         np.isfinite(j).all(axis=(1, 2))
         & np.isfinite(k_x).all(axis=(1, 2))
-        & np.isfinite(m_x).all(axis=(1, 2)),
+        & np.isfinite(b_x).all(axis=(1, 2)),
         dtype=bool,
     )
     j = np.where(good[:, None, None], j, 0.0)
     j[~good, :, :6] = np.eye(6)
     k_x = np.where(good[:, None, None], k_x, np.eye(total))
-    m_x = np.where(good[:, None, None], m_x, 0.0)
+    b_x = np.where(good[:, None, None], b_x, 0.0)
     u, sv, vh = np.linalg.svd(j)  # J = U S Vh, (n, 6, N)
     v = np.swapaxes(vh, -1, -2)
     null = v[:, :, 6:]  # (n, N, N - 6)
     particular = v[:, :, :6] @ (np.swapaxes(u, -1, -2) / sv[:, :, None])  # J^+ (n, N, 6)
-    kz = np.swapaxes(null, -1, -2) @ k_x @ null
-    lam, w = np.linalg.eigh(0.5 * (kz + np.swapaxes(kz, -1, -2)))
-    scale = np.max(np.abs(lam), axis=-1, keepdims=True)
-    stiff = lam > MECHANISM_TOLERANCE * scale
-    inv_sqrt = np.where(stiff, 1.0 / np.sqrt(np.where(stiff, lam, 1.0)), 0.0)
-    # the static (constraint) shapes: Psi = J^+ - N Kz^+ N^T K J^+
-    kz_pinv = w @ (np.where(stiff, inv_sqrt**2, 0.0)[:, :, None] * np.swapaxes(w, -1, -2))
-    psi = particular - null @ (kz_pinv @ (np.swapaxes(null, -1, -2) @ (k_x @ particular)))
-    basis = null @ (w * inv_sqrt[:, None, :])  # (n, N, N - 6): K-orthonormal
-    a = np.swapaxes(basis, -1, -2) @ m_x @ basis
-    mu, y = np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))  # ascending
-    top = np.max(mu, axis=-1, keepdims=True)
-    massive = mu > 1e-12 * top
-    available = int(np.min(np.sum(massive, axis=-1))) if n else 0
-    want = _whole_pairs(mu, min(count, available), available)
-    mu_k = mu[:, ::-1][:, :want]
-    y_k = y[:, :, ::-1][:, :, :want]
-    phi = basis @ (y_k / np.sqrt(mu_k)[:, None, :])  # mass-normalised, (n, N, k)
-    coupling = np.swapaxes(psi, -1, -2) @ m_x @ phi
-    cm = np.swapaxes(psi, -1, -2) @ m_x @ psi
-    ck = np.swapaxes(psi, -1, -2) @ k_x @ psi
+    null_t = np.swapaxes(null, -1, -2)
+    kz = null_t @ k_x @ null
+    basis = _stiff_basis(0.5 * (kz + np.swapaxes(kz, -1, -2)), general)  # (n, m, m)
+    basis_t = np.swapaxes(basis, -1, -2)
+    # the static (constraint) shapes: Psi = J^+ - N Kz^+ N^T K J^+, Kz^+ = basis basis^T
+    psi = particular - null @ (basis @ (basis_t @ (null_t @ (k_x @ particular))))
+    mu, y, present = _mass_modes((b_x @ null) @ basis, count)
+    phi = null @ (basis @ y)  # (n, N, k), zero in a slot the pose does not have
+    bp = b_x @ psi
+    coupling = np.swapaxes(bp, -1, -2) @ (b_x @ phi)
     bad = ~good[:, None, None]
+    if checks:
+        cm = np.where(bad, np.nan, np.swapaxes(bp, -1, -2) @ bp)
+        ck = np.swapaxes(psi, -1, -2) @ k_x @ psi
+        ck = np.where(bad, np.nan, 0.5 * (ck + np.swapaxes(ck, -1, -2)))
+    else:
+        cm = ck = np.full((n, 6, 6), np.nan)
     return LegModes(
-        omega2=np.where(good[:, None], 1.0 / mu_k, np.nan),
+        omega2=np.where(good[:, None] & present, 1.0 / mu, np.nan),
         coupling=np.where(bad, np.nan, coupling),
-        condensed_mass=np.where(bad, np.nan, 0.5 * (cm + np.swapaxes(cm, -1, -2))),
-        condensed_stiffness=np.where(bad, np.nan, 0.5 * (ck + np.swapaxes(ck, -1, -2))),
+        condensed_mass=cm,
+        condensed_stiffness=ck,
     )
 
 
-def _whole_pairs(mu: FloatArray, count: int, available: int) -> int:
-    """``count`` raised while the next mode (descending mu) repeats the last one."""
-    if count <= 0:
-        return 0
-    desc = mu[:, ::-1]
-    k = count
-    while k < available:
-        last, nxt = desc[:, k - 1], desc[:, k]
-        if np.any(np.abs(last - nxt) <= DEGENERATE_TOLERANCE * np.abs(last)):
-            k += 1
-        else:
+def _mass_modes(h: FloatArray, count: int) -> tuple[FloatArray, FloatArray, BoolArray]:
+    """The largest mu (n, k) of ``A y = mu y`` with ``A = H^T H`` (n, m, m) (``H = B
+    N basis`` (n, r, m): the mass in the K-orthonormal basis), ``y / sqrt(mu)`` (n, m,
+    k) (the mass-normalised modes over that basis) and which of the k slots each pose
+    has (n, k): its ``count`` modes with mass, more where the last would split a
+    degenerate pair (:func:`_whole_pairs`), pose by pose (k: the most of any pose; a
+    slot a pose does not have: mu 1, a zero mode).
+
+    With fewer mass rows than directions (r < m: links given as bodies, a few rows
+    each, against every coordinate of the FE) the same nonzero mu come from the Gram
+    matrix ``H H^T`` (n, r, r), ``y = H^T u / sqrt(mu)``."""
+    n, r, m = h.shape
+    gram = 0 < r < m
+    ht = np.swapaxes(h, -1, -2)
+    a = h @ ht if gram else ht @ h
+    mu, y = np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))  # ascending
+    mu, y = mu[:, ::-1], y[:, :, ::-1]  # descending: the lowest frequencies first
+    top = mu[:, :1] if mu.shape[-1] else np.zeros((n, 1))
+    available = np.sum(mu > 1e-12 * top, axis=-1)  # a prefix: those with mass
+    want = _whole_pairs(mu, np.minimum(count, available), available)
+    k = int(np.max(want)) if n else 0
+    present = np.arange(k)[None, :] < want[:, None]
+    mu_k = np.where(present, mu[:, :k], 1.0)
+    y_k = y[:, :, :k]
+    if gram:
+        y_k = ht @ y_k / np.sqrt(mu_k)[:, None, :]
+    return mu_k, np.where(present[:, None, :], y_k / np.sqrt(mu_k)[:, None, :], 0.0), present
+
+
+def _stiff_basis(kz: FloatArray, general: bool = False) -> FloatArray:
+    """A Kz-orthonormal basis B (n, m, m) of Kz's stiff directions (its mechanisms,
+    eigenvalues below :data:`MECHANISM_TOLERANCE` of its largest, left out: zero
+    columns; the pseudo-inverse ``Kz^+ = B B^T``), of symmetric Kz (n, m, m).
+
+    Where Kz has a Cholesky factor L and no mechanism by the bound ``lambda_min >=
+    1 / ||L^-1||_F^2`` against ``lambda_max <= trace Kz`` (:data:`CHOLESKY_MARGIN`
+    below the tolerance), ``B = L^-T``; elsewhere (or every pose with ``general``)
+    ``B = W Lambda^-1/2`` over its stiff eigenpairs. The two differ by an orthogonal
+    factor, which the modes do not see."""
+    n, m = kz.shape[0], kz.shape[-1]
+    basis = np.zeros((n, m, m))
+    fast = np.zeros(n, dtype=bool)
+    if not general and n and m:
+        low, fast = _batched_cholesky(kz)
+        if fast.any():
+            idx = np.flatnonzero(fast)
+            inv = np.linalg.inv(low[idx])  # L^-1
+            bound = np.trace(kz[idx], axis1=-2, axis2=-1) * np.sum(inv**2, axis=(1, 2))
+            sure = bound < MECHANISM_TOLERANCE**-1 / CHOLESKY_MARGIN
+            fast[idx[~sure]] = False
+            basis[idx[sure]] = np.swapaxes(inv[sure], -1, -2)
+    slow = np.flatnonzero(~fast)
+    if slow.size:
+        lam, w = np.linalg.eigh(kz[slow])
+        scale = np.max(np.abs(lam), axis=-1, keepdims=True)
+        stiff = lam > MECHANISM_TOLERANCE * scale
+        inv_sqrt = np.where(stiff, 1.0 / np.sqrt(np.where(stiff, lam, 1.0)), 0.0)
+        basis[slow] = w * inv_sqrt[:, None, :]
+    return basis
+
+
+def _batched_cholesky(a: FloatArray) -> tuple[FloatArray, BoolArray]:
+    """Lower Cholesky factors of a stack (n, m, m) and where they exist (n,) (one
+    matrix at a time only when the batched factorisation fails)."""
+    try:
+        return np.asarray(np.linalg.cholesky(a), dtype=float), np.ones(a.shape[0], dtype=bool)
+    except np.linalg.LinAlgError:
+        pass
+    low = np.zeros_like(a)
+    ok = np.zeros(a.shape[0], dtype=bool)
+    for i in range(a.shape[0]):
+        try:
+            low[i] = np.linalg.cholesky(a[i])
+            ok[i] = True
+        except np.linalg.LinAlgError:
+            continue
+    return low, ok
+
+
+def _whole_pairs(mu: FloatArray, count: IntArray, available: IntArray) -> IntArray:
+    """Each pose's ``count`` (n,) raised while its next mode (``mu`` (n, s) descending)
+    repeats its last one, up to its ``available`` (n,)."""
+    k = np.array(count, dtype=int)
+    rows = np.arange(mu.shape[0])
+    for _ in range(mu.shape[-1]):
+        grow = (k > 0) & (k < available)
+        if not np.any(grow):
             break
+        last = mu[rows, np.maximum(k - 1, 0)]
+        nxt = mu[rows, np.minimum(k, mu.shape[-1] - 1)]
+        grow &= np.abs(last - nxt) <= DEGENERATE_TOLERANCE * np.abs(last)
+        if not np.any(grow):
+            break
+        k = k + grow
     return k
 
 
-#: Fixed-interface modes per leg by default (``modes --link-modes``): measured to put
-#: f1..f6 of every shipped example at home within 4e-5 of their values with all the
-#: legs' modes (4 modes: f1 within 7e-5, f1..f6 within 1.2e-3; docs/dynamics.md).
+#: Fixed-interface modes per leg by default (``modes --link-modes``, ``map``,
+#: ``optimize``): measured to put f1..f6 of every shipped example at home within 3.9e-5
+#: of their values with all the legs' modes, f1 within 1.8e-5 (4 modes: f1 within
+#: 7.5e-5, f1..f6 within 1.1e-3; 2 modes: f1 within 3.2e-3 of 8; docs/dynamics.md).
 DEFAULT_LINK_MODES = 8
 #: A warning when a leg's first fixed-interface frequency is below this multiple of
 #: the condensed f1 and its modes are left out (the error of f1 is of the order
@@ -428,7 +561,8 @@ def design_leg_modes(
     poses: ArrayLike,
     actuator_stiffness: ArrayLike,
     count: int,
-    elements: int = ELEMENTS_PER_LINK,
+    elements: int | None = None,
+    checks: bool = True,
 ) -> list[LegModes]:
     """Every leg's fixed-interface modes at full poses (..., 6) (flattened to n).
 
@@ -439,8 +573,10 @@ def design_leg_modes(
     actuator_stiffness : array_like (..., n_legs) or (n_legs,) [N/m or N·m/rad]
     count : int
         Modes per leg (:func:`fixed_interface_modes`).
-    elements : int
-        Euler-Bernoulli elements per link.
+    elements : int, optional
+        Euler-Bernoulli elements per link; :func:`elements_for` ``count`` if None.
+    checks : bool
+        :func:`fixed_interface_modes`.
     """
     legs = design.legs  # type: ignore[attr-defined]
     q = np.asarray(poses, dtype=float)
@@ -448,7 +584,7 @@ def design_leg_modes(
     out = []
     for i, leg in enumerate(legs):
         chain = leg.chain(leg.solve(q))
-        out.append(fixed_interface_modes(chain, k[..., i], count, elements))
+        out.append(fixed_interface_modes(chain, k[..., i], count, elements, checks))
     return out
 
 
@@ -481,23 +617,49 @@ def reduced_matrices(
 
 def reduced_frequencies(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
     """The six lowest frequencies (n, 6) [Hz] of stacks of K_r, M_r (n, s, s); NaN where
-    they are not finite or M_r is not positive definite."""
+    they are not finite or M_r is not positive definite.
+
+    A mode slot a pose does not have (:class:`LegModes`: omega^2 NaN, a zero coupling;
+    :func:`reduced_matrices` puts it on the diagonal) is left out of that pose's
+    problem; the poses are solved in groups with the same slots, each batched."""
+    n, size = stiffness.shape[0], stiffness.shape[-1]
+    out = np.full((n, 6), np.nan)
+    idx = np.arange(size)
+    off = mass.copy()
+    off[:, idx, idx] = 0.0
+    absent = np.isnan(stiffness[:, idx, idx]) & np.all(off == 0.0, axis=-1)
+    absent[:, :6] = False
+    patterns, which = np.unique(absent, axis=0, return_inverse=True)
+    for g, pattern in enumerate(patterns):
+        poses = np.flatnonzero(np.ravel(which) == g)
+        keep = np.flatnonzero(~pattern)
+        sub = np.ix_(poses, keep, keep)
+        out[poses] = _lowest_six(stiffness[sub], mass[sub])
+    return out
+
+
+def _lowest_six(stiffness: FloatArray, mass: FloatArray) -> FloatArray:
+    """:func:`reduced_frequencies` of stacks without absent slots: one Cholesky
+    factorisation of every M_r (one pose at a time only where the batched one fails),
+    one eigvalsh of every ``L^-1 K_r L^-T``."""
     n = stiffness.shape[0]
     out = np.full((n, 6), np.nan)
     good = np.isfinite(stiffness).all(axis=(1, 2)) & np.isfinite(mass).all(axis=(1, 2))
     idx = np.flatnonzero(good)
-    for j in idx:  # a Cholesky factor of M_r, one pose at a time where one fails
-        try:
-            low = np.linalg.cholesky(0.5 * (mass[j] + mass[j].T))
-        except np.linalg.LinAlgError:
-            continue
-        inv = np.linalg.inv(low)
-        a = inv @ stiffness[j] @ inv.T
-        lam = np.linalg.eigvalsh(0.5 * (a + a.T))[:6]
-        scale = np.max(np.abs(lam))
-        lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
-        if np.all(lam >= 0.0):
-            out[j] = np.sqrt(lam) / (2.0 * math.pi)
+    if not idx.size:
+        return out
+    m = mass[idx]
+    low, ok = _batched_cholesky(0.5 * (m + np.swapaxes(m, -1, -2)))
+    idx = idx[ok]
+    if not idx.size:
+        return out
+    inv = np.linalg.inv(low[ok])
+    a = inv @ stiffness[idx] @ np.swapaxes(inv, -1, -2)
+    lam = np.linalg.eigvalsh(0.5 * (a + np.swapaxes(a, -1, -2)))[:, :6]
+    scale = np.max(np.abs(lam), axis=-1, keepdims=True)
+    lam = np.where(np.abs(lam) <= 1e-12 * scale, 0.0, lam)
+    real = np.all(lam >= 0.0, axis=-1)
+    out[idx[real]] = np.sqrt(lam[real]) / (2.0 * math.pi)
     return out
 
 
@@ -514,7 +676,7 @@ def warn_slow_legs(
     pose (6,))."""
     import warnings
 
-    legs = design_leg_modes(design, pose, actuator_stiffness, 1)
+    legs = design_leg_modes(design, pose, actuator_stiffness, 1, ELEMENTS_PER_LINK, False)
     lowest = [float(leg.frequencies[0, 0]) for leg in legs if leg.omega2.shape[-1]]
     if not lowest or not math.isfinite(f1):
         return

@@ -167,6 +167,9 @@ class MapPlan(NamedTuple):
     dynamics: bool = False
     #: the hinge range (:func:`ppm_stiffness.statics.hinge_stress.drive_range`)
     hinges: bool = False
+    #: f1's fixed-interface modes per leg (:mod:`ppm_stiffness.dynamics.legmodes`; 0:
+    #: the legs condensed)
+    link_modes: int = 0
 
 
 def _with_f1(
@@ -182,7 +185,7 @@ def _with_f1(
     from ppm_stiffness.dynamics.batch import first_frequencies, refuse_failed
 
     assert k is not None
-    f1, f1_ok = first_frequencies(plan.design, full, k, k_act, ok)
+    f1, f1_ok = first_frequencies(plan.design, full, k, k_act, ok, plan.link_modes)
     columns["f1"] = f1
     return refuse_failed(codes, ok, f1_ok), ok & f1_ok
 

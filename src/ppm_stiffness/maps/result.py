@@ -12,9 +12,10 @@ slice's two axes:
   stiffness), and ``translational_min``, ``..._mid``, ``..._max`` [N/m], those of
   C_tt^-1 at the tool point;
 - the first natural frequency ``f1`` [Hz] (a design with a mass model,
-  :mod:`ppm_stiffness.dynamics.batch`): the lowest of ``K v = omega^2 M v`` at P, the
-  legs condensed (without the legs' own modes, which ``modes`` and ``analyze``
-  include: docs/dynamics.md, "Link modes").
+  :mod:`ppm_stiffness.dynamics.batch`): the lowest natural frequency at P with each
+  leg's own modes (``link_modes`` per leg, as ``modes`` and ``analyze``:
+  docs/dynamics.md, "Link modes"), or of ``K v = omega^2 M v`` with the legs
+  condensed (``link_modes`` 0).
 - ``hinge_range`` [rad for rotary drives, m for linear ones] (a design with notch hinges
   whose materials give their yield strength): the smallest over the drives of each
   drive's range alone, its free displacement at which the first hinge yields
@@ -116,6 +117,8 @@ class StiffnessMap:
     geometry : str
         Under a wrench, the statics: "frozen" (the unloaded geometry, the paper's) or
         "moving" (the equilibrium with moving geometry, K_F's symmetric part).
+    link_modes : int or None
+        f1's fixed-interface modes per leg (0: the legs condensed); None without f1.
     """
 
     axes: tuple[str, str]
@@ -134,6 +137,7 @@ class StiffnessMap:
     tool_point: FloatArray = field(default_factory=lambda: np.zeros(3))
     geometry: str = "frozen"
     drive_unit: str = ""
+    link_modes: int | None = None
 
     def _column_suffix(self, name: str) -> str:
         """The CSV column's unit suffix of quantity ``name`` (hinge_range: rad or m)."""
@@ -237,6 +241,8 @@ class StiffnessMap:
             out["geometry"] = self.geometry
         if self.reference_force is not None:
             out["reference_force"] = self.reference_force
+        if self.link_modes is not None:
+            out["link_modes"] = self.link_modes
         return out
 
     def fields(self) -> dict[str, np.ma.MaskedArray]:

@@ -120,6 +120,12 @@ def minimum_actuator_stiffness(design: Design, reference_force: float) -> FloatA
     )
 
 
+def _link_modes(link_modes: int | None) -> int:
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    return resolve_link_modes(link_modes)
+
+
 def stiffness_map(
     design: Design,
     phi: float | None = None,
@@ -137,6 +143,7 @@ def stiffness_map(
     tool_point: ArrayLike | None = None,
     quantities: str | Sequence[str] | None = None,
     geometry: str = "frozen",
+    link_modes: int | None = None,
 ) -> StiffnessMap:
     """A stiffness map over a 2-D slice of the task space, any design (module doc).
 
@@ -180,6 +187,11 @@ def stiffness_map(
         Under a wrench: the paper's statics on the unloaded geometry, or the equilibrium
         with moving geometry (the symmetric part of K_F at the displaced tool point,
         :func:`ppm_stiffness.maps.loaded.moving_columns`).
+    link_modes : int, optional
+        For ``f1``: each leg's own modes with the platform held (Craig-Bampton,
+        :mod:`ppm_stiffness.dynamics.legmodes`), as ``analyze`` and ``modes``; None:
+        :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`; 0: the legs
+        condensed statically (the f1 of the maps before issue 30).
 
     Returns
     -------
@@ -222,6 +234,7 @@ def stiffness_map(
         )
     paper = any(n in PAPER for n in names)
     spatial = any(n in PRINCIPAL for n in names)
+    count = _link_modes(link_modes) if "f1" in names else 0
     sl = map_slice(design, axes, fixed, phi)
     legs = select_path(design, path)
     planar = uses_planar_engine(design, path)
@@ -264,6 +277,7 @@ def stiffness_map(
         "load_margin" in names,
         "f1" in names,
         "hinge_range" in names,
+        count,
     )
     for j0 in range(0, nv, rows):
         j1 = min(j0 + rows, nv)
@@ -300,6 +314,7 @@ def stiffness_map(
         ref,
         tool,
         geometry if w is not None else "frozen",
+        count if "f1" in names else None,
     )
 
 
@@ -323,6 +338,7 @@ def _result(
     reference_force: float | None,
     tool: FloatArray,
     geometry: str = "frozen",
+    link_modes: int | None = None,
 ) -> StiffnessMap:
     from ppm_stiffness.core.pose import POSE_COORDINATES
 
@@ -349,4 +365,5 @@ def _result(
         tool_point=tool,
         geometry=geometry,
         drive_unit=_drive_unit(design) if "hinge_range" in values else "",
+        link_modes=link_modes,
     )

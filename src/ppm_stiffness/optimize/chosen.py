@@ -77,6 +77,7 @@ def compare_chosen(
     *,
     wrench: ArrayLike | None = None,
     executor: Executor | None = None,
+    link_modes: int | None = None,
 ) -> Comparison:
     """Front design ``index`` of ``result`` against the start ``design`` (module doc).
 
@@ -92,12 +93,16 @@ def compare_chosen(
     wrench : array_like (6,), optional
         The run's wrench [N·m, N].
     executor : concurrent.futures.Executor, optional
+    link_modes : int, optional
+        The run's modes per leg of f1 (None: the default, as the run takes it).
 
     Returns
     -------
     Comparison
         Rows: the objectives, the constraints' quantities, then the other figures.
     """
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
     quantities = [*result.objectives, *(c.quantity for c in result.constraints)]
     margin = any(q.needs_margin for q in quantities)
     chosen = result.design(index, design, region)
@@ -110,6 +115,7 @@ def compare_chosen(
         frequencies=design.has_mass_model,
         hinges=any(q.needs_hinges for q in quantities),
         reach=any(q.needs_candidate for q in quantities),
+        link_modes=resolve_link_modes(link_modes) if design.has_mass_model else 0,
     )
     start, best = pair
     rows = [

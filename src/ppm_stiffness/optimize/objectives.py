@@ -166,8 +166,8 @@ OBJECTIVES: dict[str, Quantity] = {
             "Hz",
             True,
             False,
-            "min over the region of the first natural frequency, legs condensed "
-            "(without the legs' own modes that modes and analyze include)",
+            "min over the region of the first natural frequency (with the legs' own "
+            "modes as modes and analyze; --link-modes)",
             needs_mass=True,
         ),
         Quantity(

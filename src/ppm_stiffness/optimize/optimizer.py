@@ -250,11 +250,13 @@ class _Evaluator:
         reach: bool = False,
         condition: bool = False,
         check: str = "skip",
+        link_modes: int = 0,
     ) -> None:
         self.design, self.variables, self.region, self.wrench = design, variables, region, wrench
         self.margin, self.frequencies, self.hinges = margin, frequencies, hinges
         self.condition, self.check = condition, check
         self.reach = reach
+        self.link_modes = link_modes
         #: designs the cheap check refused (their maps skipped with ``check="skip"``)
         self.refused = 0
         self.objective, self.constraints = objective, constraints
@@ -314,6 +316,7 @@ class _Evaluator:
                 self.reach,
                 self.condition,
                 self.check,
+                self.link_modes,
             )
             for k in todo
         ]
@@ -335,6 +338,12 @@ class _Evaluator:
         return energies
 
 
+def _link_modes(link_modes: int | None) -> int:
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    return resolve_link_modes(link_modes)
+
+
 def optimize_design(
     design: Design,
     variables: Sequence[Variable],
@@ -348,6 +357,7 @@ def optimize_design(
     executor: Executor | None = None,
     progress: Callable[[float], None] | None = None,
     cheap_checks: bool = True,
+    link_modes: int | None = None,
 ) -> OptimizationResult:
     """Optimise ``design`` over ``region`` (module doc).
 
@@ -376,6 +386,11 @@ def optimize_design(
         Skip the maps of a candidate that the cheap check refuses
         (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
         ranking, at the maps' cost). The start design is always evaluated in full.
+    link_modes : int, optional
+        The f1 objective and constraints with each leg's own modes with the platform
+        held (Craig-Bampton, :mod:`ppm_stiffness.dynamics.legmodes`), as ``analyze``;
+        None: :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`; 0: the legs
+        condensed statically (cheaper: measured figures in docs/optimization.md).
 
     Returns
     -------
@@ -407,10 +422,13 @@ def optimize_design(
     hinges = any(q.needs_hinges for q in quantities)  # so do the hinge figures
     reach = any(q.needs_candidate for q in quantities)  # and the candidate region
     condition = any(q.needs_condition for q in quantities)
+    count = _link_modes(link_modes) if frequencies else 0
     executor = SerialExecutor() if executor is None else executor
 
     try:
-        args = [(design, None, region, w, margin, frequencies, hinges, reach, condition)]
+        args = [
+            (design, None, region, w, margin, frequencies, hinges, reach, condition, "none", count)
+        ]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:
         raise KeyboardInterrupt from None
@@ -444,6 +462,7 @@ def optimize_design(
         reach,
         condition,
         "skip" if cheap_checks else "record",
+        count,
     )
     evaluator.evaluations = 1
     evaluator.history.append((1, initial if violation(start, constraints) == 0 else math.nan))

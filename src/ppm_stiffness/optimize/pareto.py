@@ -463,6 +463,7 @@ def optimize_front(
     progress: Callable[[float], None] | None = None,
     choices: Sequence[Choice] = (),
     cheap_checks: bool = True,
+    link_modes: int | None = None,
 ) -> FrontResult:
     """The Pareto front of ``objectives`` over ``region`` (module doc).
 
@@ -493,6 +494,9 @@ def optimize_front(
         Skip the maps of a design that the cheap check refuses
         (:mod:`ppm_stiffness.optimize.precheck`); False computes them (the same
         ranking, at the maps' cost). The start design is always evaluated in full.
+    link_modes : int, optional
+        f1 with each leg's own modes, as :func:`~ppm_stiffness.optimize.optimizer
+        .optimize_design` takes it (None: the default; 0: the legs condensed).
 
     Returns
     -------
@@ -531,6 +535,11 @@ def optimize_front(
     hinges = any(q.needs_hinges for q in quantities)
     reach = any(q.needs_candidate for q in quantities)
     condition = any(q.needs_condition for q in quantities)
+    count = 0
+    if frequencies:  # f1 as optimize_design takes it
+        from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+        count = resolve_link_modes(link_modes)
     executor = SerialExecutor() if executor is None else executor
     check = "skip" if cheap_checks else "record"
 
@@ -547,6 +556,7 @@ def optimize_front(
                 reach,
                 condition,
                 "none" if k is None else check,
+                count,
             )
             for k in keys
         ]

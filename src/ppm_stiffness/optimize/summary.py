@@ -319,15 +319,28 @@ def first_frequencies(
     poses: FloatArray,
     stiffness: FloatArray,
     actuator_stiffness: ArrayLike | None = None,
+    link_modes: int = 0,
 ) -> FloatArray:
     """The first natural frequency [Hz] (n,) from K at P (n, 6, 6) at full poses (n, 6),
     the legs' motion with ``actuator_stiffness`` (n, n_legs) (locked if None); NaN
-    where K or M is not finite. Frequencies do not depend on the reference point."""
+    where K or M is not finite. Frequencies do not depend on the reference point.
+    ``link_modes``: each leg's own modes with the platform held
+    (:func:`ppm_stiffness.dynamics.batch.first_frequencies`); 0: the legs condensed."""
     from ppm_stiffness.dynamics.mass import mass_matrix
     from ppm_stiffness.dynamics.modes import natural_frequencies
 
     if poses.shape[0] == 0:
         return np.zeros(0)
+    if link_modes:
+        from ppm_stiffness.dynamics import batch
+        from ppm_stiffness.model import actuator_stiffness_vector
+
+        k_act = (
+            actuator_stiffness_vector(design, None)
+            if actuator_stiffness is None
+            else actuator_stiffness
+        )
+        return batch.first_frequencies(design, poses, stiffness, k_act, link_modes=link_modes)[0]
     m = mass_matrix(design, poses, actuator_stiffness)
     return np.asarray(natural_frequencies(stiffness, m)[:, 0])
 
@@ -341,6 +354,7 @@ def summarize(
     hinges: bool = False,
     reach: bool = False,
     condition: bool = False,
+    link_modes: int = 0,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -368,6 +382,10 @@ def summarize(
         for a design without ``[workspace.candidate]``).
     condition : bool
         Also ``condition_max`` (the length-balanced K's condition number; NaN without).
+    link_modes : int
+        The f1 figures with each leg's own modes with the platform held (Craig-Bampton,
+        :mod:`ppm_stiffness.dynamics.legmodes`), this many per leg; 0: the legs
+        condensed statically.
 
     Returns
     -------
@@ -413,7 +431,7 @@ def summarize(
             from ppm_stiffness.poses import full_poses
 
             full = full_poses(design, poses)[0].reshape(-1, 6)
-        f1 = first_frequencies(design, full[covered], stiffness[covered])
+        f1 = first_frequencies(design, full[covered], stiffness[covered], None, link_modes)
         values.update(_statistics(f1, "f1"))
     cond = math.nan
     if condition and np.any(covered):
@@ -442,7 +460,7 @@ def summarize(
             if mass:
                 assert state.stiffness is not None and state.poses is not None
                 f1 = first_frequencies(
-                    design, state.poses, state.stiffness, state.actuator_stiffness
+                    design, state.poses, state.stiffness, state.actuator_stiffness, link_modes
                 )
                 values.update(_statistics(f1, "f1"))
     if hinges and np.any(covered):
@@ -601,6 +619,7 @@ def summarize_candidate(
     reach: bool = False,
     condition: bool = False,
     check: str = "none",
+    link_modes: int = 0,
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
@@ -628,7 +647,9 @@ def summarize_candidate(
 
         raise InputDataError(f"check must be one of {', '.join(CHECKS)}, got {check!r}")
     if check == "none" or tuple(region.ranges()) != tuple(design.task_coordinates):
-        return summarize(design, region, wrench, margin, frequencies, hinges, reach, condition)
+        return summarize(
+            design, region, wrench, margin, frequencies, hinges, reach, condition, link_modes
+        )
     from dataclasses import replace
 
     from ppm_stiffness.optimize.precheck import refused_check_poses
@@ -640,7 +661,9 @@ def summarize_candidate(
         return RegionSummary(
             values, poses, 0, planar=design.planar, check_poses=n, check_refused=refused, maps=False
         )
-    full = summarize(design, region, wrench, margin, frequencies, hinges, reach, condition)
+    full = summarize(
+        design, region, wrench, margin, frequencies, hinges, reach, condition, link_modes
+    )
     return replace(full, check_poses=n, check_refused=refused)
 
 

@@ -117,6 +117,7 @@ def sweep_designs(
     frequencies: bool = True,
     hinges: bool = False,
     condition: bool = False,
+    link_modes: int = 0,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -149,6 +150,9 @@ def sweep_designs(
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``); False: NaN.
     condition : bool
         The length-balanced K's condition number (``condition_max``); False: NaN.
+    link_modes : int
+        The f1 figures with each leg's own modes, this many per leg
+        (:func:`~ppm_stiffness.optimize.summary.summarize`); 0: the legs condensed.
 
     Returns
     -------
@@ -169,6 +173,8 @@ def sweep_designs(
             hinges,
             False,
             condition,
+            "none",
+            link_modes,
         )
         for p in points
     ]
@@ -195,12 +201,14 @@ def summarize_designs(
     frequencies: bool = True,
     hinges: bool = False,
     reach: bool = False,
+    link_modes: int = 0,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
     with a mass model; ``hinges``: the hinge figures of a design with notch hinges
     (NaN for another); ``reach``: the share of each
-    design's candidate region reached.
+    design's candidate region reached; f1 with each leg's ``link_modes`` own modes (0:
+    the legs condensed).
 
     Raises
     ------
@@ -218,6 +226,9 @@ def summarize_designs(
     return run_ordered(
         executor,
         summarize_candidate,
-        [(d, None, region, w, margin, frequencies, hinges, reach) for d in designs],
+        [
+            (d, None, region, w, margin, frequencies, hinges, reach, False, "none", link_modes)
+            for d in designs
+        ],
         progress,
     )

@@ -13,6 +13,10 @@ At the report's pose (the workspace centre unless one is given), locked actuator
   (:func:`ppm_stiffness.maps.workspace.stiffness_map` with ``quantities=["f1"]``: x-y,
   or the first two task coordinates, at the pose's other coordinates), with its range.
 
+Both with each leg's own modes (the default number per leg,
+:data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`, Craig-Bampton: the same
+model in the table and the map).
+
 A design without a mass model gets no section (:func:`dynamics_sections` returns none).
 """
 
@@ -97,7 +101,8 @@ def _f1_map(design: Design, pose: np.ndarray, grid: int) -> str:
     s = smap.summary()["f1"]
     caption = (
         f"f<sub>1</sub> [Hz] over the {esc(axes[0])}-{esc(axes[1])} slice "
-        f"({esc(slice_label(smap))}), {grid} × {grid} grid, locked actuators: "
+        f"({esc(slice_label(smap))}), {grid} × {grid} grid, locked actuators, "
+        f"{smap.link_modes} link modes per leg: "
         f"{s['min']:.4g} Hz to {s['max']:.4g} Hz ({esc(smap.masked_text())})."
     )
     return figure_block(figure_data_uri(fig), caption, FIGURE_F1_MAP)
@@ -123,9 +128,11 @@ def dynamics_sections(design: Design, pose: ArrayLike, grid: int) -> list[tuple[
     )
     f1 = result["frequencies"][0]
     html = (
-        "<p>Undamped free vibrations of the platform about the pose: K v = ω² M v with K "
+        "<p>Undamped free vibrations of the machine about the pose: K v = ω² M v with K "
         "the locked actuators' stiffness and M the 6 × 6 mass matrix at P (the platform "
-        "and the legs following it statically; docs/dynamics.md), f = ω / 2π. "
+        "and the legs following it statically), with each leg's own lowest "
+        f"{result.get('link_modes', 0)} modes with the platform held added (Craig-Bampton; "
+        'docs/dynamics.md, "Link modes"), f = ω / 2π. '
         f"First natural frequency f<sub>1</sub> = {f1:.4g} Hz "
         f"({esc(result['modes'][0]['direction'])}).</p>"
         + _tables(result)
