@@ -16,6 +16,7 @@ import pytest
 
 import ppm_stiffness as pps
 from ppm_stiffness.cli import main
+from ppm_stiffness.dynamics.legmodes import DEFAULT_LINK_MODES
 from ppm_stiffness.optimize.objectives import check_quantities, parse_constraint, quantity
 from ppm_stiffness.optimize.summary import summarize
 
@@ -83,12 +84,15 @@ def test_study_runs_and_its_front_is_feasible(
     assert (tmp_path / Path(argv[argv.index("--front-figure") + 1]).name).stat().st_size > 0
     constraints = [parse_constraint(c) for c in _values(argv, "--constraint")]
     objectives = [quantity(n) for n in _values(argv, "--objective")]
+    # the f1 of the run: its --link-modes, or the default
+    given = _values(argv, "--link-modes")
+    link_modes = int(given[0]) if given else DEFAULT_LINK_MODES
     for row in rows:
         design = pps.load_design(tmp_path / f"front_{int(row['row']):03d}.toml")
         check_quantities(design, [*objectives, *(c.quantity for c in constraints)], False)
         region = design.workspace.required
         assert region is not None
-        summary = summarize(design, region, reach=True)
+        summary = summarize(design, region, reach=True, link_modes=link_modes)
         assert summary.covers, row
         for c in constraints:
             assert c.shortfall(summary) == 0, (row, str(c))
