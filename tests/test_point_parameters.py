@@ -79,7 +79,10 @@ def test_listing_names_the_components_with_units(capsys: pytest.CaptureFixture[s
     for key, unit in (("x", "m"), ("y", "m"), ("z", "m"), ("radius", "m"), ("angle", "rad")):
         assert f"leg6.crank_joint.point.{key}" in names
         assert design.parameter_unit(f"leg*.crank_joint.point.{key}") == unit
-    assert not [n for n in names if ".axis" in n]  # axes are not point parameters
+    # an axis gets its two angles only (module doc of design.points)
+    axis_names = {n.rsplit(".", 1)[1] for n in names if ".axis" in n}
+    assert axis_names == {"tilt", "azimuth"}
+    assert design.parameter_unit("leg1.crank_joint.axis2.azimuth") == "rad"
     assert design.parameter_unit("platform.radius") == "m"  # the disk's, not a point's
     code = main(["calibrate", "--list-parameters", "--design", str(EXAMPLES / "6rus.toml")])
     out = capsys.readouterr().out
@@ -156,3 +159,86 @@ def test_a_glob_reads_radii_equal_but_for_rounding(example: str, name: str, radi
     assert design.parameter(name) == pytest.approx(radius, rel=1e-14)
     with pytest.raises(DesignError, match="its matches differ"):
         design.parameter(name.replace("radius", "angle"))
+
+
+DRIVE_AXES = "leg*.crank_drive.axis"
+
+
+def test_axis_angles_are_the_axis_spherical_angles() -> None:
+    design = load_design(EXAMPLES / "6rus.toml")
+    for i, leg in enumerate(design.legs, start=1):
+        a = np.asarray(leg.elements[0].axis, dtype=float)
+        tilt = design.parameter(f"leg{i}.crank_drive.axis.tilt")
+        azimuth = design.parameter(f"leg{i}.crank_drive.axis.azimuth")
+        assert tilt == pytest.approx(math.acos(a[2] / np.linalg.norm(a)), abs=1e-15)
+        assert azimuth == pytest.approx(math.atan2(a[1], a[0]), abs=1e-15)
+
+
+def test_a_glob_over_several_axes_is_refused() -> None:
+    """The 6-RUS pattern's mirrored copies carry their crank axes reversed: tilting the
+    pattern leg's axis by 1.3 rad in the file tilts a mirrored copy's to pi - 1.3, so
+    one tilt for all six would not be the pattern edited (the two K differ by 1.6 %)."""
+    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
+    design = design_from_dict(raw)
+    drive = raw["legs"][0]["elements"][0]
+    x, y, _ = drive["axis"]
+    azimuth = math.atan2(y, x)
+    drive["axis"] = [math.sin(1.3) * math.cos(azimuth), math.sin(1.3) * math.sin(azimuth)]
+    drive["axis"].append(math.cos(1.3))
+    edited = design_from_dict(raw)
+    mirrored = edited.parameter("leg2.crank_drive.axis.tilt")
+    assert mirrored == pytest.approx(math.pi - 1.3, abs=1e-9)
+    for call in (
+        lambda: design.with_parameters({f"{DRIVE_AXES}.tilt": 1.3}),
+        lambda: design.parameter(f"{DRIVE_AXES}.tilt"),
+    ):
+        with pytest.raises(DesignError, match="an axis angle is set one axis at a time"):
+            call()
+
+
+def test_tilt_set_leg_by_leg_equals_the_file_edited_by_hand() -> None:
+    """Setting each copy's tilt as the edited pattern gives it (1.3, or pi - 1.3 for a
+    mirrored copy) is the K of the pattern leg's axis turned in its vertical plane in
+    the file."""
+    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
+    design = design_from_dict(raw)
+    drive = raw["legs"][0]["elements"][0]
+    x, y, _ = drive["axis"]
+    azimuth = math.atan2(y, x)
+    drive["axis"] = [math.sin(1.3) * math.cos(azimuth), math.sin(1.3) * math.sin(azimuth)]
+    drive["axis"].append(math.cos(1.3))
+    edited = design_from_dict(raw)
+    by_hand = stiffness_at_pose(edited)
+    names = [f"leg{i}.crank_drive.axis.tilt" for i in range(1, 7)]
+    by_name = stiffness_at_pose(design.with_parameters({n: edited.parameter(n) for n in names}))
+    unchanged = stiffness_at_pose(design)
+    scale_k = np.abs(by_hand).max()
+    assert np.abs(by_name - by_hand).max() < 1e-12 * scale_k
+    assert np.abs(unchanged - by_hand).max() > 1e-3 * scale_k  # the change matters
+
+
+def test_tilt_and_azimuth_commute_and_keep_the_length() -> None:
+    design = load_design(EXAMPLES / "6rus.toml")
+    a = design.with_parameters(
+        {"leg2.crank_drive.axis.tilt": 1.2, "leg2.crank_drive.axis.azimuth": 0.4}
+    )
+    b = design.with_parameters(
+        {"leg2.crank_drive.axis.azimuth": 0.4, "leg2.crank_drive.axis.tilt": 1.2}
+    )
+    axis = np.asarray(a.legs[1].elements[0].axis, dtype=float)
+    np.testing.assert_allclose(axis, b.legs[1].elements[0].axis, rtol=0, atol=1e-15)
+    length = np.linalg.norm(design.legs[1].elements[0].axis)  # 1 to the file's 10 digits
+    expected = [math.sin(1.2) * math.cos(0.4), math.sin(1.2) * math.sin(0.4), math.cos(1.2)]
+    np.testing.assert_allclose(axis, length * np.array(expected), rtol=0, atol=1e-15)
+
+
+def test_bad_axis_angles_are_refused() -> None:
+    design = load_design(EXAMPLES / "6rus.toml")
+    with pytest.raises(DesignError, match=r"tilt from \+z is within \[0, pi\]"):
+        design.with_parameters({"leg1.crank_drive.axis.tilt": 4.0})
+    vertical = design.with_parameters({"leg1.crank_drive.axis.tilt": 0.0})
+    with pytest.raises(DesignError, match="azimuth is undefined"):
+        vertical.with_parameters({"leg1.crank_drive.axis.azimuth": 0.3})
+    # a U's axes must stay normal: turning one of them is the design's own refusal
+    with pytest.raises(DesignError, match="must be normal to axis"):
+        design.with_parameters({"leg1.crank_joint.axis.tilt": 1.0})

@@ -13,8 +13,18 @@ named after it (``leg1.crank_joint.point.x``):
 - ``.angle`` [rad]: its polar angle about z, ``atan2(y, x)``; setting it turns the
   point about z, keeping the radius and z.
 
-Axes and directions (unit vectors: ``axis``, ``crossbar``, ``rail_direction``) are not
-points and get no component parameters.
+An axis or direction of a chain leg's joint (``axis``, ``axis2``) or element (a
+parallelogram's ``crossbar``), a unit vector in F_b, gets two angle parameters
+(``leg1.crank_drive.axis.tilt``):
+
+- ``.tilt`` [rad]: its angle from +z, ``acos(a_z / |a|)`` in [0, pi]; setting it turns
+  the axis in its vertical plane, keeping its azimuth and length;
+- ``.azimuth`` [rad]: its polar angle about z, ``atan2(a_y, a_x)``; setting it turns the
+  axis about z, keeping its tilt and length.
+
+The two commute. A joint whose axes must stay perpendicular (a U's ``axis`` and
+``axis2``) is refused by the design's own validation when only one of them is turned
+(an optimiser takes such a candidate as infeasible).
 """
 
 from __future__ import annotations
@@ -26,7 +36,19 @@ from typing import Any
 from ppm_stiffness.core.errors import DesignError
 
 #: The component parameters of a point, with their units.
-COMPONENT_UNITS = {"x": "m", "y": "m", "z": "m", "radius": "m", "angle": "rad"}
+COMPONENT_UNITS = {
+    "x": "m",
+    "y": "m",
+    "z": "m",
+    "radius": "m",
+    "angle": "rad",
+    "tilt": "rad",
+    "azimuth": "rad",
+}
+#: The angle parameters of an axis (module doc).
+AXIS_COMPONENTS = ("tilt", "azimuth")
+#: The dotted field names (last part) of a chain leg's axes and directions.
+AXIS_FIELDS = ("axis", "axis2", "crossbar")
 #: Relative spread within which a glob's matches of one component count as one value
 #: (:meth:`~ppm_stiffness.design.schema.Design.parameter`): points turned by a pattern's
 #: rotation matrix or written from cos and sin differ in radius by rounding (at most
@@ -41,6 +63,18 @@ def is_point_field(key: str, value: Any, unit: str) -> bool:
     field = key.rsplit(".", 1)[-1]
     named = field == "point" or field.endswith("_point") or field in ("end", "near", "far")
     return named and unit == "m" and isinstance(value, tuple) and len(value) in (2, 3)
+
+
+def is_axis_field(key: str, value: Any, unit: str) -> bool:
+    """True for an axis of a chain leg's element (module doc): ``key`` ends in ``axis``,
+    ``axis2`` or ``crossbar``, its unit is 1 and ``value`` has 3 numbers."""
+    field = key.rsplit(".", 1)[-1]
+    return field in AXIS_FIELDS and unit == "1" and isinstance(value, tuple) and len(value) == 3
+
+
+def axis_component_names(prefix: str) -> list[str]:
+    """The angle parameters of an axis named ``prefix``: tilt, azimuth."""
+    return [f"{prefix}.{k}" for k in AXIS_COMPONENTS]
 
 
 def component_names(prefix: str, value: tuple[float, ...]) -> list[str]:
@@ -61,8 +95,10 @@ def component(point: Iterable[float], key: str) -> float:
     p = [float(v) for v in point]
     if key == "radius":
         return math.hypot(p[0], p[1])
-    if key == "angle":
+    if key in ("angle", "azimuth"):
         return math.atan2(p[1], p[0])
+    if key == "tilt":
+        return math.acos(max(-1.0, min(1.0, p[2] / math.hypot(*p))))
     return p["xyz".index(key)]
 
 
@@ -81,6 +117,8 @@ def with_component(point: Iterable[float], key: str, value: float, name: str) ->
     if key in ("x", "y", "z"):
         p["xyz".index(key)] = value
         return p
+    if key in AXIS_COMPONENTS:
+        return _turned_axis(p, key, value, name)
     radius = math.hypot(p[0], p[1])
     if key == "radius" and value < 0:
         raise DesignError(f"{name} = {value:g}: a radius (distance from the z axis) is >= 0 m")
@@ -94,3 +132,28 @@ def with_component(point: Iterable[float], key: str, value: float, name: str) ->
     else:
         p[0], p[1] = radius * math.cos(value), radius * math.sin(value)
     return p
+
+
+def _turned_axis(a: list[float], key: str, value: float, name: str) -> list[float]:
+    """Axis ``a`` with its tilt or azimuth set (module doc), its length kept."""
+    length = math.hypot(*a)
+    if length == 0.0:
+        raise DesignError(f"{name} = {value:g}: the axis has no direction (length 0)")
+    tilt = math.acos(max(-1.0, min(1.0, a[2] / length)))
+    horizontal = math.hypot(a[0], a[1])
+    if key == "tilt":
+        if not 0.0 <= value <= math.pi:
+            raise DesignError(f"{name} = {value:g}: a tilt from +z is within [0, pi] rad")
+        if horizontal == 0.0 and 0.0 < value < math.pi:
+            raise DesignError(
+                f"{name} = {value:g}: the axis is along z, its azimuth is undefined; "
+                "set its .azimuth after writing the axis off z in the design file"
+            )
+        tilt = value
+    elif horizontal == 0.0:
+        raise DesignError(
+            f"{name} = {value:g}: the axis is along z (tilt 0 or pi), its azimuth is undefined"
+        )
+    azimuth = value if key == "azimuth" else math.atan2(a[1], a[0])
+    s = math.sin(tilt)
+    return [length * s * math.cos(azimuth), length * s * math.sin(azimuth), length * math.cos(tilt)]

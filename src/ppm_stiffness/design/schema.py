@@ -29,10 +29,13 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import POSE_COORDINATES
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.points import (
+    AXIS_COMPONENTS,
     COMPONENT_UNITS,
     POINT_SPREAD,
+    axis_component_names,
     component,
     component_names,
+    is_axis_field,
     is_point_field,
     split_component,
     with_component,
@@ -437,7 +440,7 @@ class Design(PartModel):
         of each other, relative: the first is returned).
         """
         values, spread = [], 0.0
-        for match in self.expand(name):
+        for match in _one_axis(self, name, self.expand(name)):
             point = _point_component(self, match)
             if point is not None:  # a component of a leg's point (design.points)
                 obj, key = _resolve(self, point[0])
@@ -523,7 +526,7 @@ class Design(PartModel):
         data = self.model_dump(by_alias=True)
         stiffnesses: dict[int, dict[str, float]] = {}
         for pattern, value in values.items():
-            for name in self.expand(pattern):
+            for name in _one_axis(self, pattern, self.expand(pattern)):
                 parts = _split(name)
                 target: Any = data
                 point = _point_component(self, name)
@@ -645,8 +648,26 @@ def _point_names(leg: LegModel, prefix: str) -> list[str]:
     points`) of each point of ``leg``, dotted under ``prefix``."""
     names: list[str] = []
     for key, value in leg.parameter_items():
-        if is_point_field(key, value, leg.parameter_unit(key)):
+        unit = leg.parameter_unit(key)
+        if is_point_field(key, value, unit):
             names += component_names(f"{prefix}.{key}", value)
+        elif is_axis_field(key, value, unit):
+            names += axis_component_names(f"{prefix}.{key}")
+    return names
+
+
+def _one_axis(design: Design, pattern: str, names: list[str]) -> list[str]:
+    """``names`` (the matches of ``pattern``), refused when they are the angles of
+    several axes: a pattern's mirrored copies carry their axes reversed (a tilt t of
+    the original is pi - t in its mirror image), so one tilt or azimuth for all would
+    break the symmetry it seems to keep; an axis angle is set leg by leg."""
+    axes = [n for n in names if n.rsplit(".", 1)[-1] in AXIS_COMPONENTS]
+    if len(names) > 1 and axes and any(_point_component(design, n) for n in axes):
+        raise DesignError(
+            f"{pattern}: an axis angle is set one axis at a time (legN.JOINT.axis.tilt); "
+            "a glob over several axes would not keep a mirrored pattern's symmetry (a "
+            "mirrored copy's axis is reversed)"
+        )
     return names
 
 
@@ -663,7 +684,10 @@ def _point_component(design: Design, name: str) -> tuple[str, str] | None:
         return None
     leg = design.legs[index]
     value = dict(leg.parameter_items()).get(within)
-    return split if is_point_field(within, value, leg.parameter_unit(within)) else None
+    unit = leg.parameter_unit(within)
+    if split[1] in AXIS_COMPONENTS:
+        return split if is_axis_field(within, value, unit) else None
+    return split if is_point_field(within, value, unit) else None
 
 
 def _matches(names: list[str], pattern: str) -> list[str]:
