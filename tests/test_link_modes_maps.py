@@ -89,7 +89,7 @@ def test_optimize_passes_its_link_modes_to_the_f1_figures() -> None:
     )
     poses = region_poses(region).reshape(-1, 6)
     variables = [parse_variable("leg*.actuator.locked_stiffness=2e7:2e8", design, count=False)]
-    for modes in (2,):
+    for modes in (0, 2):
         result = optimize_design(
             design,
             variables,

@@ -306,6 +306,13 @@ def test_budget_bounds_front_evaluations(
     assert doc["evaluations"] <= budget
     assert doc["refused_by_check"] <= doc["evaluations"]
     assert doc["history"][-1]["evaluations"] == doc["evaluations"]
+    # the chosen design against the start: each objective's row is the front's value (the
+    # condition number was NaN there when the comparison did not ask for it)
+    chosen = doc["front"][doc["chosen"]]["objectives"]
+    rows = {r["name"]: r for r in doc["comparison"]}
+    for objective, value in zip(doc["objectives"], chosen, strict=True):
+        name = objective["name"]
+        assert rows[name]["chosen"] == pytest.approx(value, rel=1e-12), name
 
 
 def test_text_output_reports_the_budget_and_the_refused(
@@ -347,3 +354,44 @@ def test_sweep_computes_the_condition_number() -> None:
         apply_values(design, {"leg2.psi": 1.3}), REGION, frequencies=False, condition=True
     )
     assert result.summaries[0].condition_max == pytest.approx(direct.condition_max, rel=1e-12)
+
+
+def test_a_passive_leg_is_no_drive() -> None:
+    """The Tricept's central leg has no actuator: its column of the loaded states'
+    forces is not a linear drive's (it was counted as one, in N)."""
+    from ppm_stiffness.optimize.summary import actuator_efforts, drive_units
+
+    design = pps.load_design(ROOT / "examples/tricept.toml")
+    assert drive_units(design) == ["N", "N", "N", None]
+    force, torque = actuator_efforts(design, np.array([[1.0, -2.0, 3.0, 100.0]]))
+    assert force == 3.0 and np.isnan(torque)
+
+
+def test_sweep_ranks_by_reachable_workspace(capsys: pytest.CaptureFixture[str]) -> None:
+    """``sweep --quantity reachable-workspace`` prints each design's candidate share, as
+    summarize gives it over the same region (the sweep passed no reach: an empty
+    table, exit 0)."""
+    from ppm_stiffness.optimize.region import region_from_ranges
+    from ppm_stiffness.optimize.summary import summarize
+    from ppm_stiffness.optimize.variables import apply_values
+
+    argv = ["sweep", "--design", str(ROOT / "examples/hexapod_6ups.toml"), "--quiet"]
+    argv += ["--vary", "platform_radius=0.10:0.14:2", "--quantity", "reachable-workspace"]
+    argv += ["--no-f1", "--region=-10,10,-10,10,190,210,-2,2,-2,2,-2,2,2,2,2,2,2,2"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    rows = [line.split("│")[1:3] for line in lines if line.count("│") >= 3]
+    printed = [float(b) for a, b in rows if a.strip()[:1].isdigit()]
+    assert main([*argv, "--json"]) == 0
+    box = json.loads(capsys.readouterr().out)["region"]
+    names = ("x", "y", "z", "rx", "ry", "phi")
+    region = region_from_ranges({n: tuple(box[n]) for n in names}, box["grid"])
+    design = pps.load_design(ROOT / "examples/hexapod_6ups.toml")
+    expected = [
+        summarize(
+            apply_values(design, {"platform_radius": r}), region, frequencies=False, reach=True
+        ).candidate_share
+        for r in (0.10, 0.14)
+    ]
+    assert len(printed) == 2
+    np.testing.assert_allclose(printed, expected, rtol=5e-4)  # printed to 4 digits

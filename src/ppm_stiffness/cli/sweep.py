@@ -173,6 +173,7 @@ def run(args: argparse.Namespace) -> int:
             margin=margin,
             frequencies=frequencies,
             hinges=q.needs_hinges,
+            reach=q.needs_candidate,
             condition=q.needs_condition,
             link_modes=link_modes,
         )

@@ -115,6 +115,7 @@ def compare_chosen(
         frequencies=design.has_mass_model,
         hinges=any(q.needs_hinges for q in quantities),
         reach=any(q.needs_candidate for q in quantities),
+        condition=any(q.needs_condition for q in quantities),
         link_modes=resolve_link_modes(link_modes) if design.has_mass_model else 0,
     )
     start, best = pair

@@ -60,7 +60,7 @@ from dataclasses import dataclass
 
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design
-from ppm_stiffness.optimize.summary import FIGURE_UNITS, RegionSummary
+from ppm_stiffness.optimize.summary import FIGURE_UNITS, RegionSummary, drive_units
 
 
 @dataclass(frozen=True)
@@ -301,7 +301,7 @@ def for_design(q: Quantity, design: Design) -> Quantity:
     any other quantity unchanged."""
     if q.name != "actuator-effort":
         return q
-    kinds = {leg.actuator_units()[0] for leg in design.legs}
+    kinds = {u for u in drive_units(design) if u is not None}
     if len(kinds) != 1:
         return q
     from dataclasses import replace
@@ -370,7 +370,7 @@ def _require_drives(design: Design, q: Quantity) -> None:
     """Refuse an actuator effort that ``design``'s drives cannot give: the force of a
     design without linear drives, the torque of one without rotary drives, the effort
     (one unit) of one with both (DesignError naming the per-kind quantities)."""
-    kinds = {leg.actuator_units()[0] for leg in design.legs}
+    kinds = {u for u in drive_units(design) if u is not None}
     if q.name == "actuator-effort" and len(kinds) > 1:
         raise DesignError(
             f"{q.name}: design {design.name!r} has linear (N) and rotary (N·m) drives; "

@@ -518,14 +518,20 @@ def _with_candidate(summary: RegionSummary, design: Design) -> RegionSummary:
     return replace(summary, candidate_share=share, candidate_poses=count)
 
 
+def drive_units(design: Design) -> list[str | None]:
+    """Each leg's drive force unit, N (linear) or N·m (rotary); None for a passive leg
+    (no actuator: a Tricept's central leg)."""
+    return [None if leg.actuator is None else leg.actuator_units()[0] for leg in design.legs]
+
+
 def actuator_efforts(design: Design, forces: FloatArray) -> tuple[float, float]:
     """The largest |actuator force| [N] over the linear drives and |torque| [N·m]
     over the rotary ones of loaded states ``forces`` (n, n_legs) [each leg's kind];
     NaN for a kind the design does not have, +inf where a row is NaN (a loaded state
-    that failed: the worst case is unknown)."""
-    rotary = np.array([leg.actuator_units()[0] == "N·m" for leg in design.legs])
+    that failed: the worst case is unknown). Passive legs are neither."""
+    units = np.array(drive_units(design), dtype=object)
     out = []
-    for kind in (~rotary, rotary):
+    for kind in (units == "N", units == "N·m"):
         if not np.any(kind) or forces.shape[0] == 0:
             out.append(math.nan)
             continue

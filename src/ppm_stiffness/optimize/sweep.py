@@ -116,6 +116,7 @@ def sweep_designs(
     margin: bool = False,
     frequencies: bool = True,
     hinges: bool = False,
+    reach: bool = False,
     condition: bool = False,
     link_modes: int = 0,
 ) -> SweepResult:
@@ -148,6 +149,9 @@ def sweep_designs(
         stiffness figures); False: NaN.
     hinges : bool
         The hinge figures (``hinge_range_min``, ``hinge_stress_max``); False: NaN.
+    reach : bool
+        The share of each design's candidate region reached (``candidate_share``);
+        False: NaN.
     condition : bool
         The length-balanced K's condition number (``condition_max``); False: NaN.
     link_modes : int
@@ -171,7 +175,7 @@ def sweep_designs(
             margin,
             frequencies,
             hinges,
-            False,
+            reach,
             condition,
             "none",
             link_modes,
@@ -201,13 +205,15 @@ def summarize_designs(
     frequencies: bool = True,
     hinges: bool = False,
     reach: bool = False,
+    condition: bool = False,
     link_modes: int = 0,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
     with a mass model; ``hinges``: the hinge figures of a design with notch hinges
     (NaN for another); ``reach``: the share of each
-    design's candidate region reached; f1 with each leg's ``link_modes`` own modes (0:
+    design's candidate region reached; ``condition``: the balanced K's condition number;
+    f1 with each leg's ``link_modes`` own modes (0:
     the legs condensed).
 
     Raises
@@ -227,7 +233,7 @@ def summarize_designs(
         executor,
         summarize_candidate,
         [
-            (d, None, region, w, margin, frequencies, hinges, reach, False, "none", link_modes)
+            (d, None, region, w, margin, frequencies, hinges, reach, condition, "none", link_modes)
             for d in designs
         ],
         progress,
