@@ -156,14 +156,18 @@ def test_compare_and_sweep_take_link_modes(capsys: pytest.CaptureFixture[str]) -
     for extra, modes in (([], 8), (["--link-modes", "2"], 2), (["--link-modes", "0"], 0)):
         argv = ["compare", "--json", "--quiet", "--design", path, region_text, *extra]
         assert main(argv) == 0
-        f1[modes] = json.loads(capsys.readouterr().out)["designs"][0]["figures"]["f1_min"]
+        doc = json.loads(capsys.readouterr().out)
+        assert doc["link_modes"] == modes  # the document says which f1 it carries
+        f1[modes] = doc["designs"][0]["figures"]["f1_min"]
         assert f1[modes] == summarize_designs([design], region, link_modes=modes)[0]["f1_min"]
     assert f1[0] == summarize_designs([design], region)[0]["f1_min"]  # the library: condensed
     assert f1[8] < f1[0]  # measured 56.6 Hz against 57.8 Hz at home
     vary = ["--vary", "leg*.platform_radius=0.03:0.04:2"]
     argv = ["sweep", "--json", "--quiet", "--design", path, region_text, *vary]
     assert main([*argv, "--link-modes", "2"]) == 0
-    row = json.loads(capsys.readouterr().out)["rows"][1]
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["link_modes"] == 2
+    row = doc["rows"][1]
     variable = parse_variable("leg*.platform_radius=0.03:0.04:2", design, count=True)
     from ppm_stiffness.optimize.sweep import sweep_designs
 
@@ -172,3 +176,25 @@ def test_compare_and_sweep_take_link_modes(capsys: pytest.CaptureFixture[str]) -
     assert main([*argv, "--link-modes", "2", "--no-f1"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and "--no-f1 given" in err
+    assert main([*argv, "--no-f1"]) == 0
+    assert json.loads(capsys.readouterr().out)["link_modes"] is None  # no f1
+
+
+def test_optimize_documents_say_which_f1_they_carry(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``optimize --json``: ``link_modes`` is the count f1 was computed with (the given
+    one, or the default), null when no objective or constraint needs f1."""
+    from ppm_stiffness.dynamics.legmodes import DEFAULT_LINK_MODES
+
+    path = str(ROOT / "examples" / "symmetric_3ppr.toml")
+    argv = ["optimize", "--json", "--quiet", "--design", path, "--region=-5,5,0,0,0,0,2,1,1"]
+    argv += ["--vary", "leg*.platform_radius=0.03:0.04", "--budget", "11", "--seed", "1"]
+    argv += ["--out", str(tmp_path / "best.toml"), "--overwrite"]
+    for extra, modes in (
+        (["--objective", "first-frequency", "--link-modes", "2"], 2),
+        (["--objective", "first-frequency"], DEFAULT_LINK_MODES),
+        (["--objective", "worst-k-translational"], None),
+    ):
+        assert main([*argv, *extra]) == 0
+        assert json.loads(capsys.readouterr().out)["link_modes"] == modes

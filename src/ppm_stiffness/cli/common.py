@@ -311,6 +311,16 @@ def link_modes_from_args(
     return n
 
 
+def f1_link_modes(link_modes: int | None, used: bool) -> int | None:
+    """The modes per leg f1 is computed with (the JSON documents' ``link_modes``): the
+    given count or the default; None where no f1 is computed."""
+    if not used:
+        return None
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    return resolve_link_modes(link_modes)
+
+
 def add_tool_point_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--tool-point",

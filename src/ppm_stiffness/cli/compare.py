@@ -159,6 +159,7 @@ def run(args: argparse.Namespace) -> int:
             "wrench": None if wrench is None else wrench.tolist(),
             "executor": executor_label(args),
             "wall_time": wall,
+            "link_modes": link_modes if not args.no_f1 else None,
             "designs": [
                 {
                     "label": label,

@@ -24,6 +24,7 @@ from ppm_stiffness.cli.common import (
     check_output_path,
     console,
     err_console,
+    f1_link_modes,
     json_document,
     link_modes_from_args,
     load_design_arg,
@@ -164,8 +165,10 @@ def _payload(
     wrench: Any,
     wall: float,
     names: list[str],
+    link_modes: int | None,
 ) -> dict[str, Any]:
     return {
+        "link_modes": link_modes,
         "objective": result.objective.name,
         "objective_unit": result.objective.unit,
         "maximise": result.objective.maximise,
@@ -252,6 +255,7 @@ def run(args: argparse.Namespace) -> int:
     link_modes = link_modes_from_args(
         args, any(q.needs_frequencies for q in quantities), F1_QUANTITIES
     )
+    f1_modes = f1_link_modes(link_modes, any(q.needs_frequencies for q in quantities))
     margin = any(q.needs_margin for q in quantities)
     shown = figure_names(
         design.planar, wrench=wrench is not None, mass=design.has_mass_model, margin=margin
@@ -316,7 +320,7 @@ def run(args: argparse.Namespace) -> int:
         }
         units.update({f"best_parameters.{v.name}": v.unit for v in variables})
         units.update({f"best_figures.{n}": FIGURE_UNITS[n] for n in names})
-        payload = _payload(result, args, region, wrench, wall, names)
+        payload = _payload(result, args, region, wrench, wall, names, f1_modes)
         print(json_document("optimize", payload, units))
         return code
     console.print(f"region: {region_text(region)}")

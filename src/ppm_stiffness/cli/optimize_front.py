@@ -21,6 +21,7 @@ from ppm_stiffness.cli.common import (
     check_output_path,
     console,
     err_console,
+    f1_link_modes,
     json_document,
     link_modes_from_args,
     load_design_arg,
@@ -158,6 +159,7 @@ def _payload(
     chosen: int,
     rule: str,
     designs: list[str],
+    link_modes: int | None,
 ) -> dict[str, Any]:
     minimised = result.minimised()
     return {
@@ -211,6 +213,7 @@ def _payload(
         "task_coordinates": list(region.ranges()),
         "executor": executor_label(args),
         "wall_time": wall,
+        "link_modes": link_modes,
         "front_files": list(args.front or []),
         "front_figure": args.front_figure,
         "maps_figure": args.maps,
@@ -278,6 +281,7 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
     link_modes = link_modes_from_args(
         args, any(q.needs_frequencies for q in quantities), F1_QUANTITIES
     )
+    f1_modes = f1_link_modes(link_modes, any(q.needs_frequencies for q in quantities))
     if outside or outside_choices:
         import warnings
 
@@ -342,7 +346,7 @@ def run_front(args: argparse.Namespace, names: list[str]) -> int:
             "wrench": "N·m, N",
         }
         units.update({f"front.parameters.{v.name}": v.unit for v in variables})
-        payload = _payload(result, args, region, wrench, wall, chosen, rule_text, designs)
+        payload = _payload(result, args, region, wrench, wall, chosen, rule_text, designs, f1_modes)
         payload["comparison"] = _comparison_json(comparison)
         print(json_document("optimize", payload, units))
         return code

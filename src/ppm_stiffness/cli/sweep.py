@@ -233,6 +233,7 @@ def run(args: argparse.Namespace) -> int:
             "interrupted": result.interrupted,
             "executor": executor_label(args),
             "wall_time": wall,
+            "link_modes": link_modes if frequencies else None,
             "csv": args.csv,
             "figure": args.out,
             "rows": rows,
