@@ -28,6 +28,7 @@ from ppm_stiffness.cli.tolerances import (
     read_tolerance_args,
 )
 from ppm_stiffness.core.errors import InputDataError
+from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.leading import lead, leading_keys
 
 if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
@@ -164,8 +165,6 @@ def _coordinates(pose: dict[str, float], names: Any) -> str:
     """``x = 1.000 mm, rx = 2.000 deg, ...`` of the named pose coordinates."""
     import numpy as np
 
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES
-
     return ", ".join(
         f"{n} = {np.degrees(pose[n]):.4f} deg"
         if n in ANGLE_COORDINATES
@@ -185,7 +184,6 @@ def print_tables(result: dict[str, Any], title: str) -> None:
     from rich.table import Table
 
     from ppm_stiffness.core.conventions import TWIST_COMPONENTS
-    from ppm_stiffness.core.pose import POSE_COORDINATES
 
     c = console
     c.print(f"[bold]{escape(title)}[/bold]")
@@ -376,7 +374,6 @@ def print_geometry(result: dict[str, Any]) -> None:
     from rich.markup import escape
 
     from ppm_stiffness.core.conventions import TWIST_COMPONENTS
-    from ppm_stiffness.core.pose import POSE_COORDINATES
 
     c = console
     if result.get("geometry") != "moving":

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.names import POSE_INDEX
 
 if TYPE_CHECKING:
     import numpy as np
@@ -435,7 +436,6 @@ def pose_from_args(
     for a coordinate that is not a task coordinate is refused, naming the task
     coordinates; unless ``check_reach`` is False, a pose out of reach is refused with
     what is reachable near it."""
-    from ppm_stiffness.core.pose import POSE_INDEX
     from ppm_stiffness.poses import full_pose, home_pose, task_indices
 
     values = home_pose(design)

@@ -37,6 +37,7 @@ from ppm_stiffness.cli.tolerances import (
     read_tolerance_args,
 )
 from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.statics.modes import CURVE_MODES, DIRECTION, METHODS
 
 if TYPE_CHECKING:  # at run time imported where used: --help needs none of them
@@ -429,7 +430,6 @@ def compute(
 def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
     """The pose as ``x = .. mm, y = .. mm, phi = .. deg`` for a planar design, else
     every coordinate (x, y, z mm; rx, ry, rz deg), each number formatted by ``fmt``."""
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 
     p = curve.pose
     if curve.planar:
@@ -636,7 +636,6 @@ def _json(
     moving: MovingDeflection | None = None,
     hinges: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    from ppm_stiffness.core.pose import POSE_COORDINATES
 
     pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
     extra = {} if moving is None else {"moving_geometry": _moving_json(moving)}
@@ -666,7 +665,6 @@ def _json(
 def _print_pose(curve: DeflectionCurve) -> None:
     """The unloaded pose: (x, y, phi) for a planar design; else the task coordinates,
     then the ones the legs complete (the parasitic motion)."""
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
 
     if curve.planar:
         console.print(f"pose: {_pose_text(curve, '.3f')}")

@@ -41,7 +41,7 @@ from ppm_stiffness.cli.tolerances import (
     read_tolerance_args,
 )
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
-from ppm_stiffness.core.names import DEFAULT_REFERENCE_FORCE
+from ppm_stiffness.core.names import DEFAULT_REFERENCE_FORCE, POSE_INDEX
 
 if TYPE_CHECKING:  # the design schema and the maps load when a map is made, not for --help
     import numpy as np
@@ -384,7 +384,6 @@ def run(args: argparse.Namespace) -> int:
 
 def _home_fixed(design: Design, axes: tuple[str, str]) -> dict[str, float]:
     """The home pose's values of the task coordinates that are not axes [m, rad]."""
-    from ppm_stiffness.core.pose import POSE_INDEX
     from ppm_stiffness.poses import home_pose
 
     home = home_pose(design)

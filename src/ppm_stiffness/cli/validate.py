@@ -37,7 +37,12 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.names import POSE_CSV_COLUMNS
+from ppm_stiffness.core.names import (
+    ANGLE_COORDINATES,
+    POSE_COORDINATES,
+    POSE_CSV_COLUMNS,
+    POSE_INDEX,
+)
 
 if TYPE_CHECKING:  # the design schema and the FE model load when run, not for --help
     import numpy as np
@@ -154,7 +159,6 @@ _DESCRIPTIONS = {
 def _shown_coordinates(design: Design) -> tuple[str, ...]:
     """The pose columns of the table: a planar design's task coordinates (the others
     are zero), all six for any other design (the dependent ones completed)."""
-    from ppm_stiffness.core.pose import POSE_COORDINATES
 
     return design.task_coordinates if design.planar else POSE_COORDINATES
 
@@ -162,7 +166,6 @@ def _shown_coordinates(design: Design) -> tuple[str, ...]:
 def _coordinate(name: str, value: float, planar: bool) -> str:
     """A pose coordinate in mm or deg, at most 6 characters for a spatial design's
     table up to |angle| < 1000 deg and |length| < 100 m."""
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES
 
     if name in ANGLE_COORDINATES:
         deg = math.degrees(value)
@@ -176,7 +179,6 @@ def _table(design: Design, results: list[PoseComparison]) -> Table:
     from rich.markup import escape
     from rich.table import Table
 
-    from ppm_stiffness.core.pose import POSE_INDEX
     from ppm_stiffness.validation.compare import figure_names
 
     names = figure_names(design)
@@ -219,7 +221,6 @@ def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
 
 def _pose_json(pose: np.ndarray) -> dict[str, float]:
     """The full pose [m, rad] by coordinate name, and phi (= rz)."""
-    from ppm_stiffness.core.pose import POSE_COORDINATES
 
     out = {name: float(v) for name, v in zip(POSE_COORDINATES, pose, strict=True)}
     out["phi"] = float(pose[5])
