@@ -1,9 +1,10 @@
 """Helpers shared by the CLI commands: options, units at the edges, output.
 
 Every command module imports this one, also for its ``--help``: the library's design,
-model and analysis modules (pydantic, the dynamics, ...) are imported inside the helpers
-that use them, so that ``ppm-stiffness COMMAND --help`` stays light
-(``benchmarks/bench_cli.py``, ``tests/test_cold_start.py``).
+model and analysis modules (pydantic, the dynamics, ...), numpy and rich are imported
+inside the helpers that use them (the consoles are made on first use), so that
+``ppm-stiffness COMMAND --help`` stays light (``benchmarks/bench_cli.py``,
+``tests/test_cold_start.py``).
 """
 
 from __future__ import annotations
