@@ -8,6 +8,8 @@ import json
 import subprocess
 import sys
 
+import pytest
+
 from ppm_stiffness.cli import COMMANDS
 
 HEAVY = ("scipy", "matplotlib", "Pynite", "PyNite", "numba", "dask", "distributed")
@@ -53,7 +55,22 @@ def test_command_help_imports_no_heavy_library() -> None:
     # would still be in sys.modules at the end
     loaded = _modules_after(*([name, "--help"] for name in COMMANDS))
     assert not loaded & set(HEAVY), loaded & set(HEAVY)
-    assert "numpy" in loaded  # the check sees what the commands import
+    assert "ppm_stiffness" in loaded  # the check sees what the commands import
+
+
+#: What building a command's parser must not import: the numerical libraries, the
+#: console library and the design schema (0.3-0.5 s of a cold start together; issue 32,
+#: item 6: every ``COMMAND --help`` within 0.1 s of ``--help``).
+PARSER_HEAVY = {*HEAVY, "numpy", "rich", "pydantic"}
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_command_help_imports_no_numpy_rich_or_pydantic(name: str) -> None:
+    # a fresh process per command: one command's imports cannot hide another's
+    full = _modules_after_full([name, "--help"])
+    loaded = {module.split(".")[0] for module in full}
+    assert not loaded & PARSER_HEAVY, sorted(loaded & PARSER_HEAVY)
+    assert COMMANDS[name][0] in full  # the check sees the command's module
 
 
 def test_command_help_does_not_load_the_design_schema() -> None:

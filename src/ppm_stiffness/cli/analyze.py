@@ -5,11 +5,6 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from rich import box
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     POSE_OPTIONS,
     actuator_stiffness_text,
@@ -32,14 +27,13 @@ from ppm_stiffness.cli.tolerances import (
     print_pose_uncertainty,
     read_tolerance_args,
 )
-from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
-from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.leading import lead, leading_keys
 
 if TYPE_CHECKING:  # pragma: no cover - the type only: `analyze --help` stays light
-    pass
+    import numpy as np
+    from rich.table import Table
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -88,6 +82,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     # imported here, not at the top: ``analyze --help`` stays light
     from ppm_stiffness.analysis import ANALYSIS_UNITS, analyze_design, analyze_matrix, json_document
+    from ppm_stiffness.core.inputs import PRINTED_SYMMETRY_TOLERANCE, validate_stiffness_matrix
     from ppm_stiffness.model import check_nonsingular
 
     if args.matrix is not None:
@@ -145,12 +140,18 @@ def run(args: argparse.Namespace) -> int:
 
 def _clean(m: Any) -> np.ndarray:
     """Round-off (below 1e-10 of the largest entry) shown as 0."""
+    import numpy as np
+
     a = np.asarray(m, dtype=float)
     return np.where(np.abs(a) < 1e-10 * max(np.max(np.abs(a)), 1e-300), 0.0, a)
 
 
 def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 4) -> Table:
     """A square matrix with labelled rows and columns, entries in engineering notation."""
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
     t = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     t.add_column("")
     for lab in labels:
@@ -162,6 +163,8 @@ def _matrix_table(title: str, m: Any, labels: tuple[str, ...], digits: int = 4) 
 
 def _coordinates(pose: dict[str, float], names: Any) -> str:
     """``x = 1.000 mm, rx = 2.000 deg, ...`` of the named pose coordinates."""
+    import numpy as np
+
     return ", ".join(
         f"{n} = {np.degrees(pose[n]):.4f} deg"
         if n in ANGLE_COORDINATES
@@ -176,6 +179,12 @@ def _vec(v: Any, digits: int = 4) -> str:
 
 def print_tables(result: dict[str, Any], title: str) -> None:
     """Readable tables of an analysis dict (see :mod:`ppm_stiffness.analysis`)."""
+    import numpy as np
+    from rich.markup import escape
+    from rich.table import Table
+
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+
     c = console
     c.print(f"[bold]{escape(title)}[/bold]")
     if result["pose"] is not None:
@@ -324,6 +333,9 @@ def print_tables(result: dict[str, Any], title: str) -> None:
 
 def _print_decoupling(result: dict[str, Any], key: str, pkey: str, spatial: bool) -> None:
     """One decoupling (``key``) and its principal stiffnesses (``pkey``)."""
+    import numpy as np
+    from rich.table import Table
+
     c = console
     dec, pr = result[key], result[pkey]
     c.print(f"[bold]Decoupling, method '{dec['method']}'[/bold]")
@@ -359,6 +371,10 @@ def _print_decoupling(result: dict[str, Any], key: str, pkey: str, spatial: bool
 def print_geometry(result: dict[str, Any]) -> None:
     """Which statics model a loaded analysis used and, with moving geometry, the
     displaced pose, K_F, its difference from the frozen K and the load margin."""
+    from rich.markup import escape
+
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+
     c = console
     if result.get("geometry") != "moving":
         c.print(
@@ -404,6 +420,8 @@ def hinge_table(
     :func:`ppm_stiffness.statics.hinge_stress.hinge_summary`), the wrench moved from the
     tool point to P; None without hinges or without every hinge's yield strength
     (``--safety-factor`` then refused)."""
+    import numpy as np
+
     from ppm_stiffness.model import full_pose, tool_offset
     from ppm_stiffness.statics.hinge_stress import (
         has_hinges,
@@ -435,6 +453,10 @@ def print_hinge_table(data: dict[str, Any]) -> None:
     """Two tables: the stage's range of motion along each input direction (the first
     hinge to reach yield / SF), and each hinge's allowed stress, its smallest range over
     the drives and, under a wrench, its stress and utilisation."""
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
     sf = data["safety_factor"]
     t = Table(
         title=escape(f"Range of motion (notch hinges, frozen, linear; yield / SF, SF = {sf:g})"),

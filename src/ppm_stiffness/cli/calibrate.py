@@ -5,10 +5,6 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
@@ -24,7 +20,6 @@ from ppm_stiffness.cli.common import (
     read_matrix_csv,
 )
 from ppm_stiffness.cli.output_files import output_files
-from ppm_stiffness.core.conventions import TWIST_COMPONENTS
 from ppm_stiffness.core.errors import InputDataError
 
 if TYPE_CHECKING:
@@ -90,6 +85,9 @@ def _parse_bounds(items: list[str]) -> dict[str, tuple[float, float]]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+    from rich.table import Table
+
     design = load_design_arg(args)
     if args.list_parameters:
         t = Table(title="Design parameters (SI)", title_justify="left")
@@ -152,6 +150,8 @@ _JSON_UNITS = {
 
 
 def _json(result: CalibrationResult, out: str | None) -> dict[str, Any]:
+    import numpy as np
+
     std = result.standard_deviations
     return {
         "parameters": [
@@ -179,6 +179,12 @@ def _json(result: CalibrationResult, out: str | None) -> dict[str, Any]:
 
 
 def _print(result: CalibrationResult) -> None:
+    import numpy as np
+    from rich.markup import escape
+    from rich.table import Table
+
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
+
     c = console
     t = Table(title="Fitted parameters", title_justify="left")
     for col in ("#", "parameter", "unit"):

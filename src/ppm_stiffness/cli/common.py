@@ -1,9 +1,10 @@
 """Helpers shared by the CLI commands: options, units at the edges, output.
 
 Every command module imports this one, also for its ``--help``: the library's design,
-model and analysis modules (pydantic, the dynamics, ...) are imported inside the helpers
-that use them, so that ``ppm-stiffness COMMAND --help`` stays light
-(``benchmarks/bench_cli.py``, ``tests/test_cold_start.py``).
+model and analysis modules (pydantic, the dynamics, ...), numpy and rich are imported
+inside the helpers that use them (the consoles are made on first use), so that
+``ppm-stiffness COMMAND --help`` stays light (``benchmarks/bench_cli.py``,
+``tests/test_cold_start.py``).
 """
 
 from __future__ import annotations
@@ -14,15 +15,15 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
-from rich.console import Console
+from typing import TYPE_CHECKING, Any, cast
 
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
-from ppm_stiffness.core.pose import POSE_INDEX
+from ppm_stiffness.core.names import POSE_INDEX
 
 if TYPE_CHECKING:
+    import numpy as np
+    from rich.console import Console
+
     from ppm_stiffness.design import Design
 
 __all__ = ["json_document"]  # for the commands (JSON_SCHEMA_VERSION too, lazily)
@@ -59,9 +60,34 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+class _LazyConsole:
+    """A rich ``Console`` made on first use: importing rich costs about 0.1 s of a cold
+    start, which ``COMMAND --help`` does not need (issue 32, item 6).
+
+    Parameters
+    ----------
+    stderr : bool
+        The console writes to stderr (else stdout, 80 columns wide when piped).
+    """
+
+    def __init__(self, stderr: bool = False) -> None:
+        self._stderr = stderr
+        self._console: Console | None = None
+
+    def __getattr__(self, name: str) -> Any:
+        if self._console is None:
+            from rich.console import Console
+
+            if self._stderr:
+                self._console = Console(stderr=True)
+            else:
+                self._console = Console(width=None if sys.stdout.isatty() else 80)
+        return getattr(self._console, name)
+
+
 #: Tables go to stdout; piped output is 80 columns wide, the width every table fits.
-console = Console(width=None if sys.stdout.isatty() else 80)
-err_console = Console(stderr=True)
+console = cast("Console", _LazyConsole())
+err_console = cast("Console", _LazyConsole(stderr=True))
 
 
 #: Image formats every figure option accepts (matplotlib writes them from the suffix).
@@ -337,6 +363,8 @@ def tool_point_from_args(args: argparse.Namespace, design: Design) -> np.ndarray
     (:data:`ppm_stiffness.legs.base.MAX_LENGTH`, 10 m = 10000 mm), as the design
     file's ``tool_point``; beyond it the error speaks the option's unit (mm).
     """
+    import numpy as np
+
     from ppm_stiffness.legs.base import MAX_LENGTH
 
     text = getattr(args, "tool_point", None)
@@ -456,6 +484,8 @@ def parse_floats(text: str, count: int, option: str, spec: str) -> list[float]:
 def parse_wrench(text: str | None) -> np.ndarray | None:
     """The CLI's wrench ``FX,FY,FZ,MX,MY,MZ`` [N, N·m] as the library's
     ``(m_x, m_y, m_z, f_x, f_y, f_z)``."""
+    import numpy as np
+
     if text is None:
         return None
     values = parse_floats(text, 6, "--wrench", "FX,FY,FZ,MX,MY,MZ")
@@ -466,6 +496,8 @@ def parse_wrench(text: str | None) -> np.ndarray | None:
 def read_matrix_csv(path: str | Path, option: str = "--matrix") -> np.ndarray:
     """A 6x6 matrix from CSV (``#`` comments allowed, read by
     :func:`ppm_stiffness.csvio.read_numbered_csv`); raises InputDataError."""
+    import numpy as np
+
     from ppm_stiffness.csvio import read_numbered_csv
 
     p = check_input_path(str(path), option)

@@ -9,9 +9,6 @@ import argparse
 import time
 from pathlib import Path
 
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_overwrite_argument,
@@ -82,6 +79,9 @@ def _labels(paths: list[str | None]) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.design import default_design, load_design
     from ppm_stiffness.optimize.executors import Interrupted, open_executor
     from ppm_stiffness.optimize.summary import (

@@ -9,11 +9,6 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from rich import box
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
@@ -41,13 +36,15 @@ from ppm_stiffness.cli.tolerances import (
     print_curve_uncertainty,
     read_tolerance_args,
 )
-from ppm_stiffness.core.conventions import BALANCE, TWIST_COMPONENTS, FloatArray
-from ppm_stiffness.core.decoupling import DECOUPLED_TOLERANCE
 from ppm_stiffness.core.errors import DesignError, InputDataError
-from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES
+from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 from ppm_stiffness.statics.modes import CURVE_MODES, DIRECTION, METHODS
 
 if TYPE_CHECKING:  # at run time imported where used: --help needs none of them
+    import numpy as np
+    from rich.table import Table
+
+    from ppm_stiffness.core.conventions import FloatArray
     from ppm_stiffness.design import Design
     from ppm_stiffness.statics.deflection import DeflectionCurve
     from ppm_stiffness.statics.measurements import Measurements
@@ -74,6 +71,9 @@ def _load_table(title: str, unit: str) -> Table:
     """A table whose first column is the load [``unit``]: two blanks between columns,
     so that six of eng()'s widest cells (``-123.4e-15``) leave the load (up to six
     characters) and its header whole at 80 columns."""
+    from rich import box
+    from rich.table import Table
+
     t = Table(
         title=title,
         title_justify="left",
@@ -89,6 +89,9 @@ def _twist_table(title: str, unit: str, loads: np.ndarray, twists: np.ndarray) -
     """The deflections (n, 6) [rad, m] at each load as a table in deg and mm, the
     components that are round-off along the curve printed as 0
     (:func:`~ppm_stiffness.visuals.deflection.round_off_as_zero`, the figure's rule)."""
+    import numpy as np
+
+    from ppm_stiffness.core.conventions import TWIST_COMPONENTS
     from ppm_stiffness.visuals.deflection import round_off_as_zero
 
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
@@ -109,6 +112,11 @@ def _actuator_forces_shown(curve: DeflectionCurve) -> FloatArray:
     :func:`~ppm_stiffness.visuals.deflection.round_off_as_zero` for the twists, with the
     load as a floor (a load the legs' constraints carry whole leaves the actuators only
     round-off, 1e-15 N against 10 N)."""
+    import numpy as np
+
+    from ppm_stiffness.core.conventions import BALANCE
+    from ppm_stiffness.core.decoupling import DECOUPLED_TOLERANCE
+
     g = np.asarray(curve.actuator_forces, dtype=float)
     big = np.max(np.abs(g), axis=0, initial=0.0)
     load = np.max(np.abs(np.asarray(curve.wrenches) * BALANCE), initial=0.0)
@@ -205,6 +213,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _load_grid(top: float, step: float) -> np.ndarray:
+    import numpy as np
+
     if not (math.isfinite(top) and top > 0):
         raise InputDataError(f"--max must be a finite load > 0, got {top}")
     if not (math.isfinite(step) and step > 0):
@@ -264,6 +274,8 @@ def load_deflect_design(args: argparse.Namespace) -> Design:
 def parse_direction(text: str) -> np.ndarray:
     """``--direction FX,FY,FZ,MX,MY,MZ`` as the library's (m_x, m_y, m_z, f_x, f_y,
     f_z), not normalised; refused when zero."""
+    import numpy as np
+
     values = parse_floats(text, 6, "--direction", "FX,FY,FZ,MX,MY,MZ")
     if not any(values):
         raise InputDataError(
@@ -325,6 +337,8 @@ def _check_threshold(args: argparse.Namespace, design: Design) -> None:
 def _check_pose(design: Design, meas: Measurements, pose: np.ndarray) -> None:
     """Refuse measurements whose pose columns give another pose than the curve's (they
     were ignored: a curve at the home pose was compared with rows measured elsewhere)."""
+    import numpy as np
+
     if meas.poses is None:
         return
     from ppm_stiffness.poses import format_pose
@@ -347,6 +361,8 @@ def compute(
     """The curve (and measurements) the command's options ask for; with ``--geometry
     moving`` also both curves of :func:`~ppm_stiffness.statics.moving_deflection
     .moving_deflection` (the first is then its frozen curve)."""
+    import numpy as np
+
     from ppm_stiffness.statics.deflection import (
         deflection_curve,
         deflection_path,
@@ -414,6 +430,7 @@ def compute(
 def _pose_text(curve: DeflectionCurve, fmt: str) -> str:
     """The pose as ``x = .. mm, y = .. mm, phi = .. deg`` for a planar design, else
     every coordinate (x, y, z mm; rx, ry, rz deg), each number formatted by ``fmt``."""
+
     p = curve.pose
     if curve.planar:
         return (
@@ -440,6 +457,8 @@ def write_csv(
     moving-geometry curve's six components and ``K_F_vs_K`` after them (``moving_``
     columns), a cell empty where a curve has stopped (such a file is not a measurement
     file)."""
+    import numpy as np
+
     from ppm_stiffness.statics.measurements import HINGE_COLUMNS, cli_order
 
     if moving is not None:
@@ -491,6 +510,8 @@ def _write_both_csv(
     path: str | Path,
     hinges: dict[str, Any] | None = None,
 ) -> None:
+    import numpy as np
+
     from ppm_stiffness.statics.measurements import HINGE_COLUMNS
 
     scale = np.array([180 / math.pi] * 3 + [1e3] * 3)
@@ -535,6 +556,8 @@ def _write_both_csv(
 
 def _print_moving(moving: MovingDeflection) -> None:
     """The moving-geometry curve and where the curves stop."""
+    from rich.markup import escape
+
     m = moving.moving
     console.print(
         "[bold]geometry moving[/bold]: the equilibrium with the platform and legs moving "
@@ -613,6 +636,7 @@ def _json(
     moving: MovingDeflection | None = None,
     hinges: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
+
     pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
     extra = {} if moving is None else {"moving_geometry": _moving_json(moving)}
     if hinges is not None:
@@ -641,6 +665,7 @@ def _json(
 def _print_pose(curve: DeflectionCurve) -> None:
     """The unloaded pose: (x, y, phi) for a planar design; else the task coordinates,
     then the ones the legs complete (the parasitic motion)."""
+
     if curve.planar:
         console.print(f"pose: {_pose_text(curve, '.3f')}")
         return
@@ -666,6 +691,8 @@ def _print_pose(curve: DeflectionCurve) -> None:
 def _print(curve: DeflectionCurve, rms: dict[str, Any] | None, moving: bool = False) -> None:
     """The frozen-geometry curve; ``moving``: the header says so (``--geometry moving``,
     whose curve :func:`_print_moving` prints after this one)."""
+    import numpy as np
+
     c = console
     unit = curve.load_unit
     head = f"[bold]deflection, mode {curve.mode}"
@@ -704,6 +731,8 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None, moving: bool = Fa
 
 def _print_hinges(curve: DeflectionCurve, hinges: dict[str, Any]) -> None:
     """The largest hinge stress at each load and its utilisation."""
+    from rich.markup import escape
+
     sf = hinges["safety_factor"]
     t = _load_table(
         f"notch hinges along the frozen curve: the hinge nearest yield / SF (SF = {sf:g})",
@@ -746,6 +775,8 @@ def hinge_safety_factor(args: argparse.Namespace, design: Design) -> float | Non
 def _print_actuators(curve: DeflectionCurve) -> None:
     """Actuator forces and tangent stiffnesses per leg: one table for up to three legs,
     one table each for more (so that six legs fit 80 columns)."""
+    import numpy as np
+
     unit = curve.load_unit
     n_legs = curve.actuator_forces.shape[1]
     # a passive constraining leg has no actuator (zero force, infinite stiffness): no column
@@ -773,6 +804,8 @@ def _print_actuators(curve: DeflectionCurve) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+
     from ppm_stiffness.statics.hinge_stress import curve_stresses
     from ppm_stiffness.statics.measurements import rms_differences
 

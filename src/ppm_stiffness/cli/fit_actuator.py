@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-from rich.markup import escape
-
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_overwrite_argument,
@@ -43,6 +40,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+    from rich.markup import escape
+
     from ppm_stiffness.design import save_design  # here, not at the top: --help stays light
     from ppm_stiffness.statics.actuator_fit import fit_power_law, read_force_displacement
 

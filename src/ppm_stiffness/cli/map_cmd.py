@@ -10,10 +10,6 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     actuator_stiffness_text,
@@ -44,10 +40,13 @@ from ppm_stiffness.cli.tolerances import (
     print_map_uncertainty,
     read_tolerance_args,
 )
-from ppm_stiffness.core.conventions import DEFAULT_REFERENCE_FORCE
 from ppm_stiffness.core.errors import InputDataError, UnreachablePoseError
+from ppm_stiffness.core.names import DEFAULT_REFERENCE_FORCE, POSE_INDEX
 
 if TYPE_CHECKING:  # the design schema and the maps load when a map is made, not for --help
+    import numpy as np
+    from rich.table import Table
+
     from ppm_stiffness.design import Design
     from ppm_stiffness.maps.result import StiffnessMap
 
@@ -68,6 +67,7 @@ _PER_TABLE = 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+
     add_overwrite_argument(parser)
     add_design_argument(parser)
     parser.add_argument(
@@ -163,6 +163,8 @@ def _parse_bounds(text: str | None, axes: tuple[str, str], design: Design) -> np
     a length far beyond the design's size (:func:`~ppm_stiffness.cli.common
     .check_option_length`), or lengths of one axis within +-1 mm while the other's reach
     100 times further (metres mixed with mm)."""
+    import numpy as np
+
     from ppm_stiffness.maps.slices import cli_scale
 
     if text is None:
@@ -178,6 +180,8 @@ def _check_bounds_units(
     values: np.ndarray, axes: tuple[str, str], units: tuple[str, str], design: Design
 ) -> None:
     """The unit-slip checks of :func:`_parse_bounds` on its values (4,) [mm or deg]."""
+    import numpy as np
+
     from ppm_stiffness.cli.study_options import METRE_LIKE_MM
 
     size = design_size_mm(design) if "mm" in units else math.nan
@@ -219,6 +223,9 @@ def _table_heading(names: list[str]) -> str:
 def _summary_tables(smap: StiffnessMap) -> list[Table]:
     """Per table up to three quantities, one column each; rows: the extremes, where
     they are (in mm or deg), their ratio."""
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.maps.slices import cli_scale
 
     summary = smap.summary()
@@ -268,6 +275,9 @@ def _estimate(args: argparse.Namespace, design: Design) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+    from rich.markup import escape
+
     from ppm_stiffness.maps.slices import map_slice
     from ppm_stiffness.maps.workspace import quantity_names, stiffness_map
 
@@ -374,7 +384,6 @@ def run(args: argparse.Namespace) -> int:
 
 def _home_fixed(design: Design, axes: tuple[str, str]) -> dict[str, float]:
     """The home pose's values of the task coordinates that are not axes [m, rad]."""
-    from ppm_stiffness.core.pose import POSE_INDEX
     from ppm_stiffness.poses import home_pose
 
     home = home_pose(design)
@@ -414,6 +423,8 @@ def _json_units(smap: StiffnessMap) -> dict[str, str]:
 
 
 def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[str, Any]:
+    import numpy as np
+
     from ppm_stiffness.maps.slices import unit_of
 
     return {
@@ -453,6 +464,9 @@ def _json(smap: StiffnessMap, design: Design, args: argparse.Namespace) -> dict[
 
 
 def _print(smap: StiffnessMap, design: Design, state: str, args: argparse.Namespace) -> None:
+    import numpy as np
+    from rich.markup import escape
+
     from ppm_stiffness.maps.slices import cli_scale
 
     k_lo, k_hi = smap.actuator_stiffness

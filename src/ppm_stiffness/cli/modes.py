@@ -4,11 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any
-
-import numpy as np
-from rich.markup import escape
-from rich.table import Table
+from typing import TYPE_CHECKING, Any
 
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
@@ -29,7 +25,9 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.cli.tolerances import add_tolerance_arguments, read_tolerance_args
-from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_BALANCE, TWIST_COMPONENTS
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -56,6 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+
     out = check_output_path(args.out, "--out", FIGURE_FORMATS, overwrite=args.overwrite)
     design = load_design_arg(args)
     pose = pose_from_args(args, design)
@@ -115,6 +115,8 @@ def _figure(
     design: Any, pose: np.ndarray, tool: np.ndarray, result: dict[str, Any], out: str, over: bool
 ) -> None:
     """The mode-shape picture (shapes moved from the tool point to P)."""
+    import numpy as np
+
     from ppm_stiffness.core.conventions import twist_b_from_twist_a
     from ppm_stiffness.model import tool_offset
     from ppm_stiffness.visuals import save_figure, use_headless_backend
@@ -140,6 +142,11 @@ def _figure(
 def print_tables(result: dict[str, Any], title: str, units: list[str]) -> None:
     """Readable tables of a modal analysis (:mod:`ppm_stiffness.dynamics.analysis`);
     ``units``: each leg's actuator stiffness unit."""
+    import numpy as np
+    from rich.markup import escape
+    from rich.table import Table
+
+    from ppm_stiffness.core.conventions import LENGTH_SCALE, TWIST_BALANCE, TWIST_COMPONENTS
     from ppm_stiffness.poses import format_pose
 
     c = console

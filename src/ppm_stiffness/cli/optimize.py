@@ -10,9 +10,6 @@ import argparse
 import time
 from typing import Any
 
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     F1_QUANTITIES,
     FIGURE_FORMATS,
@@ -207,6 +204,9 @@ def _payload(
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.core.errors import InputDataError
     from ppm_stiffness.design.io import dump_design
     from ppm_stiffness.optimize.executors import open_executor

@@ -12,9 +12,6 @@ import time
 from pathlib import Path
 from typing import Any
 
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     F1_QUANTITIES,
     FIGURE_FORMATS,
@@ -380,6 +377,9 @@ def _comparison_json(comparison: Any) -> list[dict[str, Any]] | None:
 
 def _print_comparison(comparison: Any) -> None:
     """The table of :func:`~ppm_stiffness.optimize.chosen.compare_chosen`."""
+    from rich.markup import escape
+    from rich.table import Table
+
     table = Table(
         title=f"chosen design (row {comparison.index}) against the start, as compare "
         "evaluates them (2 evaluations outside the budget)"
@@ -485,6 +485,9 @@ def _print(
     fronts: list[str],
     designs: list[str],
 ) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
     console.print(f"region: {region_text(region)}")
     console.print(
         f"{result.algorithm}: {result.evaluations} evaluations of --budget {result.budget} "

@@ -29,7 +29,6 @@ Use::
 from __future__ import annotations
 
 import os
-import secrets
 import shutil
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -57,6 +56,8 @@ class OutputFiles:
     def temp(self, path: str | Path, option: str) -> Path:
         """A new empty temporary file in ``path``'s folder, with ``path``'s suffix: the
         path to write instead of ``path`` (``option`` names it in errors)."""
+        import secrets  # hashlib behind it: not for ``COMMAND --help``
+
         dest = Path(path)
         for _ in range(100):
             tmp = dest.with_name(f".{dest.name}.{secrets.token_hex(4)}.tmp{dest.suffix}")

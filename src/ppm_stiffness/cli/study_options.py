@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from ppm_stiffness.cli.common import add_link_modes_argument, link_modes_from_args, parse_floats
 from ppm_stiffness.core.errors import DesignError, InputDataError
+from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 
 if TYPE_CHECKING:
     from ppm_stiffness.design import Design
@@ -112,7 +113,6 @@ def _check_region_ranges(
     warning when every length lies within +-:data:`METRE_LIKE_MM`)."""
     import warnings
 
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES
     from ppm_stiffness.design.schema import (
         MAX_REGION_ANGLE,
         MAX_REGION_AXIS,
@@ -179,7 +179,6 @@ def region_from_text(text: str, task: Sequence[str] = PLANAR_TASK) -> RequiredRe
         A malformed list, or a range refused in the option's units (mm, deg; see
         :func:`_check_region_ranges`).
     """
-    from ppm_stiffness.core.pose import ANGLE_COORDINATES
     from ppm_stiffness.optimize.region import region_from_ranges
 
     names = region_names(task)
@@ -249,7 +248,6 @@ def region_text(region: RequiredRegionModel) -> str:
 def region_json(region: RequiredRegionModel) -> dict[str, Any]:
     """The region [m, rad] by design-file key (x, y, z, rx, ry, phi), the grid counts and
     the task coordinates it ranges over."""
-    from ppm_stiffness.core.pose import POSE_COORDINATES
     from ppm_stiffness.design.schema import REGION_KEYS
 
     out: dict[str, Any] = {

@@ -11,9 +11,6 @@ import time
 from pathlib import Path
 from typing import Any
 
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     FIGURE_FORMATS,
     add_design_argument,
@@ -126,6 +123,9 @@ def _write_csv(
 
 
 def run(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.optimize.executors import open_executor
     from ppm_stiffness.optimize.objectives import check_quantities, quantity
     from ppm_stiffness.optimize.summary import FIGURE_UNITS, PAPER_FIGURES, figure_names

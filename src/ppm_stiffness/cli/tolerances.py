@@ -13,8 +13,6 @@ import argparse
 import math
 from typing import Any
 
-import numpy as np
-
 from ppm_stiffness.cli.common import check_input_path, console, eng, progress
 from ppm_stiffness.core.errors import InputDataError
 
@@ -205,6 +203,8 @@ def quantity_bands(bands: Any, names: list[str], unit: str) -> dict[str, Any]:
 def _with_f1(output: Any, failed: Any, pose: Any, tool_point: Any, wrench: Any) -> Any:
     """``output`` with the first natural frequency [Hz] appended
     (:func:`~ppm_stiffness.fit.band_outputs.modes_output`), and its failed value."""
+    import numpy as np
+
     from ppm_stiffness.fit.band_outputs import MODES_FAILED_VALUE, modes_output
 
     frequencies = modes_output(pose, tool_point, wrench)
@@ -217,6 +217,8 @@ def _with_f1(output: Any, failed: Any, pose: Any, tool_point: Any, wrench: Any) 
 
 def _json_safe(obj: Any) -> Any:
     """NaN (no value: every sample failed there) as None for JSON."""
+    import numpy as np
+
     if isinstance(obj, dict):
         return {k: _json_safe(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -283,6 +285,8 @@ def curve_uncertainty(
 ) -> tuple[Any, dict[str, Any] | None]:
     """Bands of a deflection curve's twists (n_loads, 6) and the JSON entry ((None,
     None) without tolerances)."""
+    import numpy as np
+
     if variables is None:
         return None, None
     from ppm_stiffness.fit.band_outputs import deflection_output
@@ -305,6 +309,7 @@ def curve_uncertainty(
 def print_curve_uncertainty(curve: Any, unc: dict[str, Any]) -> None:
     """Tables of the bands at each load for the curve's main components (those the
     sensitivity ranks: the ones that are not round-off), three a table."""
+    import numpy as np
     from rich import box
     from rich.table import Table
 
@@ -340,6 +345,8 @@ def map_uncertainty(
 ) -> tuple[Any, dict[str, Any] | None]:
     """Bands of the map's quantities over its grid (n_quantities, nv, nu) and a JSON
     summary ((None, None) without tolerances)."""
+    import numpy as np
+
     if variables is None:
         return None, None
     from ppm_stiffness.fit.band_outputs import MAP_FAILED_VALUE, map_output

@@ -23,11 +23,6 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-from rich import box
-from rich.markup import escape
-from rich.table import Table
-
 from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
@@ -42,7 +37,7 @@ from ppm_stiffness.cli.common import (
 )
 from ppm_stiffness.cli.output_files import output_files
 from ppm_stiffness.core.errors import InputDataError
-from ppm_stiffness.core.pose import (
+from ppm_stiffness.core.names import (
     ANGLE_COORDINATES,
     POSE_COORDINATES,
     POSE_CSV_COLUMNS,
@@ -50,6 +45,9 @@ from ppm_stiffness.core.pose import (
 )
 
 if TYPE_CHECKING:  # the design schema and the FE model load when run, not for --help
+    import numpy as np
+    from rich.table import Table
+
     from ppm_stiffness.design import Design
     from ppm_stiffness.validation.compare import PoseComparison
 
@@ -58,6 +56,7 @@ MAX_POSES = 1000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+
     add_overwrite_argument(parser)
     add_design_argument(parser)
     parser.add_argument(
@@ -160,12 +159,14 @@ _DESCRIPTIONS = {
 def _shown_coordinates(design: Design) -> tuple[str, ...]:
     """The pose columns of the table: a planar design's task coordinates (the others
     are zero), all six for any other design (the dependent ones completed)."""
+
     return design.task_coordinates if design.planar else POSE_COORDINATES
 
 
 def _coordinate(name: str, value: float, planar: bool) -> str:
     """A pose coordinate in mm or deg, at most 6 characters for a spatial design's
     table up to |angle| < 1000 deg and |length| < 100 m."""
+
     if name in ANGLE_COORDINATES:
         deg = math.degrees(value)
         return f"{deg:.{2 if planar or abs(deg) < 99.995 else 1}f}"
@@ -174,6 +175,10 @@ def _coordinate(name: str, value: float, planar: bool) -> str:
 
 
 def _table(design: Design, results: list[PoseComparison]) -> Table:
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.validation.compare import figure_names
 
     names = figure_names(design)
@@ -216,6 +221,7 @@ def _write_csv(path: Path, name: str, results: list[PoseComparison]) -> None:
 
 def _pose_json(pose: np.ndarray) -> dict[str, float]:
     """The full pose [m, rad] by coordinate name, and phi (= rz)."""
+
     out = {name: float(v) for name, v in zip(POSE_COORDINATES, pose, strict=True)}
     out["phi"] = float(pose[5])
     return out
@@ -236,6 +242,10 @@ _FRAME_OPTIONS = {
 
 def _run_hinge(args: argparse.Namespace) -> int:
     """``--hinge FILE``: the continuum check of each distinct hinge (table on stdout)."""
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
     from ppm_stiffness.cli.common import check_input_path
     from ppm_stiffness.validation.hinge_continuum import (
         continuum_stiffness,
@@ -306,6 +316,8 @@ def _print_hinge_convergence(design: Design) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     if args.hinge is not None:
         return _run_hinge(args)
     from ppm_stiffness.validation.compare import (

@@ -44,6 +44,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+# defined in core.names (no numpy: the CLI's --help uses it), re-exported here
+from ppm_stiffness.core.names import DEFAULT_REFERENCE_FORCE as DEFAULT_REFERENCE_FORCE
+
 FloatArray = NDArray[np.float64]
 #: Boolean arrays (masks: reachable, valid, ...).
 BoolArray = NDArray[np.bool_]
@@ -234,8 +237,3 @@ def stiffness_b_from_stiffness_a(
     t = twist_b_from_twist_a(rotation_ba, origin_a_in_b)
     w = GAMMA @ t @ GAMMA
     return np.asarray(w @ np.asarray(stiffness_a, dtype=float) @ np.linalg.inv(t))
-
-
-#: Reference actuator load [N, or N·m for a rotary actuator] that defines a map's "min"
-#: actuator state (the tangent stiffness under this load, eq. 21).
-DEFAULT_REFERENCE_FORCE = 10.0

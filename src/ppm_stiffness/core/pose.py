@@ -29,21 +29,13 @@ from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, hat
 
-#: The six pose coordinates, in order.
-POSE_COORDINATES = ("x", "y", "z", "rx", "ry", "rz")
-#: SI unit of each pose coordinate.
-POSE_UNITS = ("m", "m", "m", "rad", "rad", "rad")
-#: Index of each pose coordinate.
-POSE_INDEX = {name: i for i, name in enumerate(POSE_COORDINATES)}
-#: The planar coordinates (x, y, phi = rz) of a pose, as indices.
-PLANAR_INDEX = (0, 1, 5)
-#: Pose coordinates that are angles.
-ANGLE_COORDINATES = frozenset({"rx", "ry", "rz"})
-#: CSV columns of a full pose in the command line's units: pose_x_mm, ..., pose_rz_deg.
-POSE_CSV_COLUMNS = tuple(
-    f"pose_{n}_deg" if n in ANGLE_COORDINATES else f"pose_{n}_mm" for n in POSE_COORDINATES
-)
-
+# defined in core.names (no numpy: the CLI's --help uses them), re-exported here
+from ppm_stiffness.core.names import ANGLE_COORDINATES as ANGLE_COORDINATES
+from ppm_stiffness.core.names import PLANAR_INDEX as PLANAR_INDEX
+from ppm_stiffness.core.names import POSE_COORDINATES as POSE_COORDINATES
+from ppm_stiffness.core.names import POSE_CSV_COLUMNS as POSE_CSV_COLUMNS
+from ppm_stiffness.core.names import POSE_INDEX as POSE_INDEX
+from ppm_stiffness.core.names import POSE_UNITS as POSE_UNITS
 
 #: The nine entries of R, row by row (each an array of the batch shape).
 RotationEntries = tuple[tuple[FloatArray, ...], ...]
