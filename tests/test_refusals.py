@@ -202,6 +202,16 @@ SPATIAL_CASES: dict[
         [1e6],
         {Refusal.LARGE_ROTATION, Refusal.BEYOND_STROKE},
     ),
+    # the flexure stage (a drive in parallel with each base hinge): its drives' strokes
+    # of +-0.75 mrad end the loaded map long before its platform turns far
+    "flexure stage x-y": (
+        "flexure_3rrr",
+        None,
+        {"rz": 0.0},
+        [1.0, 30.0],
+        [],
+        {Refusal.BEYOND_STROKE},
+    ),
     # a wrist's drives turn as its platform: it rotates beyond the model long before a
     # drive passes its 2.4 rad stroke (no BEYOND_STROKE)
     "wrist rx-ry": ("spherical_3rrr", None, {"rz": 0.1}, [1.0, 1e3], [], {Refusal.LARGE_ROTATION}),
