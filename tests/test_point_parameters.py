@@ -13,7 +13,7 @@ import pytest
 
 from ppm_stiffness.cli import main
 from ppm_stiffness.core.errors import DesignError, InputDataError
-from ppm_stiffness.design import design_from_dict, load_design
+from ppm_stiffness.design import Design, design_from_dict, load_design
 from ppm_stiffness.model import stiffness_at_pose
 from ppm_stiffness.optimize.variables import parse_variable
 
@@ -164,6 +164,19 @@ def test_a_glob_reads_radii_equal_but_for_rounding(example: str, name: str, radi
 DRIVE_AXES = "leg*.crank_drive.axis"
 
 
+def _pattern_crank_tilted(tilt: float) -> tuple[Design, Design]:
+    """The 6-RUS as shipped, and as its file with the pattern leg's crank axis turned in
+    its vertical plane to ``tilt`` [rad] (its azimuth kept)."""
+    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
+    design = design_from_dict(raw)
+    drive = raw["legs"][0]["elements"][0]
+    x, y, _ = drive["axis"]
+    azimuth = math.atan2(y, x)
+    s = math.sin(tilt)
+    drive["axis"] = [s * math.cos(azimuth), s * math.sin(azimuth), math.cos(tilt)]
+    return design, design_from_dict(raw)
+
+
 def test_axis_angles_are_the_axis_spherical_angles() -> None:
     design = load_design(EXAMPLES / "6rus.toml")
     for i, leg in enumerate(design.legs, start=1):
@@ -178,14 +191,7 @@ def test_a_glob_over_several_axes_is_refused() -> None:
     """The 6-RUS pattern's mirrored copies carry their crank axes reversed: tilting the
     pattern leg's axis by 1.3 rad in the file tilts a mirrored copy's to pi - 1.3, so
     one tilt for all six would not be the pattern edited (the two K differ by 1.6 %)."""
-    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
-    design = design_from_dict(raw)
-    drive = raw["legs"][0]["elements"][0]
-    x, y, _ = drive["axis"]
-    azimuth = math.atan2(y, x)
-    drive["axis"] = [math.sin(1.3) * math.cos(azimuth), math.sin(1.3) * math.sin(azimuth)]
-    drive["axis"].append(math.cos(1.3))
-    edited = design_from_dict(raw)
+    design, edited = _pattern_crank_tilted(1.3)
     mirrored = edited.parameter("leg2.crank_drive.axis.tilt")
     assert mirrored == pytest.approx(math.pi - 1.3, abs=1e-9)
     for call in (
@@ -200,14 +206,7 @@ def test_tilt_set_leg_by_leg_equals_the_file_edited_by_hand() -> None:
     """Setting each copy's tilt as the edited pattern gives it (1.3, or pi - 1.3 for a
     mirrored copy) is the K of the pattern leg's axis turned in its vertical plane in
     the file."""
-    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
-    design = design_from_dict(raw)
-    drive = raw["legs"][0]["elements"][0]
-    x, y, _ = drive["axis"]
-    azimuth = math.atan2(y, x)
-    drive["axis"] = [math.sin(1.3) * math.cos(azimuth), math.sin(1.3) * math.sin(azimuth)]
-    drive["axis"].append(math.cos(1.3))
-    edited = design_from_dict(raw)
+    design, edited = _pattern_crank_tilted(1.3)
     by_hand = stiffness_at_pose(edited)
     names = [f"leg{i}.crank_drive.axis.tilt" for i in range(1, 7)]
     by_name = stiffness_at_pose(design.with_parameters({n: edited.parameter(n) for n in names}))

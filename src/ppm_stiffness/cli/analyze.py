@@ -10,6 +10,7 @@ from ppm_stiffness.cli.common import (
     actuator_stiffness_text,
     add_design_argument,
     add_pose_arguments,
+    add_safety_factor_argument,
     add_tool_point_argument,
     add_wrench_argument,
     console,
@@ -68,13 +69,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "legs displaced and gives the loaded tangent K_F, its difference from the frozen "
         "K and the load margin",
     )
-    parser.add_argument(
-        "--safety-factor",
-        type=float,
-        default=None,
-        metavar="SF",
-        help="a design with notch hinges: allowed stress = yield strength / SF in the "
-        "hinge table (stress, utilisation, range of motion; default 1: the range to yield)",
+    add_safety_factor_argument(
+        parser,
+        "the hinge table (stress, utilisation, range of motion; default 1: the range to yield)",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 

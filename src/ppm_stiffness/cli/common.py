@@ -310,6 +310,18 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
 F1_QUANTITIES = "a first-frequency objective or an f1 constraint"
 
 
+def add_safety_factor_argument(parser: argparse.ArgumentParser, where: str) -> None:
+    """``--safety-factor SF`` of a design with notch hinges: the allowed stress is the
+    yield strength / SF in ``where`` (the command's hinge figures)."""
+    parser.add_argument(
+        "--safety-factor",
+        type=float,
+        default=None,
+        metavar="SF",
+        help=f"a design with notch hinges: allowed stress = yield strength / SF in {where}",
+    )
+
+
 def add_link_modes_argument(parser: argparse.ArgumentParser, what: str) -> None:
     """``--link-modes N``: f1 (``what``) with each leg's own modes, as ``analyze``."""
     parser.add_argument(

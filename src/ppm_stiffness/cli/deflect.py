@@ -14,6 +14,7 @@ from ppm_stiffness.cli.common import (
     add_design_argument,
     add_overwrite_argument,
     add_pose_arguments,
+    add_safety_factor_argument,
     add_tool_point_argument,
     check_input_path,
     check_option_angle,
@@ -200,14 +201,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "default); 'moving' adds the curve with the platform and legs moving under the "
         "load (docs/statics.md), which stops where the load path loses stability",
     )
-    parser.add_argument(
-        "--safety-factor",
-        type=float,
-        default=None,
-        metavar="SF",
-        help="a design with notch hinges: allowed stress = yield strength / SF in the "
-        "hinge stress along the (frozen) curve (default 1)",
-    )
+    add_safety_factor_argument(parser, "the hinge stress along the (frozen) curve (default 1)")
     add_tolerance_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI)")
 
