@@ -187,19 +187,45 @@ def test_axis_angles_are_the_axis_spherical_angles() -> None:
         assert azimuth == pytest.approx(math.atan2(a[1], a[0]), abs=1e-15)
 
 
-def test_a_glob_over_several_axes_is_refused() -> None:
+def test_a_glob_moves_a_pattern_s_axes_as_the_pattern_does() -> None:
     """The 6-RUS pattern's mirrored copies carry their crank axes reversed: tilting the
-    pattern leg's axis by 1.3 rad in the file tilts a mirrored copy's to pi - 1.3, so
-    one tilt for all six would not be the pattern edited (the two K differ by 1.6 %)."""
+    pattern leg's axis to 1.3 rad in the file tilts a mirrored copy's to pi - 1.3. The
+    glob sets the first match and moves the copies as the pattern does: the K of the
+    file edited by hand to 1e-12, tilt and azimuth alike (one tilt for all six would
+    be 1.6 % off in K)."""
     design, edited = _pattern_crank_tilted(1.3)
-    mirrored = edited.parameter("leg2.crank_drive.axis.tilt")
-    assert mirrored == pytest.approx(math.pi - 1.3, abs=1e-9)
-    for call in (
-        lambda: design.with_parameters({f"{DRIVE_AXES}.tilt": 1.3}),
-        lambda: design.parameter(f"{DRIVE_AXES}.tilt"),
-    ):
-        with pytest.raises(DesignError, match="an axis angle is set one axis at a time"):
-            call()
+    assert edited.parameter("leg2.crank_drive.axis.tilt") == pytest.approx(math.pi - 1.3)
+    by_hand = stiffness_at_pose(edited)
+    by_glob = stiffness_at_pose(design.with_parameters({f"{DRIVE_AXES}.tilt": 1.3}))
+    scale_k = np.abs(by_hand).max()
+    assert np.abs(by_glob - by_hand).max() < 1e-12 * scale_k
+    names = [f"leg{i}.crank_drive.axis.tilt" for i in range(1, 7)]
+    alike = design.with_parameters(dict.fromkeys(names, 1.3))  # not the pattern
+    assert np.abs(stiffness_at_pose(alike) - by_hand).max() > 1e-3 * scale_k
+    assert design.parameter(f"{DRIVE_AXES}.tilt") == pytest.approx(math.pi / 2, abs=1e-15)
+    assert edited.parameter(f"{DRIVE_AXES}.tilt") == pytest.approx(1.3, abs=1e-9)
+    # the azimuth: the pattern leg's axis turned about z by 0.1 rad in the file
+    raw = tomllib.loads((EXAMPLES / "6rus.toml").read_text("utf-8"))
+    drive = raw["legs"][0]["elements"][0]
+    x, y, z = drive["axis"]
+    c, s = math.cos(0.1), math.sin(0.1)
+    drive["axis"] = [c * x - s * y, s * x + c * y, z]
+    turned = stiffness_at_pose(design_from_dict(raw))
+    start = design.parameter(f"{DRIVE_AXES}.azimuth")  # the first match's
+    assert start == pytest.approx(math.atan2(y, x), abs=1e-9)
+    by_glob = stiffness_at_pose(design.with_parameters({f"{DRIVE_AXES}.azimuth": start + 0.1}))
+    assert np.abs(by_glob - turned).max() < 1e-12 * np.abs(turned).max()
+    assert np.abs(turned - stiffness_at_pose(design)).max() > 1e-3 * np.abs(turned).max()
+
+
+def test_a_glob_over_legs_that_are_not_copies_is_refused() -> None:
+    """One leg moved by hand is no copy of the first: no symmetry to keep."""
+    design = load_design(EXAMPLES / "6rus.toml").with_parameters({"leg3.crank_joint.point.z": 0.01})
+    with pytest.raises(DesignError, match="not a turned or mirrored copy"):
+        design.with_parameters({f"{DRIVE_AXES}.tilt": 1.3})
+    with pytest.raises(DesignError, match="not a turned or mirrored copy"):
+        design.parameter(f"{DRIVE_AXES}.tilt")
+    assert design.parameter("leg3.crank_drive.axis.tilt") == pytest.approx(math.pi / 2)
 
 
 def test_tilt_set_leg_by_leg_equals_the_file_edited_by_hand() -> None:

@@ -22,9 +22,10 @@ parallelogram's ``crossbar``), a unit vector in F_b, gets two angle parameters
 - ``.azimuth`` [rad]: its polar angle about z, ``atan2(a_y, a_x)``; setting it turns the
   axis about z, keeping its tilt and length.
 
-The two commute. A joint whose axes must stay perpendicular (a U's ``axis`` and
-``axis2``) is refused by the design's own validation when only one of them is turned
-(an optimiser takes such a candidate as infeasible).
+The two commute. A glob over the same axis of several legs keeps a pattern's
+symmetry (:mod:`ppm_stiffness.design.axis_globs`). A joint whose axes must stay
+perpendicular (a U's ``axis`` and ``axis2``) is refused by the design's own validation
+when only one of them is turned (an optimiser takes such a candidate as infeasible).
 """
 
 from __future__ import annotations

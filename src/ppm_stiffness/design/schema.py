@@ -16,6 +16,7 @@ from collections import Counter
 from collections.abc import Iterable
 from typing import Annotated, Any, Literal, Union
 
+import numpy as np
 from pydantic import (
     AliasChoices,
     BaseModel,
@@ -27,6 +28,7 @@ from pydantic import (
 
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.core.pose import POSE_COORDINATES
+from ppm_stiffness.design.axis_globs import AxisOfLeg, copies_of_first
 from ppm_stiffness.design.platform import PLATFORM_UNITS, PlatformModel
 from ppm_stiffness.design.points import (
     AXIS_COMPONENTS,
@@ -42,6 +44,7 @@ from ppm_stiffness.design.points import (
 )
 from ppm_stiffness.design.validation import design_issues, validate_design
 from ppm_stiffness.legs.base import LegModel, PlanarLegModel, check_plausible
+from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.legs.parts import ACTUATOR_STIFFNESSES, Finite, PartModel, StrictNumber
 from ppm_stiffness.legs.registry import leg_types
 
@@ -440,7 +443,15 @@ class Design(PartModel):
         of each other, relative: the first is returned).
         """
         values, spread = [], 0.0
-        for match in _one_axis(self, name, self.expand(name)):
+        matches = self.expand(name)
+        copies = _axis_glob(self, name, matches)
+        if copies is not None:  # the first axis's angle, the others its pattern's copies
+            first = _point_component(self, matches[0])
+            assert first is not None
+            value = component(copies[0].axis, first[1])
+            copies_of_first(copies, copies[0].axis, matches)  # refuses a non-copy
+            return value
+        for match in matches:
             point = _point_component(self, match)
             if point is not None:  # a component of a leg's point (design.points)
                 obj, key = _resolve(self, point[0])
@@ -526,7 +537,12 @@ class Design(PartModel):
         data = self.model_dump(by_alias=True)
         stiffnesses: dict[int, dict[str, float]] = {}
         for pattern, value in values.items():
-            for name in _one_axis(self, pattern, self.expand(pattern)):
+            matches = self.expand(pattern)
+            copies = _axis_glob(self, pattern, matches)
+            if copies is not None:  # the first axis set, the others moved as its copies
+                _set_axis_copies(self, data, matches, copies, float(value))
+                continue
+            for name in matches:
                 parts = _split(name)
                 target: Any = data
                 point = _point_component(self, name)
@@ -656,19 +672,60 @@ def _point_names(leg: LegModel, prefix: str) -> list[str]:
     return names
 
 
-def _one_axis(design: Design, pattern: str, names: list[str]) -> list[str]:
-    """``names`` (the matches of ``pattern``), refused when they are the angles of
-    several axes: a pattern's mirrored copies carry their axes reversed (a tilt t of
-    the original is pi - t in its mirror image), so one tilt or azimuth for all would
-    break the symmetry it seems to keep; an axis angle is set leg by leg."""
-    axes = [n for n in names if n.rsplit(".", 1)[-1] in AXIS_COMPONENTS]
-    if len(names) > 1 and axes and any(_point_component(design, n) for n in axes):
+def _set_axis_copies(
+    design: Design, data: dict[str, Any], names: list[str], copies: list[AxisOfLeg], value: float
+) -> None:
+    """Set the first of ``names`` (an axis angle in each leg) to ``value`` in ``data``
+    (the design's dump) and every other axis as its copy (:func:`_axis_glob`)."""
+    first = _point_component(design, names[0])
+    assert first is not None
+    turned = np.asarray(with_component(copies[0].axis, first[1], value, names[0]))
+    for name, axis in zip(names, copies_of_first(copies, turned, names), strict=True):
+        point = _point_component(design, name)
+        assert point is not None
+        target: Any = data
+        path = _field_path(design, point[0])
+        for part in path[:-1]:
+            target = target[part]
+        target[path[-1]] = axis
+
+
+def _axis_glob(design: Design, pattern: str, names: list[str]) -> list[AxisOfLeg] | None:
+    """The matches of a glob over one axis angle of several legs
+    (:mod:`ppm_stiffness.design.axis_globs`), None for any other name or glob."""
+    axes = [_point_component(design, n) for n in names]
+    angles = [a for a in axes if a is not None and a[1] in AXIS_COMPONENTS]
+    if len(names) < 2 or not angles:
+        return None
+    within = {a[0].partition(".")[2] for a in angles} | {a[1] for a in angles}
+    if len(angles) != len(names) or len(within) != 2:
         raise DesignError(
-            f"{pattern}: an axis angle is set one axis at a time (legN.JOINT.axis.tilt); "
-            "a glob over several axes would not keep a mirrored pattern's symmetry (a "
-            "mirrored copy's axis is reversed)"
+            f"{pattern}: a glob of axis angles matches one angle of one axis in each leg "
+            f"(leg*.JOINT.axis.tilt); this one matches {', '.join(names)}"
         )
-    return names
+    out = []
+    for axis_name, _ in angles:
+        obj, key = _resolve(design, axis_name)
+        leg = design.legs[int(axis_name.split(".", 1)[0][3:]) - 1]
+        letter = getattr(obj, "joint", None)  # the joint (a parallelogram has none)
+        axial = (
+            key in ("axis", "axis2")
+            and isinstance(letter, str)
+            and joint_kind(letter).first_rotates
+        )
+        points = [
+            value
+            for k, value in leg.parameter_items()
+            if is_point_field(k, value, leg.parameter_unit(k)) and len(value) == 3
+        ]
+        out.append(
+            AxisOfLeg(
+                np.asarray(getattr(obj, key), dtype=float),
+                np.asarray(points, dtype=float).reshape(-1, 3),
+                axial,
+            )
+        )
+    return out
 
 
 def _point_component(design: Design, name: str) -> tuple[str, str] | None:
