@@ -12,7 +12,12 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ppm_stiffness.cli.common import add_link_modes_argument, link_modes_from_args, parse_floats
+from ppm_stiffness.cli.common import (
+    add_link_modes_argument,
+    f1_link_modes,
+    link_modes_from_args,
+    parse_floats,
+)
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.core.names import ANGLE_COORDINATES, POSE_COORDINATES
 
@@ -58,10 +63,8 @@ def add_f1_argument(parser: argparse.ArgumentParser) -> None:
 def study_link_modes(args: argparse.Namespace, frequencies: bool) -> int:
     """--link-modes of compare and sweep: the count per leg (the default when not
     given); 0 without the f1 figures. Refused with --no-f1."""
-    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
-
     n = link_modes_from_args(args, not args.no_f1, "the f1 figures (--no-f1 given)")
-    return resolve_link_modes(n) if frequencies else 0
+    return f1_link_modes(n, frequencies) or 0
 
 
 def margin_note(poses: int) -> str:

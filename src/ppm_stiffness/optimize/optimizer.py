@@ -59,7 +59,7 @@ from ppm_stiffness.optimize.objectives import (
     violation,
 )
 from ppm_stiffness.optimize.region import with_region
-from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
+from ppm_stiffness.optimize.summary import RegionSummary, candidate_task, summarize_candidate
 from ppm_stiffness.optimize.variables import Variable, apply_values, assignments, check_distinct
 
 #: Energy of an infeasible candidate before its violation is added.
@@ -305,18 +305,18 @@ class _Evaluator:
             keys[0] = self._as_start(keys[0])
         todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
         args = [
-            (
+            candidate_task(
                 self.design,
                 assignments(self.variables, k),
                 self.region,
                 self.wrench,
-                self.margin,
-                self.frequencies,
-                self.hinges,
-                self.reach,
-                self.condition,
-                self.check,
-                self.link_modes,
+                margin=self.margin,
+                frequencies=self.frequencies,
+                hinges=self.hinges,
+                reach=self.reach,
+                condition=self.condition,
+                check=self.check,
+                link_modes=self.link_modes,
             )
             for k in todo
         ]
@@ -427,7 +427,18 @@ def optimize_design(
 
     try:
         args = [
-            (design, None, region, w, margin, frequencies, hinges, reach, condition, "none", count)
+            candidate_task(
+                design,
+                None,
+                region,
+                w,
+                margin=margin,
+                frequencies=frequencies,
+                hinges=hinges,
+                reach=reach,
+                condition=condition,
+                link_modes=count,
+            )
         ]
         start = run_ordered(executor, summarize_candidate, args)[0]
     except Interrupted:

@@ -66,7 +66,7 @@ from ppm_stiffness.optimize.executors import Interrupted, SerialExecutor, run_or
 from ppm_stiffness.optimize.objectives import Constraint, Quantity, check_quantities
 from ppm_stiffness.optimize.optimizer import _check_start, outside_ranges
 from ppm_stiffness.optimize.region import with_region
-from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
+from ppm_stiffness.optimize.summary import RegionSummary, candidate_task, summarize_candidate
 from ppm_stiffness.optimize.variables import Variable, apply_values, assignments, check_distinct
 
 #: Smallest population of a multi-objective run.
@@ -545,18 +545,18 @@ def optimize_front(
 
     def evaluate(keys: list[tuple[float, ...] | None]) -> list[RegionSummary]:
         args = [
-            (
+            candidate_task(
                 design,
                 None if k is None else settings(variables, choices, k),
                 region,
                 w,
-                margin,
-                frequencies,
-                hinges,
-                reach,
-                condition,
-                "none" if k is None else check,
-                count,
+                margin=margin,
+                frequencies=frequencies,
+                hinges=hinges,
+                reach=reach,
+                condition=condition,
+                check="none" if k is None else check,
+                link_modes=count,
             )
             for k in keys
         ]

@@ -73,6 +73,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -612,6 +613,38 @@ def _moving_mass(design: Design) -> float:
 
 #: The cheap-check modes of :func:`summarize_candidate`.
 CHECKS = ("none", "skip", "record")
+
+
+def candidate_task(
+    design: Design,
+    values: Mapping[str, float] | None,
+    region: RequiredRegionModel,
+    wrench: ArrayLike | None = None,
+    *,
+    margin: bool = False,
+    frequencies: bool = True,
+    hinges: bool = False,
+    reach: bool = False,
+    condition: bool = False,
+    check: str = "none",
+    link_modes: int = 0,
+) -> tuple[Any, ...]:
+    """The argument tuple of :func:`summarize_candidate` for one design, what an
+    executor sends (``run_ordered(executor, summarize_candidate, tasks)``): its order
+    written here once, every option by name at the call site."""
+    return (
+        design,
+        values,
+        region,
+        wrench,
+        margin,
+        frequencies,
+        hinges,
+        reach,
+        condition,
+        check,
+        link_modes,
+    )
 
 
 def summarize_candidate(

@@ -23,7 +23,7 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.design import Design
 from ppm_stiffness.design.schema import RequiredRegionModel
 from ppm_stiffness.optimize.executors import Interrupted, SerialExecutor, run_ordered
-from ppm_stiffness.optimize.summary import RegionSummary, summarize_candidate
+from ppm_stiffness.optimize.summary import RegionSummary, candidate_task, summarize_candidate
 from ppm_stiffness.optimize.variables import Variable, assignments, check_distinct
 
 #: Most designs in one sweep.
@@ -167,18 +167,17 @@ def sweep_designs(
     w = None if wrench is None else np.asarray(wrench, dtype=float)
     executor = SerialExecutor() if executor is None else executor
     args = [
-        (
+        candidate_task(
             design,
             assignments(variables, p),
             region,
             w,
-            margin,
-            frequencies,
-            hinges,
-            reach,
-            condition,
-            "none",
-            link_modes,
+            margin=margin,
+            frequencies=frequencies,
+            hinges=hinges,
+            reach=reach,
+            condition=condition,
+            link_modes=link_modes,
         )
         for p in points
     ]
@@ -233,7 +232,18 @@ def summarize_designs(
         executor,
         summarize_candidate,
         [
-            (d, None, region, w, margin, frequencies, hinges, reach, condition, "none", link_modes)
+            candidate_task(
+                d,
+                None,
+                region,
+                w,
+                margin=margin,
+                frequencies=frequencies,
+                hinges=hinges,
+                reach=reach,
+                condition=condition,
+                link_modes=link_modes,
+            )
             for d in designs
         ],
         progress,
