@@ -242,6 +242,7 @@ def test_compare_of_the_examples_fits_80_columns(
     out = capsys.readouterr().out
     assert max(len(line) for line in out.splitlines()) <= 80
     assert "3-RRR" in out and "max |(dx, dy)| [m]" in out
+    assert "figure [unit]" in out  # the header's brackets are text, not rich markup
 
 
 def test_compare_needs_one_region(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

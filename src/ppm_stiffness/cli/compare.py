@@ -186,7 +186,7 @@ def run(args: argparse.Namespace) -> int:
         for first in range(0, len(designs), COLUMNS_PER_TABLE):
             part = slice(first, first + COLUMNS_PER_TABLE)
             table = Table(title="summary over the required region")
-            table.add_column("figure [unit]", no_wrap=True)
+            table.add_column(escape("figure [unit]"), no_wrap=True)
             for label in labels[part]:
                 table.add_column(escape(label), justify="right", max_width=12, overflow="fold")
             table.add_row("architecture", *[d.architecture for d in designs[part]])
