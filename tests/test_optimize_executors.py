@@ -23,7 +23,9 @@ WRENCH = [0.0, 0.0, 0.2, 5.0, -3.0, 0.0]
 def _runs(executor: object) -> tuple[list[dict[str, float | None]], object]:
     design = pps.load_design(ROOT / "examples/3prr.toml")
     sweep_var = parse_variable("leg*.platform_radius=0.04:0.06:3", design, True)
-    sweep = sweep_designs(design, [sweep_var], REGION, wrench=WRENCH, executor=executor)
+    sweep = sweep_designs(
+        design, [sweep_var], REGION, wrench=WRENCH, executor=executor, link_modes=0
+    )
     variables = [
         parse_variable("leg*.platform_radius=0.04:0.07", design, False),
         parse_variable("leg1.actuator.locked_stiffness=1e7:4e7", design, False),

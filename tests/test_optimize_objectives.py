@@ -195,6 +195,8 @@ def test_refused_candidate_is_returned_without_maps(monkeypatch: pytest.MonkeyPa
     assert (skipped.maps, skipped.covers, skipped.check_refused) == (False, False, 9)
     recorded = summarize_candidate(design, far, REGION, check="record")
     assert spy.calls == 1 and recorded.maps and recorded.covered == 0
+    # the moving mass is the design's, with or without maps (it was NaN when skipped)
+    assert skipped.moving_mass == recorded.moving_mass > 0
     near = summarize_candidate(design, {"leg1.base_point.radius": 0.25}, REGION, check="skip")
     assert spy.calls == 2 and near.covers and near.check_refused == 0
 
@@ -382,8 +384,8 @@ def test_sweep_ranks_by_reachable_workspace(capsys: pytest.CaptureFixture[str]) 
     lines = capsys.readouterr().out.splitlines()
     rows = [line.split("│")[1:3] for line in lines if line.count("│") >= 3]
     printed = [float(b) for a, b in rows if a.strip()[:1].isdigit()]
-    assert main([*argv, "--json"]) == 0
-    box = json.loads(capsys.readouterr().out)["region"]
+    doc = _json(capsys, [*argv, "--json"], "sweep")
+    box = doc["region"]
     names = ("x", "y", "z", "rx", "ry", "phi")
     region = region_from_ranges({n: tuple(box[n]) for n in names}, box["grid"])
     design = pps.load_design(ROOT / "examples/hexapod_6ups.toml")
@@ -395,3 +397,6 @@ def test_sweep_ranks_by_reachable_workspace(capsys: pytest.CaptureFixture[str]) 
     ]
     assert len(printed) == 2
     np.testing.assert_allclose(printed, expected, rtol=5e-4)  # printed to 4 digits
+    # the JSON rows carry the quantity swept (they had the table figures alone)
+    assert doc["quantity"] == {"name": "reachable-workspace", "unit": "1"}
+    assert [row["reachable-workspace"] for row in doc["rows"]] == expected

@@ -18,11 +18,17 @@ import pytest
 
 import ppm_stiffness as pps
 from helpers import check_entries, example_designs, is_spatial
+from ppm_stiffness.analysis import analyze_matrix
 from ppm_stiffness.core.errors import DesignError, InputDataError
 from ppm_stiffness.design import Design, design_from_dict
 from ppm_stiffness.design.io import design_to_dict
 from ppm_stiffness.dynamics.analysis import modal_analysis
-from ppm_stiffness.model import tool_offset, validate_pose
+from ppm_stiffness.model import (
+    stiffness_at_pose,
+    stiffness_at_tool_point,
+    tool_offset,
+    validate_pose,
+)
 from ppm_stiffness.optimize.margin import margin_poses
 from ppm_stiffness.optimize.objectives import OBJECTIVES, check_quantities, parse_constraint
 from ppm_stiffness.optimize.optimizer import optimize_design
@@ -130,12 +136,15 @@ MASS_UNITS = {"kg", "kg·m^2"}
 @pytest.mark.parametrize("name", SPATIAL)
 def test_spatial_summary_equals_the_single_pose_analysis(name: str) -> None:
     design, region = _design(name), _region(name)
-    summary = summarize(design, region)
+    summary = summarize(design, region, frequencies=False)  # f1: the test below
     poses = region_poses(region).reshape(-1, len(design.task_coordinates))
     tool = np.asarray(design.tool_point)
     trans, rot = [], []
     for pose in poses:
-        pc = pps.analyze(design, pose, tool_point=tool).to_dict()["principal_compliance"]
+        # analyze's single-pose path (without its f1, which this test does not read)
+        p = validate_pose(design, pose)
+        k_tool = stiffness_at_tool_point(stiffness_at_pose(design, p), p, tool)
+        pc = analyze_matrix(k_tool).to_dict()["principal_compliance"]
         trans.append(min(pc["translational"]["values"]))
         rot.append(min(pc["rotational"]["values"]))
     assert summary.covers and not summary.planar
@@ -162,10 +171,9 @@ F1_CASES = [
 def test_f1_objective_is_the_minimum_of_the_modes_f1(name: str, loaded: bool) -> None:
     design, region = _design(name), _region(name)
     wrench = WRENCH if loaded else None
-    summary = summarize(design, region, wrench)
+    summary = summarize(design, region, wrench, link_modes=0)
     poses = region_poses(region).reshape(-1, len(design.task_coordinates))
-    # summarize's default is the condensed f1 (optimize passes its link modes:
-    # tests/test_link_modes_maps.py): against modal_analysis without them
+    # the condensed f1 on both sides (with link modes: tests/test_link_modes_maps.py)
     f1 = np.array([modal_analysis(design, p, wrench, link_modes=0).frequencies[0] for p in poses])
     value = OBJECTIVES["first-frequency"].value(summary)
     # K, M at P (batched) vs at the tool point (single pose): the congruence leaves the
@@ -181,10 +189,10 @@ def test_f1_scales_as_the_square_root_of_stiffness_over_mass(name: str) -> None:
     if region is None:
         assert design.workspace.required is not None
         region = design.workspace.required
-    f1 = summarize(design, region)["f1_min"]
-    stiffer = summarize(_scaled(design, STIFFNESS_UNITS, 2.0), region)["f1_min"]
-    heavier = summarize(_scaled(design, MASS_UNITS, 2.0), region)["f1_min"]
-    # K doubles and M (the legs follow the spring ratios) does not: omega^2 doubles;
+    f1 = summarize(design, region, link_modes=0)["f1_min"]
+    stiffer = summarize(_scaled(design, STIFFNESS_UNITS, 2.0), region, link_modes=0)["f1_min"]
+    heavier = summarize(_scaled(design, MASS_UNITS, 2.0), region, link_modes=0)["f1_min"]
+    # condensed: K doubles and M (the legs follow the spring ratios) does not: omega^2 doubles;
     # measured at most 8.6e-14 relative
     assert stiffer / f1 == pytest.approx(math.sqrt(2.0), rel=1e-12)
     assert f1 / heavier == pytest.approx(math.sqrt(2.0), rel=1e-12)
@@ -192,7 +200,7 @@ def test_f1_scales_as_the_square_root_of_stiffness_over_mass(name: str) -> None:
 
 def test_loaded_figures_are_3d_norms_of_the_tool_point_motion() -> None:
     design, region = _design("3prs"), _region("3prs")  # tool point 150 mm below P
-    summary = summarize(design, region, WRENCH)
+    summary = summarize(design, region, WRENCH, frequencies=False)
     poses = region_poses(region).reshape(-1, 3)
     disp, rot = [], []
     for pose in poses:
@@ -223,7 +231,7 @@ def test_optimize_improves_a_spatial_design() -> None:
         seed=3,
         link_modes=0,  # the optimiser under test, on the cheaper condensed f1
     )
-    check = summarize(result.best_design, region)
+    check = summarize(result.best_design, region, link_modes=0)
     assert result.best_objective == check["f1_min"]  # the same model, same poses
     # measured: 15.085 Hz at the start (0.25 m) -> 18.17 Hz (0.29 m, the range's end)
     assert result.best_objective > 1.15 * result.initial_objective
@@ -316,7 +324,7 @@ def test_optimize_a_hexapods_platform_radius() -> None:
     result = optimize_design(
         design, variables, OBJECTIVES["worst-k-rotational"], region, budget=10, seed=0
     )
-    check = summarize(result.best_design, region)
+    check = summarize(result.best_design, region, frequencies=False)
     assert result.best_objective == check["k_rotational_min"]
     # a wider platform circle: longer lever arms; measured 1.9x at 0.14 m
     assert result.best_objective > 1.3 * result.initial_objective

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import math
 import time
 from pathlib import Path
 from typing import Any
@@ -182,10 +183,12 @@ def run(args: argparse.Namespace) -> int:
     keys = list(dict.fromkeys([*PAPER_FIGURES, *names]))  # the schema's keys always
     rows = _rows(result, keys)
     values = [q.value(s) for s in result.summaries]
+    for row, value in zip(rows, values, strict=True):  # the quantity swept, by its name
+        row[q.name] = None if math.isnan(value) else value
 
     with output_files(args.overwrite) as out:
         if args.csv:
-            fields = [v.name for v in variables] + ["covers", *names]
+            fields = [v.name for v in variables] + ["covers", *dict.fromkeys([*names, q.name])]
             csv_rows = [{k: r[k] for k in fields} for r in rows]
             _write_csv(out.temp(args.csv, "--csv"), fields, csv_rows, result.partial_note())
         if args.out and rows:
@@ -234,6 +237,7 @@ def run(args: argparse.Namespace) -> int:
             "executor": executor_label(args),
             "wall_time": wall,
             "link_modes": link_modes if frequencies else None,
+            "quantity": {"name": q.name, "unit": q.unit},
             "csv": args.csv,
             "figure": args.out,
             "rows": rows,
@@ -241,6 +245,7 @@ def run(args: argparse.Namespace) -> int:
         units = {"wall_time": "s", "region": "m, m, rad", "wrench": "N·m, N"}
         units.update({f"variables.{v.name}": v.unit for v in variables})
         units.update({f"rows.{n}": FIGURE_UNITS[n] for n in keys})
+        units[f"rows.{q.name}"] = q.unit
         print(json_document("sweep", payload, units))
         return 130 if result.interrupted else 0
     console.print(f"region: {region_text(region)}")

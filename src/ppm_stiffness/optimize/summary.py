@@ -355,7 +355,7 @@ def summarize(
     hinges: bool = False,
     reach: bool = False,
     condition: bool = False,
-    link_modes: int = 0,
+    link_modes: int | None = None,
 ) -> RegionSummary:
     """The summary figures of ``design`` over ``region`` (module doc).
 
@@ -383,10 +383,11 @@ def summarize(
         for a design without ``[workspace.candidate]``).
     condition : bool
         Also ``condition_max`` (the length-balanced K's condition number; NaN without).
-    link_modes : int
+    link_modes : int, optional
         The f1 figures with each leg's own modes with the platform held (Craig-Bampton,
-        :mod:`ppm_stiffness.dynamics.legmodes`), this many per leg; 0: the legs
-        condensed statically.
+        :mod:`ppm_stiffness.dynamics.legmodes`), this many per leg; None: the default
+        (:data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`, as ``analyze``,
+        ``modal_analysis`` and ``stiffness_map``); 0: the legs condensed statically.
 
     Returns
     -------
@@ -400,8 +401,10 @@ def summarize(
         A region not over the design's task coordinates.
     """
     from ppm_stiffness.core.errors import InputDataError
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
     from ppm_stiffness.statics.loading import validate_wrench
 
+    link_modes = resolve_link_modes(link_modes)
     w = None if wrench is None else validate_wrench(wrench)
     if margin and w is None:
         raise InputDataError("the load margin needs a wrench (--wrench)")
@@ -627,7 +630,7 @@ def candidate_task(
     reach: bool = False,
     condition: bool = False,
     check: str = "none",
-    link_modes: int = 0,
+    link_modes: int | None = None,
 ) -> tuple[Any, ...]:
     """The argument tuple of :func:`summarize_candidate` for one design, what an
     executor sends (``run_ordered(executor, summarize_candidate, tasks)``): its order
@@ -658,7 +661,7 @@ def summarize_candidate(
     reach: bool = False,
     condition: bool = False,
     check: str = "none",
-    link_modes: int = 0,
+    link_modes: int | None = None,
 ) -> RegionSummary:
     """:func:`summarize` of ``design`` with parameters ``values`` (name or glob -> SI
     value) set: the task one worker runs for one design (the design travels, not the
@@ -695,10 +698,19 @@ def summarize_candidate(
 
     n, refused = refused_check_poses(design, region)
     if refused and check == "skip":
+        # the maps' figures unknown (NaN, ``maps`` False says why); the moving mass is
+        # the design's, as in the "record" mode
         values = {name: math.nan for name in FIGURE_UNITS}
         poses = math.prod(region.grid)
         return RegionSummary(
-            values, poses, 0, planar=design.planar, check_poses=n, check_refused=refused, maps=False
+            values,
+            poses,
+            0,
+            planar=design.planar,
+            moving_mass=_moving_mass(design),
+            check_poses=n,
+            check_refused=refused,
+            maps=False,
         )
     full = summarize(
         design, region, wrench, margin, frequencies, hinges, reach, condition, link_modes

@@ -118,7 +118,7 @@ def sweep_designs(
     hinges: bool = False,
     reach: bool = False,
     condition: bool = False,
-    link_modes: int = 0,
+    link_modes: int | None = None,
 ) -> SweepResult:
     """Summary figures (:func:`~ppm_stiffness.optimize.summary.summarize`) of every
     design of the sweep.
@@ -154,9 +154,10 @@ def sweep_designs(
         False: NaN.
     condition : bool
         The length-balanced K's condition number (``condition_max``); False: NaN.
-    link_modes : int
+    link_modes : int, optional
         The f1 figures with each leg's own modes, this many per leg
-        (:func:`~ppm_stiffness.optimize.summary.summarize`); 0: the legs condensed.
+        (:func:`~ppm_stiffness.optimize.summary.summarize`); None: the default, as
+        ``analyze``; 0: the legs condensed.
 
     Returns
     -------
@@ -205,15 +206,15 @@ def summarize_designs(
     hinges: bool = False,
     reach: bool = False,
     condition: bool = False,
-    link_modes: int = 0,
+    link_modes: int | None = None,
 ) -> list[RegionSummary]:
     """Summary figures of several designs over one region (``compare``), in order;
     ``margin``: also the load margin of ``wrench``; ``frequencies``: f1 for a design
     with a mass model; ``hinges``: the hinge figures of a design with notch hinges
     (NaN for another); ``reach``: the share of each
     design's candidate region reached; ``condition``: the balanced K's condition number;
-    f1 with each leg's ``link_modes`` own modes (0:
-    the legs condensed).
+    f1 with each leg's ``link_modes`` own modes (None: the default, as ``analyze``;
+    0: the legs condensed).
 
     Raises
     ------
