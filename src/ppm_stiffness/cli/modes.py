@@ -106,7 +106,7 @@ def modes_uncertainty(
     from ppm_stiffness.cli.tolerances import compute_bands, quantity_bands
     from ppm_stiffness.fit.band_outputs import MODES_FAILED_VALUE, modes_output
 
-    output = modes_output(pose, tool, wrench)
+    output = modes_output(pose, tool, wrench, args.link_modes)  # the f1 the table shows
     bands = compute_bands(args, design, variables, output, MODES_FAILED_VALUE)
     return quantity_bands(bands, [f"f{j + 1}" for j in range(6)], "Hz")
 

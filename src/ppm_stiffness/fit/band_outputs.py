@@ -214,7 +214,10 @@ MODES_FAILED_VALUE = 0.0
 
 
 def modes_output(
-    pose: ArrayLike, tool_point: ArrayLike, wrench: ArrayLike | None = None
+    pose: ArrayLike,
+    tool_point: ArrayLike,
+    wrench: ArrayLike | None = None,
+    link_modes: int | None = None,
 ) -> Callable[[Design], FloatArray]:
     """The six natural frequencies (6,) [Hz, ascending] of a design with a mass model
     at ``pose`` (its task coordinates, module doc), locked or under ``wrench`` acting at
@@ -222,7 +225,8 @@ def modes_output(
     --wrench``): :func:`ppm_stiffness.dynamics.analysis.modal_analysis`. The masses
     are design parameters (``platform.mass``, ``leg*.<part>.mass``,
     ``leg*.actuator.carriage_mass``, ``leg*.actuator.rotor_inertia``, ...), so that a
-    tolerance file moves them as it moves stiffnesses."""
+    tolerance file moves them as it moves stiffnesses. ``link_modes``: each leg's own
+    modes (None: the default, as ``modal_analysis``; 0: the legs condensed)."""
     p = np.asarray(pose, dtype=float)
     tool = np.asarray(tool_point, dtype=float)
     w = None if wrench is None else np.asarray(wrench, dtype=float)
@@ -230,7 +234,7 @@ def modes_output(
     def output(design: Design) -> FloatArray:
         from ppm_stiffness.dynamics.analysis import modal_analysis
 
-        result = modal_analysis(design, _task(design, p), w, tool)
+        result = modal_analysis(design, _task(design, p), w, tool, link_modes)
         return np.asarray(result.frequencies, dtype=float)
 
     return output
