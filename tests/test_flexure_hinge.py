@@ -106,6 +106,19 @@ def test_quadrature_error_falls_with_points() -> None:
     assert errors[0] > 0.1 and errors[-1] < 1e-10
 
 
+def test_the_default_compliance_is_the_quadrature_once_per_hinge() -> None:
+    """The default quadrature is computed once per (frozen) hinge and handed out as a
+    new array: equal bit for bit to a fresh quadrature, and a caller's change to the
+    array it got does not reach the next caller."""
+    from ppm_stiffness.legs.flexure_hinge import PANELS, POINTS, quadrature_compliance
+
+    hinge = circular(2e-3, 2e-5)
+    first = hinge.compliance()
+    assert np.array_equal(first, quadrature_compliance(hinge, PANELS, POINTS))
+    first[2, 2] = 0.0
+    assert hinge.compliance()[2, 2] == quadrature_compliance(hinge, PANELS, POINTS)[2, 2] > 0
+
+
 @pytest.mark.parametrize(
     "profile",
     [

@@ -31,6 +31,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ppm_stiffness.core.conventions import FloatArray, twist_b_from_twist_a
+from ppm_stiffness.core.object_cache import per_object
 from ppm_stiffness.legs.parts import NonNegative, PartModel, Positive
 
 #: Default Gauss-Legendre panels per profile segment and nodes per panel (module doc).
@@ -286,23 +287,12 @@ class FlexureHinge(PartModel):
         Returns
         -------
         ndarray, shape (6, 6)
-            [rad/(N·m), rad/N, m/N], hinge axes at the loaded end.
+            [rad/(N·m), rad/N, m/N], hinge axes at the loaded end. A new array (the
+            default quadrature's is computed once per hinge: the hinge is frozen).
         """
-        x, h, w = _nodes(self.profile.segments(), panels, points)
-        e, b = self.material.young_modulus, self.width
-        s = self.length - x
-        in_plane = w * 12.0 / (e * b * h**3)
-        out_plane = w * 12.0 / (e * h * b**3)
-        c = np.zeros((6, 6))
-        c[0, 0] = np.sum(w / (self.material.shear * torsion_constant(b, h)))
-        c[1, 1] = np.sum(out_plane)
-        c[2, 2] = np.sum(in_plane)
-        c[3, 3] = np.sum(w / (e * b * h))
-        c[4, 4] = np.sum(in_plane * s**2)
-        c[5, 5] = np.sum(out_plane * s**2)
-        c[4, 2] = c[2, 4] = np.sum(in_plane * s)
-        c[5, 1] = c[1, 5] = -np.sum(out_plane * s)
-        return c
+        if (panels, points) == (PANELS, POINTS):
+            return _default_compliance(self).copy()
+        return quadrature_compliance(self, panels, points)
 
     def compliance_at(self, x: float, panels: int = PANELS, points: int = POINTS) -> FloatArray:
         """The compliance transported to the station x [m] on the hinge's axis (axes
@@ -313,6 +303,32 @@ class FlexureHinge(PartModel):
     def centre_compliance(self) -> FloatArray:
         """Compliance at the notch's centre x = L / 2 (diagonal for a symmetric notch)."""
         return self.compliance_at(self.length / 2.0)
+
+
+def quadrature_compliance(hinge: FlexureHinge, panels: int, points: int) -> FloatArray:
+    """:meth:`FlexureHinge.compliance` by Gauss-Legendre quadrature of the profile's
+    Euler-Bernoulli integrals (module doc), computed afresh."""
+    x, h, w = _nodes(hinge.profile.segments(), panels, points)
+    e, b = hinge.material.young_modulus, hinge.width
+    s = hinge.length - x
+    in_plane = w * 12.0 / (e * b * h**3)
+    out_plane = w * 12.0 / (e * h * b**3)
+    c = np.zeros((6, 6))
+    c[0, 0] = np.sum(w / (hinge.material.shear * torsion_constant(b, h)))
+    c[1, 1] = np.sum(out_plane)
+    c[2, 2] = np.sum(in_plane)
+    c[3, 3] = np.sum(w / (e * b * h))
+    c[4, 4] = np.sum(in_plane * s**2)
+    c[5, 5] = np.sum(out_plane * s**2)
+    c[4, 2] = c[2, 4] = np.sum(in_plane * s)
+    c[5, 1] = c[1, 5] = -np.sum(out_plane * s)
+    return c
+
+
+@per_object
+def _default_compliance(hinge: FlexureHinge) -> FloatArray:
+    """The default quadrature's compliance, once per hinge (shared: never changed)."""
+    return quadrature_compliance(hinge, PANELS, POINTS)
 
 
 #: Largest off-diagonal entry of a notch's centre compliance, relative to the geometric
