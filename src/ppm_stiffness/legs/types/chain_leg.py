@@ -135,7 +135,7 @@ class JointElement(PartModel):
     mounting_axis: Vector3 | None = None
     elastic: Positive | list[Positive] | None = None
     hinge: FlexureHinge | None = None
-    carried_by: Literal["before", "after"] = "before"
+    carried_by: Literal["before", "after"] | None = None  # None: "before" (a bushing)
     travel: tuple[Finite, Finite] | None = None
 
     @model_validator(mode="after")
