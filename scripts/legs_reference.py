@@ -119,6 +119,7 @@ def reference() -> str:
                 "stroke": "m or rad",
                 "springs": "N/m, N·m/rad",
                 "elastic": "N·m/rad or N/m",
+                "travel": "m",
             },
         ),
         "",

@@ -16,17 +16,19 @@ import pytest
 from tests.helpers import design_named, example_designs
 
 from ppm_stiffness.core import pose as pose6
-from ppm_stiffness.core.errors import DesignError
+from ppm_stiffness.core.errors import DesignError, UnreachablePoseError
 from ppm_stiffness.design.io import design_from_dict
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose
 from ppm_stiffness.model import full_pose, stiffness_at_pose
 from ppm_stiffness.poses import home_pose, task_indices
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: The built-in design's file (``design_named("paper")``).
+PAPER = Path(__file__).resolve().parents[1] / "src" / "ppm_stiffness" / "data" / "paper_3ppr.toml"
 
 
 def _data(name: str) -> dict[str, Any]:
-    with open(EXAMPLES / name, "rb") as f:
+    with open(PAPER if name == "paper.toml" else EXAMPLES / name, "rb") as f:
         return tomllib.load(f)
 
 
@@ -60,26 +62,41 @@ def _random_poses(home: np.ndarray, half: np.ndarray, count: int, seed: int) -> 
     return home + rng.uniform(-1.0, 1.0, (count, 6)) * half
 
 
-@pytest.mark.parametrize("name", example_designs(writes_joint_lists))
+@pytest.mark.parametrize("name", example_designs(writes_joint_lists, paper=True))
 def test_presets_written_as_joint_lists_equal_the_preset(name: str) -> None:
     """K, M, the completed pose, the joint angles and the actuated travel of a design
     whose legs are the joint lists their presets write equal the preset's at random
     poses (the pose to the completion's 1e-12; K and M to 1e-13 of their largest
     entries, measured 9.1e-15 and 1.2e-14 on the 3-RPS, 5.9e-16 and 6.1e-15 on the
-    hexapod, 1.8e-15 and 6.2e-16 on the 3-RRR, 2.4e-14 and 1.0e-14 on the 3-RPR): the
-    generic chain, its Newton inverse kinematics and the product-of-exponentials joint
-    axes reproduce the closed-form legs (issue 28, item 4; the P-R-S, P-P-R and P-R-R
-    presets write none yet)."""
+    hexapod, 1.8e-15 and 6.2e-16 on the 3-RRR, 2.4e-14 and 1.0e-14 on the 3-RPR,
+    1.6e-14 and 1.6e-14 on the 3-PRS, 9.5e-15 and 2.3e-15 on the 3-PRR, 8.7e-16 and
+    2.4e-16 on the paper's 3-PPR, 1.5e-15 and 6.6e-16 on the symmetric 3-PPR, 1.1e-15
+    and 4.4e-16 on the redundant 4-PPR): the generic chain, its Newton inverse
+    kinematics and the product-of-exponentials joint axes reproduce the closed-form legs
+    (issue 28, item 4; all seven presets write one). A pose beyond a preset's limits
+    (the paper's 3-PPR: a rod shorter than its range, one of the six draws) is refused
+    by the joint list's limits too (its bearing's ``travel``). The P-R-S, P-R-R and
+    P-P-R guides' springs act at the moving carriage (``carried_by = "after"``; at the
+    fixed bushing K misses by 2.7e-2, 2.3e-1 and 1.1e-1), the P-R-S guide's lateral
+    axis along its revolute (``axis2``; without it 1.3e-3)."""
     preset = design_named(name)
     chain = design_from_dict(as_joint_lists(name))
     home = home_pose(preset)
     idx = list(task_indices(preset))
     half = np.array([0.01, 0.01, 0.01, 0.05, 0.05, 0.05])[idx]
     rng = np.random.default_rng(3)
+    compared = 0
     for task in home[idx] + rng.uniform(-1.0, 1.0, (6, len(idx))) * half:
         pose = full_pose(preset, task)
         np.testing.assert_allclose(full_pose(chain, task), pose, rtol=0, atol=1e-12)
-        assert _relative(stiffness_at_pose(preset, pose), stiffness_at_pose(chain, pose)) < 1e-13
+        try:
+            k_preset = stiffness_at_pose(preset, pose)
+        except UnreachablePoseError:  # beyond a limit: the joint list's limits refuse it too
+            with pytest.raises(UnreachablePoseError, match="travel|outside"):
+                stiffness_at_pose(chain, pose)
+            continue
+        compared += 1
+        assert _relative(k_preset, stiffness_at_pose(chain, pose)) < 1e-13
         m1, m2 = mass_matrix_at_pose(preset, pose), mass_matrix_at_pose(chain, pose)
         assert np.max(np.abs(m1 - m2)) < 1e-13 * np.max(np.abs(m1))
         for leg_preset, leg_chain in zip(preset.legs, chain.legs, strict=True):
@@ -91,6 +108,7 @@ def test_presets_written_as_joint_lists_equal_the_preset(name: str) -> None:
             name_a = leg_preset.ACTUATED_COORDINATE
             travel = float(a.coordinates[name_a] - leg_preset.solve(home).coordinates[name_a])
             assert abs(travel - float(b.coordinates["actuated"])) < 1e-12
+    assert compared >= 4
 
 
 def _crank_angle(c: np.ndarray, a: np.ndarray, u0: np.ndarray, b: np.ndarray, rod: float) -> float:
@@ -280,6 +298,10 @@ def _one_leg(**changes: Any) -> dict[str, Any]:
         ({"e4": {"axis": [1.0, 0.0, 0.0]}}, "a spherical joint has no axis"),
         ({"e0": {"stroke": [-90.0, 90.0]}}, "angles in design files are in radians"),
         ({"e3": None}, "platform_joint: max_angle needs a link at the joint"),
+        ({"e0": {"axis2": [0.0, 0.0, 1.0], "carried_by": "after"}}, "a revolute joint's point"),
+        ({"e0": {"axis2": [0.9396926208, -0.3420201433, 0.0]}}, "must be normal to axis"),
+        ({"e0": {"travel": [-0.01, 0.01]}}, "an actuated joint has its stroke"),
+        ({"e2": {"travel": [-0.01, 0.01]}}, "a universal joint does not slide"),
     ],
 )
 def test_malformed_chain_legs_are_refused(changes: dict[str, Any], message: str) -> None:

@@ -167,7 +167,11 @@ class JointKindRecord:
 
     @property
     def slides(self) -> bool:
-        """It has a translational freedom (drawn with a slider or a sleeve)."""
+        """It has a translational freedom (drawn with a slider or a sleeve). Its point
+        (where its springs act) then lies on one of its two bodies, not on both: a
+        bushing on the body before it, or a carriage on the body after it (a chain
+        joint's ``carried_by``); a kind that does not slide has its point on its axes,
+        the same point of both bodies."""
         return self.rotations < self.freedom_count
 
     @property

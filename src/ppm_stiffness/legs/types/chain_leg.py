@@ -22,10 +22,17 @@ The elements run from the base to the platform and are given at the design's hom
   an S's ``max_angle`` limits the angle between its
   ``mounting_axis`` (default: its link's home direction; fixed to the body on the other
   side) and its link (the link after it; the link before it for the joint at the
-  platform);
+  platform). A single-axis joint (R, P, C) may give ``axis2``, normal to ``axis``:
+  the direction of e2 of its springs' frame (a guide whose lateral direction the
+  hardware defines), carried by the body before it. A P's or C's point is its bushing,
+  carried by the body before it, or with ``carried_by = "after"`` its carriage, carried
+  by the body after it (a block on a rail: its springs act at the moving block, the
+  next link starts there and the drive's moving mass sits there); a passive P's or
+  C's ``travel`` [lo, hi] [m] limits its translation from home (``<name>_travel``);
 - a **link** (``link = {section and material}`` or ``link = "rigid"``) between two
   joints: a beam from the preceding joint's current point (a P or C joint's point is its
-  bushing, on the body before it, so a ram's free length changes with the stroke) to
+  bushing, on the body before it unless carried by its carriage, so a ram's free length
+  changes with the stroke) to
   the next joint's point, with the mass-model keys of any link; a rigid link adds no
   springs (and carries no mass).
 
@@ -105,7 +112,7 @@ def _home_frame(element: JointElement) -> tuple[FloatArray, FloatArray, FloatArr
         return np.eye(3)[0], np.eye(3)[1], np.eye(3)[2]
     if element.axis2 is None:
         return frame_from_axis(np.asarray(element.axis, dtype=float))
-    e1, e2 = unit(element.axis), unit(element.axis2)
+    e1, e2 = unit(element.axis), unit(element.axis2)  # normal to e1 (validated)
     return e1, e2, np.cross(e1, e2)
 
 
@@ -128,6 +135,8 @@ class JointElement(PartModel):
     mounting_axis: Vector3 | None = None
     elastic: Positive | list[Positive] | None = None
     hinge: FlexureHinge | None = None
+    carried_by: Literal["before", "after"] | None = None  # None: "before" (a bushing)
+    travel: tuple[Finite, Finite] | None = None
 
     @model_validator(mode="after")
     def _axes(self) -> JointElement:
@@ -145,8 +154,14 @@ class JointElement(PartModel):
                 if self.axis2 is None:
                     raise ValueError(f"a {record.name} joint needs axis2 (e2, normal to axis)")
                 check_normal("axis", e1, "axis2", check_unit("axis2", self.axis2))
-            elif self.axis2 is not None and self.hinge is None:
-                raise ValueError(f"axis2 is a second axis; a {record.name} joint has one axis")
+            elif self.axis2 is not None:  # the direction of e2 of its springs' frame
+                check_normal("axis", e1, "axis2", check_unit("axis2", self.axis2))
+        if self.carried_by == "after" and not record.slides:
+            raise ValueError(
+                f'carried_by = "after": a {record.name} joint\'s point is on its axes, the '
+                "same point of the bodies before and after it (only a joint that slides, "
+                "a P or a C, has a bushing on the body before it or a carriage after it)"
+            )
         if self.mounting_axis is not None:
             check_unit("mounting_axis", self.mounting_axis)
         part = record.springs_model()
@@ -161,6 +176,7 @@ class JointElement(PartModel):
             self._check_stroke(record)
         elif self.stroke is not None:
             raise ValueError("stroke is the actuated joint's; this joint is passive")
+        self._check_travel(record)
         return self
 
     def _check_elastic(self, record: JointKindRecord) -> None:
@@ -208,6 +224,28 @@ class JointElement(PartModel):
             return None
         count = joint_kind(self.joint).freedom_count
         return np.broadcast_to(np.asarray(self.elastic, dtype=float), (count,)).copy()
+
+    def _check_travel(self, record: JointKindRecord) -> None:
+        """A ``travel`` [lo, hi] [m] from home only on a passive joint that slides."""
+        if self.travel is None:
+            return
+        if not record.slides or self.actuated:
+            raise ValueError(
+                "travel limits a passive P's or C's translation; "
+                + (
+                    "an actuated joint has its stroke"
+                    if self.actuated
+                    else f"a {record.name} joint does not slide"
+                )
+            )
+        lo, hi = self.travel
+        for v in self.travel:
+            check_plausible("travel", v, "m")
+        if not lo <= 0.0 <= hi or not lo < hi:
+            raise ValueError(
+                f"travel = [{lo:g}, {hi:g}]: measured from the home position, so "
+                "lo <= 0 <= hi with lo < hi"
+            )
 
     def _check_stroke(self, record: JointKindRecord) -> None:
         if record.freedom_count != 1:
@@ -509,8 +547,8 @@ class ChainLeg(LegModel):
         points: dict[str, FloatArray] = {}
         for i, element in enumerate(self.elements):
             if isinstance(element, JointElement):
-                before = bodies[i - 1] if i else 0
-                points[self._point_name(i)] = state.carry(before, element.point) - p
+                carrier = self._carrier(i, bodies)
+                points[self._point_name(i)] = state.carry(carrier, element.point) - p
         last = len(self.elements) - 1
         if isinstance(self.elements[-1], LinkElement):
             points[self._point_name(last)] = state.carry(bodies[-1], self._end_point()) - p
@@ -524,6 +562,8 @@ class ChainLeg(LegModel):
             coordinates["actuated"] = state.q[:, self._actuated_freedom()]
         for name, value in self._joint_angles(state, points).items():
             coordinates[name] = value
+        for name, index in self._travels().items():
+            coordinates[name] = state.q[:, index]
         solvable = state.converged
         if bars is not None:  # a parallelogram's bars stay parallel
             near = bars.near_points(state.rotations[:, -1], state.translations[:, -1])
@@ -546,6 +586,18 @@ class ChainLeg(LegModel):
         """Whether a joint is ``actuated = true``; without one the leg is a passive
         constraining leg (no ``actuator`` table, no ``actuated`` coordinate)."""
         return any(e.actuated for e in self.joints())
+
+    def _travels(self) -> dict[str, int]:
+        """The limited travel of each passive P or C (``<name>_travel``): the index of
+        its translational freedom."""
+        _, bodies = self.freedoms()
+        out = {}
+        for i, element in enumerate(self.elements):
+            if isinstance(element, JointElement) and element.travel is not None:
+                freedoms = joint_kind(element.joint).freedoms
+                slide = next(j for j, (motion, _) in enumerate(freedoms) if motion == "t")
+                out[f"{self.element_name(i)}_travel"] = (bodies[i - 1] if i else 0) + slide
+        return out
 
     def _actuated_freedom(self) -> int:
         _, bodies = self.freedoms()
@@ -576,7 +628,7 @@ class ChainLeg(LegModel):
                 else unit(home_points[far] - home_points[i])
             )
             # the mounting axis is fixed to the body on the side away from the link
-            side = bodies[i] if before else self._carrier(i, bodies)
+            side = bodies[i] if before else (bodies[i - 1] if i else 0)
             out[f"{self.element_name(i)}_angle"] = joint_angle(
                 direction_now, state.turn(side, mount)
             )
@@ -611,10 +663,13 @@ class ChainLeg(LegModel):
                 return (link if link == len(self.elements) - 1 else link + step), before
         return None
 
-    @staticmethod
-    def _carrier(index: int, bodies: list[int]) -> int:
+    def _carrier(self, index: int, bodies: list[int]) -> int:
         """The body that carries element ``index``'s point: the one before it (a P or C
-        joint's bushing; any other joint's point is on its axes; a link adds no body)."""
+        joint's bushing; any other joint's point is on its axes; a link adds no body),
+        or the one after it for a joint ``carried_by = "after"`` (a carriage)."""
+        element = self.elements[index]
+        if isinstance(element, JointElement) and element.carried_by == "after":
+            return bodies[index]
         return bodies[index - 1] if index else 0
 
     def _home_points(self) -> dict[int, FloatArray]:
@@ -636,6 +691,9 @@ class ChainLeg(LegModel):
                 limit = element.max_angle()
                 if limit is not None:
                     out[f"{self.element_name(i)}_angle"] = (0.0, float(limit))
+                if element.travel is not None:
+                    travel = (float(element.travel[0]), float(element.travel[1]))
+                    out[f"{self.element_name(i)}_travel"] = travel
             elif isinstance(element, ParallelogramElement) and element.max_angle() is not None:
                 out[f"{self.element_name(i)}_angle"] = (0.0, float(element.max_angle() or 0.0))
         return out
@@ -647,6 +705,8 @@ class ChainLeg(LegModel):
             return Coordinate(f"actuated joint {joint.name or joint.joint} travel", unit_)
         if name.endswith("_angle"):
             return Coordinate(f"{name[: -len('_angle')]} joint angle", "rad")
+        if name.endswith("_travel"):
+            return Coordinate(f"{name[: -len('_travel')]} joint travel", "m")
         return Coordinate(f"joint coordinate {name}", "m or rad")
 
     def coordinate_names(self) -> list[str]:
@@ -728,7 +788,7 @@ class ChainLeg(LegModel):
             return joint_kind(self.actuated_kind()).actuator_units()[1]
         if field == "elastic":
             return "N·m/rad or N/m"
-        units = {"point": "m", "end": "m", "near": "m", "far": "m", "width": "m"}
+        units = {"point": "m", "end": "m", "near": "m", "far": "m", "width": "m", "travel": "m"}
         return units.get(field, "1" if "axis" in field or field == "crossbar" else "")
 
     def architecture_name(self) -> str:
@@ -866,7 +926,7 @@ class ChainLeg(LegModel):
                     self.element_name(i),
                 )
                 continue
-            point = where(before, element.point)
+            point = where(self._carrier(i, bodies), element.point)
             name = self.element_name(i)
             mass = law.moving_parts() if element.actuated and law is not None else None
             springs = element.stiffnesses()

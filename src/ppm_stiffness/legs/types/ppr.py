@@ -46,6 +46,7 @@ from ppm_stiffness.legs.parts import (
     RevoluteModel,
     SectionModel,
 )
+from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
 from ppm_stiffness.legs.types._ppr_reduced import reduce_ppr_leg
 
 
@@ -145,6 +146,53 @@ class PPRLeg(PlanarLegModel):
             points={"A": rail, "B": b, "C": c, "D": d},
             coordinates={"rho": rho, "rod": rod},
             solvable=np.ones(rho.shape, dtype=bool),
+        )
+
+    def joint_list(self, home: ArrayLike) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): the actuated P at
+        the guide block B along the rail, carried by the carriage (``carried_by =
+        "after"``: the guide's springs act at the moving block, and the proximal link
+        from it keeps its length), its stroke the travel from the home rho; the proximal
+        link, C at the bearing C along the rod (its ``travel`` the rod length range less
+        the home rod length), the distal link (the rod, from the bearing), R at D about
+        z."""
+        h = np.asarray(home, dtype=float)
+        at_home = self.solve(h)
+        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
+        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
+        rod = float(np.reshape(at_home.coordinates["rod"], -1)[0])
+        u, w = self.directions()
+        return chain_table(
+            self.law(),
+            [
+                joint_table(
+                    "P",
+                    "guide",
+                    points["B"],
+                    self.guide,
+                    axis=u.tolist(),
+                    actuated=True,
+                    stroke=[self.stroke[0] - rho, self.stroke[1] - rho],
+                    carried_by="after",
+                ),
+                link_table(self.proximal, "proximal"),
+                joint_table(
+                    "C",
+                    "bearing",
+                    points["C"],
+                    self.bearing,
+                    axis=w.tolist(),
+                    travel=[self.rod_length_range[0] - rod, self.rod_length_range[1] - rod],
+                ),
+                link_table(self.distal, "distal"),
+                joint_table(
+                    "R",
+                    "platform_revolute",
+                    points["D"],
+                    self.platform_revolute,
+                    axis=[0.0, 0.0, 1.0],
+                ),
+            ],
         )
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:

@@ -18,7 +18,7 @@ absent.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -45,6 +45,7 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     joint_springs,
 )
+from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
 
 
 class PRRLeg(PlanarLegModel):
@@ -119,6 +120,35 @@ class PRRLeg(PlanarLegModel):
             points={"C": c, "D": d},
             coordinates={"rho": rho},
             solvable=disc >= 0,
+        )
+
+    def joint_list(self, home: ArrayLike) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): the actuated P at C
+        along the rail (its stroke the travel from the home rho), carried by the carriage
+        (``carried_by = "after"``: the guide's springs act at the moving carriage, as
+        here), R at C, the distal link, R at D; revolute axes along z."""
+        h = np.asarray(home, dtype=float)
+        at_home = self.solve(h)
+        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
+        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
+        z = {"axis": [0.0, 0.0, 1.0]}
+        return chain_table(
+            self.law(),
+            [
+                joint_table(
+                    "P",
+                    "guide",
+                    points["C"],
+                    self.guide,
+                    axis=self.rail_direction().tolist(),
+                    actuated=True,
+                    stroke=[self.stroke[0] - rho, self.stroke[1] - rho],
+                    carried_by="after",
+                ),
+                joint_table("R", "carriage_revolute", points["C"], self.carriage_revolute, **z),
+                link_table(self.distal, "distal"),
+                joint_table("R", "platform_revolute", points["D"], self.platform_revolute, **z),
+            ],
         )
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:

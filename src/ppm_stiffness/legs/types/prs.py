@@ -32,7 +32,7 @@ Chain: P along u at C (actuated, ``guide``) - R about e_R at C (``carriage_revol
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -51,6 +51,7 @@ from ppm_stiffness.legs.parts import (
     SphericalModel,
     joint_springs,
 )
+from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
 from ppm_stiffness.legs.types._spatial import (
     angle_limit,
     check_normal,
@@ -153,6 +154,46 @@ class PRSLeg(LegModel):
         b = self.platform_offset(pose)
         return plane_constraint(
             np.asarray(self.base_point, dtype=float), e, pose6.position(pose) + b, b
+        )
+
+    def joint_list(self, home: FloatArray) -> dict[str, Any]:
+        """This leg as a joint-list leg's table at the home pose (6,): the actuated P at C
+        along the rail, its springs' lateral axis (``axis2``) along e_R and carried by the
+        carriage (``carried_by = "after"``: they act at the moving carriage, as here),
+        its stroke the travel from the home rho; R about e_R at C, the link, S at B (its
+        ``mounting_axis`` the platform joint's axis at home)."""
+        h = np.asarray(home, dtype=float)
+        at_home = self.solve(h)
+        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
+        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
+        u, e = self.directions()
+        axis = pose6.platform_offset(h, np.asarray(self.platform_joint_axis))
+        return chain_table(
+            self.law(),
+            [
+                joint_table(
+                    "P",
+                    "guide",
+                    points["C"],
+                    self.guide,
+                    axis=u.tolist(),
+                    axis2=e.tolist(),
+                    actuated=True,
+                    stroke=[self.stroke[0] - rho, self.stroke[1] - rho],
+                    carried_by="after",
+                ),
+                joint_table(
+                    "R", "carriage_revolute", points["C"], self.carriage_revolute, axis=e.tolist()
+                ),
+                link_table(self.link, "link"),
+                joint_table(
+                    "S",
+                    "platform_joint",
+                    points["B"],
+                    self.platform_joint,
+                    mounting_axis=axis.tolist(),
+                ),
+            ],
         )
 
     def chain(self, leg_pose: LegPose) -> Sequence[Element]:
