@@ -37,8 +37,8 @@ the bars' forces, so the loaded mode's moving geometry, where the bars swing und
 their axial loads, takes the bars themselves as two-force members instead
 (:meth:`ChainLeg.bar_pair <ppm_stiffness.legs.types.chain_leg.ChainLeg.bar_pair>`,
 :mod:`ppm_stiffness.statics.moving_bars`). The bars must be parallel (a
-parallelogram): at a pose where they are not (the far crossbar skewed about the bars by more than :data:`SKEW_TOLERANCE`), the leg refuses
-the pose.
+parallelogram): at a pose where they are not (the far crossbar skewed about the
+bars by more than :data:`SKEW_TOLERANCE`), the leg refuses the pose.
 
 Masses. A bar moves without spin; half of each bar's mass (the ``mass`` of its
 section) is carried at each of its two crossbars' centres: at F with the platform, at
