@@ -76,7 +76,7 @@ class BarPair:
     """Two bars with ball joints at both ends (a parallelogram's) between a chain's
     last body and the platform, at k reference configurations: two-force members whose
     axial forces N (tension positive) are two more coordinates of the leg
-    (:func:`ppm_stiffness.statics.moving_bars.linearize_bar_leg`).
+    (:func:`ppm_stiffness.statics.moving_core.linearize_bar_leg`).
 
     Attributes
     ----------
