@@ -199,3 +199,40 @@ def test_the_cli_gives_the_deltas_loaded_tangent_and_load_margin(
     text = capsys.readouterr().out
     assert "moving_geometry" in json.loads(text)
     assert "-0.6173" in text or "-0.0006173" in text
+
+
+def test_rigid_bars_and_a_couple() -> None:
+    """Rigid bars (compliance 0: their lengths held, their forces reactions): K_F(0) = K
+    (measured 2.7e-15) and K_F is the derivative of the wrench the legs exert with the
+    platform held at displaced_pose(pose, +-h e_j) (measured 1.3e-10, asserted 1e-9;
+    the frozen K differs by 9.9e-4). A couple m of fixed direction adds exactly -m^ to
+    K_F - K_F^T in the rotation block (measured 1e-15 of K_F; -m^ is 4.4e-5 of it)."""
+    from ppm_stiffness.core.conventions import hat
+    from ppm_stiffness.core.pose import displaced_pose
+    from ppm_stiffness.statics.moving import relative_size
+    from ppm_stiffness.statics.moving_tangents import held_wrenches
+
+    data = _data()
+    forearm = data["legs"][0]["elements"][2]
+    forearm["parallelogram"] = "rigid"
+    forearm.pop("springs")
+    design = design_from_dict(data)
+    pose = full_pose(design, np.array([0.05, -0.03, -0.78]))
+    zero = moving_loaded_state(design, np.zeros(6), pose)
+    assert relative_difference(zero.stiffness_matrix, stiffness_at_pose(design, pose)) < 1e-14
+    state = moving_loaded_state(design, WRENCH, pose)
+    h = np.array([1e-5] * 3 + [1e-6] * 3)
+    poses = [
+        displaced_pose(state.displaced_pose, sign * h[j] * np.eye(6)[j])
+        for j in range(6)
+        for sign in (1.0, -1.0)
+    ]
+    held, _ = held_wrenches(design, state, np.array(poses))
+    fd = np.stack([(held[2 * j] - held[2 * j + 1]) / (2 * h[j]) for j in range(6)], axis=1)
+    k = state.stiffness_matrix
+    assert relative_difference(fd, k) < 1e-9
+    assert relative_difference(state.frozen_stiffness, k) > 5e-4
+    expected = np.zeros((6, 6))
+    expected[:3, :3] = -hat(WRENCH[:3])
+    assert relative_size(k - k.T - expected, k) < 1e-14
+    assert relative_size(expected, k) > 1e-5
