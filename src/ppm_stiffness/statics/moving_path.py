@@ -94,7 +94,7 @@ def _leg_chain(leg: LegModel, leg_pose: LegPose, k: int, offsets: FloatArray) ->
     return replace(arm, bars=BarPair(near, far, rest, pair.compliance))
 
 
-def _bar_forces(chain: ScrewChain, wrenches: FloatArray) -> FloatArray:
+def bar_forces(chain: ScrewChain, wrenches: FloatArray) -> FloatArray:
     """The bars' axial forces (k, 2) [N] that carry a leg's wrench about c0 at the
     reference configuration (least squares, length-balanced)."""
     assert chain.bars is not None
@@ -128,7 +128,7 @@ def frozen_prediction(
             jq = chain.screws[:, :, q] / BALANCE[None, :, None]
             x[:, q] = np.einsum("kpi,ki->kp", np.linalg.pinv(jq), rest / BALANCE)
         if chain.bars is not None:  # the arm's springs as above, the bars' forces
-            x = np.concatenate([x, _bar_forces(chain, wrenches[:, i])], axis=1)
+            x = np.concatenate([x, bar_forces(chain, wrenches[:, i])], axis=1)
         coords.append(x)
     return ChainState(rotation_exp(twist[:, :3]), translation, tuple(coords), wrenches)
 
