@@ -282,3 +282,40 @@ def test_the_p_delta_tangent_is_the_prestressed_models(truss: Any) -> None:
     np.testing.assert_allclose(model.residual(np.zeros(9), WRENCH), 0.0, atol=1e-12)
     fd = model.tangent(WRENCH, np.zeros(9), np.array([0.1] * 3 + [1.0] * 3))
     assert relative_difference(fd, k2) < 1e-9
+
+
+def test_a_loaded_map_of_the_delta_is_the_single_pose_analysis() -> None:
+    """``map --actuators WRENCH --geometry moving`` on the Delta (an x-y slice): the
+    spatial principal stiffnesses of K_F's symmetric part and the load margin at each
+    pose equal the single-pose ones to 1e-10 (the batched path is the single-pose
+    path); the margin is finite (measured 91-141 times this load, limit points)."""
+    from ppm_stiffness.core.principal import principal_compliance
+    from ppm_stiffness.maps.result import PRINCIPAL
+    from ppm_stiffness.maps.workspace import stiffness_map
+    from ppm_stiffness.statics.margin import MarginKind, load_margin
+
+    design = design_from_dict(_data())
+    wrench = np.array([-20.0, 0.0, 0.0, 0.0, 0.0, -100.0])
+    z = float(design.workspace.start()[2])
+    smap = stiffness_map(
+        design,
+        axes=("x", "y"),
+        fixed={"z": z},
+        grid=(3, 2),
+        bounds=(-0.1, 0.1, -0.1, 0.1),
+        actuators="wrench",
+        wrench=wrench,
+        geometry="moving",
+        quantities="principal,load_margin",
+    )
+    assert smap.reachable.all()
+    for j, i in np.argwhere(smap.reachable):
+        pose = np.array([smap.u[i], smap.v[j], z])
+        k_f = moving_loaded_state(design, wrench, pose).stiffness_matrix
+        pc = principal_compliance(0.5 * (k_f + k_f.T))
+        ref = np.concatenate([np.sort(pc.rotational_values), np.sort(pc.translational_values)])
+        got = np.array([smap.quantities[q][j, i] for q in PRINCIPAL])
+        np.testing.assert_allclose(got, ref, rtol=1e-10)
+        margin = load_margin(design, wrench, pose)
+        assert margin.factor is not None and margin.kind == MarginKind.LIMIT_POINT
+        assert smap.quantities["load_margin"][j, i] == pytest.approx(margin.factor, rel=1e-10)
