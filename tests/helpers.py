@@ -139,7 +139,8 @@ def has_reduced_form(design: Design) -> bool:
 
 
 def has_moving_geometry(design: Design) -> bool:
-    """The loaded mode's moving geometry models every leg (not a parallelogram's)."""
+    """The loaded mode's moving geometry models every leg (a leg type may decline it:
+    :meth:`~ppm_stiffness.legs.base.LegModel.moving_geometry_gap`)."""
     return all(leg.moving_geometry_gap() is None for leg in design.legs)
 
 

@@ -199,19 +199,6 @@ def test_parallelogram_misuse_is_refused() -> None:
         design_from_dict(data)
 
 
-def test_the_moving_geometry_refuses_a_parallelogram() -> None:
-    """The parallelogram's equivalent chain is exact to first order only: the loaded
-    mode's moving geometry refuses it, naming it (never a number from the stand-in
-    joints)."""
-    from ppm_stiffness.core.errors import InputDataError
-    from ppm_stiffness.statics.moving_path import platform_chains
-
-    design = design_from_dict(_data())
-    pose = np.array(design.workspace.start())[None]
-    with pytest.raises(InputDataError, match="does not model a parallelogram's bars swinging"):
-        platform_chains(design, pose, np.zeros((1, 3)))
-
-
 def _turn(axis: np.ndarray, angle: float) -> np.ndarray:
     k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k

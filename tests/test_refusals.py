@@ -215,6 +215,16 @@ SPATIAL_CASES: dict[
     # a wrist's drives turn as its platform: it rotates beyond the model long before a
     # drive passes its 2.4 rad stroke (no BEYOND_STROKE)
     "wrist rx-ry": ("spherical_3rrr", None, {"rz": 0.1}, [1.0, 1e3], [], {Refusal.LARGE_ROTATION}),
+    # the Delta's parallelograms hold its platform's orientation: a large load turns
+    # its drives beyond their strokes, or the bars' corners beyond their ball joints
+    "Delta x-y": (
+        "delta",
+        None,
+        {"z": -0.8064963411},
+        [1.0, 1e4],
+        [1e6],
+        {Refusal.BEYOND_STROKE},
+    ),
     "Tricept z-rx": (
         "tricept",
         None,
@@ -229,8 +239,8 @@ SPATIAL_CASES: dict[
 def test_every_example_has_refusal_cases() -> None:
     check_entries(CASES, PLANAR, "CASES")
     spatial = [case[0] for case in SPATIAL_CASES.values()]
-    # the loaded mode's refusals: examples whose moving geometry is modelled (not the
-    # Delta's parallelograms, which it refuses: tests/test_delta.py)
+    # the loaded mode's refusals: examples whose moving geometry is modelled (every
+    # shipped one, the Delta's parallelograms too: tests/test_delta_moving.py)
     loaded = example_designs(lambda d: is_spatial(d) and has_moving_geometry(d))
     check_entries(spatial, loaded, "SPATIAL_CASES")
 

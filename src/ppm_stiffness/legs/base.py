@@ -203,6 +203,28 @@ def cross_z(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.asarray(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
 
 
+@dataclass(frozen=True)
+class BarPairGeometry:
+    """Two bars with ball joints at both ends between a chain's last body and the
+    platform (:meth:`LegModel.bar_pair`), at k configurations.
+
+    Attributes
+    ----------
+    chain : sequence of Joint and Link
+        The leg's chain from the base to the body carrying the bars' near ends.
+    near, far : ndarray (..., 2, 3) [m]
+        The bars' ends on that body and on the platform, relative to P, axes of F_b.
+    compliance : float [m/N]
+        One bar's axial compliance ``1/k_bar`` (its length, its corner springs); 0:
+        rigid.
+    """
+
+    chain: Sequence[Element]
+    near: FloatArray
+    far: FloatArray
+    compliance: float
+
+
 class LegModel(PartModel):
     """Base of every leg type (module doc). Field shared by all legs:
 
@@ -584,6 +606,14 @@ class LegModel(PartModel):
     def moving_geometry_gap(self) -> str | None:
         """Why the loaded mode's moving geometry does not model this leg (its second-
         order terms), or None: it does."""
+        return None
+
+    def bar_pair(self, leg_pose: LegPose) -> BarPairGeometry | None:
+        """A leg that ends in two two-force bars (a parallelogram with ball joints at its
+        corners) for the moving geometry, which models the bars themselves: the chain up
+        to the body carrying the bars' near ends, the near and far ends (..., 2, 3)
+        relative to P [m] and one bar's axial compliance [m/N] (0: rigid); None for
+        every other leg (the default)."""
         return None
 
     def reduced_form(self) -> Any | None:

@@ -72,6 +72,34 @@ from ppm_stiffness.legs.parts import ActuatorModel
 
 
 @dataclass(frozen=True)
+class BarPair:
+    """Two bars with ball joints at both ends (a parallelogram's) between a chain's
+    last body and the platform, at k reference configurations: two-force members whose
+    axial forces N (tension positive) are two more coordinates of the leg
+    (:func:`ppm_stiffness.statics.moving_core.linearize_bar_leg`).
+
+    Attributes
+    ----------
+    near, far : ndarray (k, 2, 3) [m]
+        The bars' ends on the chain's last body and on the platform at the reference
+        configuration, relative to the reference point c0, axes of F_b.
+    rest : ndarray (k, 2) [m]
+        The bars' unloaded lengths (their lengths at the reference configuration).
+    compliance : float [m/N]
+        One bar's axial compliance (0: rigid).
+    """
+
+    near: FloatArray
+    far: FloatArray
+    rest: FloatArray
+    compliance: float
+
+    def take(self, index: np.ndarray) -> BarPair:
+        """The configurations ``index``."""
+        return replace(self, near=self.near[index], far=self.far[index], rest=self.rest[index])
+
+
+@dataclass(frozen=True)
 class ScrewChain:
     """One leg's coordinates at k reference configurations (module doc).
 
@@ -99,6 +127,12 @@ class ScrewChain:
         The elastic stiffness k_h in parallel with the actuator (its joint's elastic
         stiffness) [N·m/rad or N/m], 0 without: the actuator column carries
         ``G + k_h x`` (module doc).
+    bars : BarPair or None
+        Two bars from the chain's last body to the platform (a parallelogram's): the
+        leg's closure is their lengths, not the last body's pose, and their axial
+        forces are the last two coordinates (``n`` counts them; ``screws``,
+        ``compliance`` and ``passive`` are the chain's without them). None: the last
+        body is the platform.
     rotational : ndarray of bool (n,)
         The coordinates that are rotations (unit rotation part), the others are
         translations: a generalised force is in N·m or N accordingly.
@@ -111,6 +145,7 @@ class ScrewChain:
     law: ActuatorModel | None = None
     elastic: FloatArray | None = None
     parallel: float = 0.0
+    bars: BarPair | None = None
 
     @property
     def size(self) -> int:
@@ -119,8 +154,8 @@ class ScrewChain:
 
     @property
     def n(self) -> int:
-        """The number of coordinates."""
-        return int(self.screws.shape[-1])
+        """The number of coordinates (with two bars' axial forces)."""
+        return int(self.screws.shape[-1]) + (0 if self.bars is None else 2)
 
     @property
     def rotational(self) -> BoolArray:
@@ -374,6 +409,7 @@ def moving_point_jacobian(jacobian: FloatArray, point: FloatArray) -> FloatArray
 
 
 __all__ = [
+    "BarPair",
     "ChainKinematics",
     "ScrewChain",
     "adjoint",

@@ -130,7 +130,9 @@ class MovingBatch:
     leg_wrenches : ndarray (k, n_legs, 6)
         Each leg's wrench about the displaced load point (they sum to ``wrench``).
     coordinates : tuple of ndarray (k, n_i)
-        Each leg's chain coordinates (:mod:`ppm_stiffness.legs.screw_chain`) [m or rad].
+        Each leg's chain coordinates (:mod:`ppm_stiffness.legs.screw_chain`) [m or rad];
+        a leg ending in a parallelogram: its arm's, then its two bars' axial forces
+        [N] (tension positive; :mod:`ppm_stiffness.statics.moving_bars`).
     actuator_forces, actuator_displacements, actuator_stiffness : ndarray (k, n_legs)
         G [N or N·m], delta(G) [m or rad] and the tangent K_act(G) (eq. 21).
     factor : ndarray (k,)

@@ -70,6 +70,7 @@ from ppm_stiffness.legs.screw_chain import (
     rotation_log,
 )
 from ppm_stiffness.statics import actuator as act
+from ppm_stiffness.statics.moving_bars import about_displaced, bar_closure, bar_terms
 
 #: Newton's method has converged when the relative residual (:func:`linearize`) is at
 #: most this; one more step is then taken (quadratic convergence: to round-off).
@@ -121,7 +122,12 @@ class PlatformChains:
         """The problems ``index``."""
         return PlatformChains(
             tuple(
-                replace(c, screws=c.screws[index], compliance=c.compliance[index])
+                replace(
+                    c,
+                    screws=c.screws[index],
+                    compliance=c.compliance[index],
+                    bars=None if c.bars is None else c.bars.take(index),
+                )
                 for c in self.chains
             ),
             self.strokes,
@@ -397,6 +403,105 @@ def linearize_leg(
     )
 
 
+def linearize_bar_leg(
+    chain: ScrewChain,
+    coordinates: FloatArray,
+    wrench: FloatArray,
+    rotation: FloatArray,
+    translation: FloatArray,
+    geometric: bool,
+    displacement_size: FloatArray,
+) -> LegLinearization:
+    """:func:`linearize_leg` of a leg ending in two two-force bars (``chain.bars``;
+    :mod:`ppm_stiffness.statics.moving_bars`, where the equations are): coordinates
+    (k, n + 2), the arm's then the bars' axial forces [N]. ``geometric=False``: without
+    the arm's brackets and the bars' turning (K_F's elastic part)."""
+    k, size = coordinates.shape
+    n = size - 2
+    t = bar_terms(chain, coordinates, rotation, translation, geometric)
+    jac, w0 = t["jac"], t["w0"]
+    tau = np.einsum("kin,ki->kn", jac, w0)
+    defl, c_tan = spring_law(chain, tau)
+    hx = np.zeros((k, n, n))
+    if geometric:
+        hx = np.tril(np.swapaxes(bracket_form(jac, w0), 1, 2), -1)
+    jt = np.swapaxes(jac, 1, 2)
+    t_x = hx + jt @ t["w_x"]  # dtau / dx, dN, dt
+    t_n = jt @ t["w_n"]
+    t_t = jt @ t["w_t"]
+    a = np.zeros((k, size, size))
+    rhs = np.zeros((k, size, 7))
+    a[:, :n, :n] = np.eye(n) - c_tan @ t_x
+    a[:, :n, n:] = -c_tan @ t_n
+    rhs[:, :n, 0] = defl - t["x"]
+    rhs[:, :n, 1:] = c_tan @ t_t
+    held = chain.passive.copy()
+    if chain.elastic is not None:
+        held |= chain.elastic > 0
+    h = np.flatnonzero(held)
+    k_e = np.zeros(n) if chain.elastic is None else chain.elastic
+    a[:, h, :n] = t_x[:, h, :] - np.diag(k_e)[h]
+    a[:, h, n:] = t_n[:, h, :]
+    unbalanced = tau - k_e * t["x"]
+    rhs[:, h, 0] = -unbalanced[:, h]
+    rhs[:, h, 1:] = -t_t[:, h, :]
+    assert chain.bars is not None
+    closure = bar_closure(chain, t)
+    a[:, n:, :n] = t["l_x"]
+    a[:, n:, n:] = -chain.bars.compliance * np.eye(2)
+    rhs[:, n:, 0] = -closure
+    rhs[:, n:, 1:] = -t["l_t"]
+    sol, ok = _solve_equilibrated(a, rhs)
+    dz0, dz_t = sol[:, :, 0], sol[:, :, 1:]
+    w_z = np.concatenate([t["w_x"], t["w_n"]], axis=2)  # (k, 6, n + 2)
+    now = about_displaced(w0, translation)
+    dw0 = now - wrench + _about_displaced_increment(w_z @ dz0[..., None], translation)[..., 0]
+    dw_t = _about_displaced_increment(w_z @ dz_t + t["w_t"], translation)
+    if geometric:  # the moment arm of c' moving: -dv x f
+        dw_t[:, :3, 3:] += _hat3(w0[:, 3:])
+    scale = np.where(chain.rotational, LENGTH_SCALE, 1.0)
+    x_scaled = t["x"] * scale
+    r_spring = np.where(held, 0.0, np.abs((t["x"] - defl) * scale))
+    x_size = np.max(np.abs(np.where(chain.passive, 0.0, x_scaled)), axis=1, initial=0.0)
+    r_springs = np.max(r_spring, axis=1, initial=0.0) / np.where(x_size > 0, x_size, 1.0)
+    load = np.maximum(_balanced_norm(w0), np.max(np.abs(tau / scale), axis=1, initial=0.0))
+    load = np.where(load > 0, load, 1.0)
+    r_passive = np.max(np.abs(np.where(held, unbalanced / scale, 0.0)), axis=1, initial=0.0)
+    r_bars = np.max(np.abs(closure), axis=1) / displacement_size
+    r_wrench = _balanced_norm(now - wrench) / load
+    residual = np.max([r_springs, r_passive / load, r_bars, r_wrench], axis=0)
+    return LegLinearization(
+        dx0=dz0,
+        dx_t=dz_t,
+        dw0=dw0,
+        dw_t=dw_t,
+        residual=np.where(ok, residual, np.inf),
+        forces=np.concatenate([tau, t["force"]], axis=1),
+        ok=ok,
+    )
+
+
+def _about_displaced_increment(dw: FloatArray, translation: FloatArray) -> FloatArray:
+    """Wrench increments (k, 6, c) about c0 taken about c' = c0 + p_t:
+    ``dm - p_t x df``."""
+    out = dw.copy()
+    out[:, :3, :] -= cross(translation[:, None, :], np.swapaxes(dw[:, 3:, :], 1, 2)).swapaxes(1, 2)
+    return out
+
+
+def _hat3(v: FloatArray) -> FloatArray:
+    """``[v]x`` (k, 3, 3) of vectors (k, 3)."""
+    z = np.zeros(v.shape[0])
+    return np.stack(
+        [
+            np.stack([z, -v[:, 2], v[:, 1]], axis=1),
+            np.stack([v[:, 2], z, -v[:, 0]], axis=1),
+            np.stack([-v[:, 1], v[:, 0], z], axis=1),
+        ],
+        axis=1,
+    )
+
+
 @dataclass(frozen=True)
 class Linearization:
     """All legs' steps at k problems: the platform's tangent K (k, 6, 6) = sum B_i, the
@@ -418,7 +523,7 @@ def linearize(
     the load point."""
     disp = _displacement_size(state.rotation, state.translation)
     legs = tuple(
-        linearize_leg(
+        (linearize_leg if c.bars is None else linearize_bar_leg)(
             c,
             state.coordinates[i],
             state.wrenches[:, i],

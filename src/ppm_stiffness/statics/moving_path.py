@@ -11,7 +11,7 @@ further (``Refusal.NO_EQUILIBRIUM``). Arrays have a leading problem axis (k,).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -21,7 +21,8 @@ from ppm_stiffness.core.errors import InputDataError
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.core.refusals import Refusal, RefusalArray
 from ppm_stiffness.design import Design
-from ppm_stiffness.legs.screw_chain import cross, screw_chain
+from ppm_stiffness.legs.base import LegModel, LegPose
+from ppm_stiffness.legs.screw_chain import BarPair, ScrewChain, cross, screw_chain
 from ppm_stiffness.model import validate_pose
 from ppm_stiffness.statics.equilibrium import EquilibriumBatch
 from ppm_stiffness.statics.moving_core import (
@@ -70,8 +71,7 @@ def platform_chains(design: Design, poses: FloatArray, offsets: FloatArray) -> P
                 f"leg {i + 1}: {gap}; the frozen geometry (--geometry frozen) gives the "
                 "stiffness under load to first order"
             )
-        lp = leg.solve(poses)
-        chains.append(screw_chain(leg.chain(lp), leg.actuator, k, offsets))
+        chains.append(_leg_chain(leg, leg.solve(poses), k, offsets))
     strokes = np.array(
         [
             float(np.subtract(*leg.limits().get(leg.ACTUATED_COORDINATE, (-np.inf, np.inf))[::-1]))
@@ -79,6 +79,30 @@ def platform_chains(design: Design, poses: FloatArray, offsets: FloatArray) -> P
         ]
     )
     return PlatformChains(tuple(chains), strokes)
+
+
+def _leg_chain(leg: LegModel, leg_pose: LegPose, k: int, offsets: FloatArray) -> ScrewChain:
+    """One leg's screw chain about the load points (k, 3); a leg ending in two bars
+    (:meth:`~ppm_stiffness.legs.base.LegModel.bar_pair`): its arm's, with the bars."""
+    pair = leg.bar_pair(leg_pose)
+    if pair is None:
+        return screw_chain(leg.chain(leg_pose), leg.actuator, k, offsets)
+    arm = screw_chain(pair.chain, leg.actuator, k, offsets)
+    near = np.reshape(pair.near, (k, 2, 3)) - offsets[:, None, :]
+    far = np.reshape(pair.far, (k, 2, 3)) - offsets[:, None, :]
+    rest = np.linalg.norm(far - near, axis=-1)
+    return replace(arm, bars=BarPair(near, far, rest, pair.compliance))
+
+
+def bar_forces(chain: ScrewChain, wrenches: FloatArray) -> FloatArray:
+    """The bars' axial forces (k, 2) [N] that carry a leg's wrench about c0 at the
+    reference configuration (least squares, length-balanced)."""
+    assert chain.bars is not None
+    near, far = chain.bars.near, chain.bars.far
+    u = (far - near) / chain.bars.rest[..., None]
+    lines = np.concatenate([cross(near, u), u], axis=-1) / BALANCE  # (k, 2, 6)
+    rhs = wrenches / BALANCE
+    return np.einsum("kbi,ki->kb", np.linalg.pinv(np.swapaxes(lines, 1, 2)), rhs)
 
 
 def frozen_prediction(
@@ -98,11 +122,13 @@ def frozen_prediction(
         defl, _ = spring_law(chain, tau)
         x = np.where(chain.passive, 0.0, defl)
         q = chain.passive
-        if np.any(q):
+        if np.any(q) and chain.bars is None:
             moved = np.concatenate([twist[:, :3], translation], axis=1)
             rest = moved - np.einsum("kin,kn->ki", chain.screws, x)
             jq = chain.screws[:, :, q] / BALANCE[None, :, None]
             x[:, q] = np.einsum("kpi,ki->kp", np.linalg.pinv(jq), rest / BALANCE)
+        if chain.bars is not None:  # the arm's springs as above, the bars' forces
+            x = np.concatenate([x, bar_forces(chain, wrenches[:, i])], axis=1)
         coords.append(x)
     return ChainState(rotation_exp(twist[:, :3]), translation, tuple(coords), wrenches)
 

@@ -22,7 +22,7 @@ from ppm_stiffness.model import tool_offset, validate_pose
 from ppm_stiffness.statics.equilibrium import loaded_states, raise_refusal
 from ppm_stiffness.statics.moving import MovingLoadedState
 from ppm_stiffness.statics.moving_core import ChainState, linearize, newton, zero_state
-from ppm_stiffness.statics.moving_path import load_point, platform_chains
+from ppm_stiffness.statics.moving_path import bar_forces, load_point, platform_chains
 
 
 def held_wrenches(
@@ -99,7 +99,13 @@ def reference_tangent(
     start = zero_state(system)
     wrenches = frozen.leg_wrenches.copy()
     wrenches[..., :3] -= cross(offset[:, None, :], wrenches[..., 3:])
-    loaded = ChainState(start.rotation, start.translation, start.coordinates, wrenches)
+    coordinates = tuple(  # a parallelogram's bars carry the leg's wrench as their forces
+        x
+        if chain.bars is None
+        else np.concatenate([x[:, :-2], bar_forces(chain, wrenches[:, i])], axis=1)
+        for i, (x, chain) in enumerate(zip(start.coordinates, system.chains, strict=True))
+    )
+    loaded = ChainState(start.rotation, start.translation, coordinates, wrenches)
     stiffness = linearize(system, loaded, w[None]).stiffness[0]
     frozen_k = linearize(system, loaded, w[None], geometric=False).stiffness[0]
     return stiffness, frozen_k

@@ -31,10 +31,14 @@ joints normal to n and a universal joint at F with axes n and ``n x mu`` whose h
 springs are ``2 k_bar`` along n and ``|a x n|^2 k_bar w^2/2`` about mu, rigid in its
 other constrained directions (which the prismatic joints free): the element writes
 that chain at each pose (:func:`parallelogram_joints`), so every layer that reads a
-leg's chain (the stiffness, the batched engine, the mass model) takes it as it is. The
-bars must be parallel (a parallelogram): at a pose where they are not (the far
-crossbar skewed about the bars by more than :data:`SKEW_TOLERANCE`), the leg refuses
-the pose.
+leg's chain (the stiffness, the batched engine, the mass model) takes it as it is.
+That chain is exact to first order only: its prismatic joints slide without turning
+the bars' forces, so the loaded mode's moving geometry, where the bars swing under
+their axial loads, takes the bars themselves as two-force members instead
+(:meth:`ChainLeg.bar_pair <ppm_stiffness.legs.types.chain_leg.ChainLeg.bar_pair>`,
+:mod:`ppm_stiffness.statics.moving_bars`). The bars must be parallel (a
+parallelogram): at a pose where they are not (the far crossbar skewed about the
+bars by more than :data:`SKEW_TOLERANCE`), the leg refuses the pose.
 
 Masses. A bar moves without spin; half of each bar's mass (the ``mass`` of its
 section) is carried at each of its two crossbars' centres: at F with the platform, at

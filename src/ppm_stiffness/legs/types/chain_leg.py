@@ -73,7 +73,14 @@ from pydantic import Discriminator, Field, PrivateAttr, Tag, ValidationInfo, mod
 from ppm_stiffness.core import pose as pose6
 from ppm_stiffness.core.conventions import FloatArray, rotation_z
 from ppm_stiffness.legs import kinematics as kin
-from ppm_stiffness.legs.base import BaseFeature, Coordinate, LegModel, LegPose, check_plausible
+from ppm_stiffness.legs.base import (
+    BarPairGeometry,
+    BaseFeature,
+    Coordinate,
+    LegModel,
+    LegPose,
+    check_plausible,
+)
 from ppm_stiffness.legs.chain import Element, Joint, Link, frame_from_axis, unit
 from ppm_stiffness.legs.flexure_hinge import (
     SYMMETRY_TOLERANCE,
@@ -991,16 +998,36 @@ class ChainLeg(LegModel):
         name = self.element_name(len(self.elements) - 1)
         return parallelogram_members(element, near, far, name)
 
-    def moving_geometry_gap(self) -> str | None:
-        """A parallelogram's chain (two P joints and a U) is exact to first order only:
-        its bars' own swing under their axial loads (their geometric stiffness) is not
-        in it, so the moving geometry (K_F, the load margin) refuses it. (A drive in
-        parallel with a flexure is modelled: :mod:`ppm_stiffness.legs.screw_chain`.)"""
-        if self._parallelogram() is None:
+    def bar_pair(self, leg_pose: LegPose) -> BarPairGeometry | None:
+        """A last parallelogram's bars for the moving geometry (its chain of two P
+        joints and a U is exact to first order only: the bars' swing under their axial
+        loads, their geometric stiffness, is not in it): the chain without that
+        equivalent part, the corners and one bar's axial compliance."""
+        element = self._parallelogram()
+        if element is None:
             return None
-        return (
-            "the moving geometry does not model a parallelogram's bars swinging under "
-            "their axial loads (its chain is exact to first order only)"
+        chain = list(self.chain(leg_pose))
+        name = self.element_name(len(self.elements) - 1)
+        tail = chain[-3:]
+        assert all(isinstance(j, Joint) and j.name.startswith(name) for j in tail)
+        shape = np.shape(leg_pose.poses)[:-1]
+        pose = np.asarray(leg_pose.poses, dtype=float).reshape(-1, 6)
+        bars = self._bars()
+        assert bars is not None
+        freedoms, _ = self.freedoms()
+        q = np.stack(
+            [np.reshape(leg_pose.coordinates[f"q{j + 1}"], -1) for j in range(freedoms.count)],
+            axis=-1,
+        ).reshape(-1, freedoms.count)
+        rot, trans = kin.forward(freedoms, q)  # as :meth:`chain` carries the near ends
+        near = bars.near_points(rot[:, -1], trans[:, -1])
+        far = bars.far_points(self.home(), pose)
+        k_bar = element.bar_stiffness()
+        return BarPairGeometry(
+            chain[:-3],
+            (near - pose[:, None, :3]).reshape(shape + (2, 3)),
+            (far - pose[:, None, :3]).reshape(shape + (2, 3)),
+            0.0 if not np.isfinite(k_bar) else 1.0 / k_bar,
         )
 
     def base_feature(self, leg_pose: LegPose) -> BaseFeature:
