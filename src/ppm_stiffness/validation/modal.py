@@ -24,8 +24,9 @@ and the mass matrix is assembled here:
 - the platform's rigid-body mass sits at its master node P (its spatial inertia at P,
   :mod:`ppm_stiffness.dynamics.inertia`);
 - an actuator's carriage mass sits at the node after its joint (the joint's output),
-  a rotor's reflected inertia on that node's motion along (about) the joint's axis
-  (a base joint's: the node before it is the ground).
+  a rotor's reflected inertia on the relative motion of that node and the node before
+  the joint along (about) the joint's axis (a base joint's: the node before it is the
+  ground).
 
 The eigenproblem ``K x = omega^2 M x`` of the whole frame is solved as
 ``M x = mu K x`` (K positive definite, M semi-definite: the massless degrees of
@@ -303,7 +304,8 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
     Raises
     ------
     DesignError
-        A rotor on a joint that is not a base joint, or a link the frame lacks.
+        A rotor on a joint away from the element before it, or a link the frame
+        lacks.
     """
     n = 6 * len(fb.model.nodes)
     out = np.zeros((n, n))
@@ -330,17 +332,58 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
             d = _dof(fb, after[id(element)])
             out[d : d + 3, d : d + 3] += element.mass.mass * np.eye(3)
             if element.mass.rotor > 0.0:
-                if k != 0:
-                    raise DesignError(
-                        "FE modal check: a rotor is taken on a base joint only (the node "
-                        "before it is the ground)"
-                    )
-                axis = np.asarray(element.axis, dtype=float).reshape(3)
-                axis = axis / np.linalg.norm(axis)
-                rotary = joint_kind(element.kind).first_rotates
-                block = slice(d + 3, d + 6) if rotary else slice(d, d + 3)
-                out[block, block] += element.mass.rotor * np.outer(axis, axis)
+                before = None if k == 0 else _node_before(fb, chain, k, groups, after)
+                _add_rotor(out, fb, element, after[id(element)], before)
     return 0.5 * (out + out.T)
+
+
+def _node_before(
+    fb: FrameBuilder,
+    chain: Sequence[Element],
+    k: int,
+    groups: list[tuple[FloatArray, FloatArray, list[object]]],
+    after: dict[int, str],
+) -> str:
+    """The node before joint ``chain[k]`` (k > 0): the end node of the link before it,
+    or the node after the joint before it, at the joint's point.
+
+    Raises
+    ------
+    DesignError
+        Neither is at the joint's point (a rigid offset between them).
+    """
+    point = np.asarray(chain[k].point, dtype=float).reshape(3)  # type: ignore[union-attr]
+    previous = chain[k - 1]
+    if isinstance(previous, Joint):
+        node = after[id(previous)]
+        if np.linalg.norm(fb.position(node) - point) <= _SAME_POINT:
+            return node
+    else:
+        for member in _link_members(groups, previous):
+            node = str(member.i_node.name)  # type: ignore[attr-defined]
+            if np.linalg.norm(fb.position(node) - point) <= _SAME_POINT:
+                return node
+    raise DesignError(
+        "FE modal check: a rotor on a joint away from the end of the element before it"
+    )
+
+
+def _add_rotor(
+    out: FloatArray, fb: FrameBuilder, joint: Joint, node: str, before: str | None
+) -> None:
+    """A rotor's reflected inertia (:class:`~ppm_stiffness.legs.chain.JointMass`) on
+    the relative motion of the joint's node ``node`` and the node ``before`` it (the
+    ground when None) along (about) the joint's axis, into ``out``."""
+    assert joint.mass is not None
+    axis = np.asarray(joint.axis, dtype=float).reshape(3)
+    axis = axis / np.linalg.norm(axis)
+    shift = 3 if joint_kind(joint.kind).first_rotates else 0
+    rows = [(_dof(fb, node) + shift, 1.0)]
+    if before is not None:
+        rows.append((_dof(fb, before) + shift, -1.0))
+    for di, si in rows:
+        for dj, sj in rows:
+            out[di : di + 3, dj : dj + 3] += si * sj * joint.mass.rotor * np.outer(axis, axis)
 
 
 def _free_dofs(fb: FrameBuilder) -> FloatArray:
