@@ -389,3 +389,14 @@ def test_fe_frame_of_a_shipped_example_with_link_bodies(name: str) -> None:
         assert c.reduced_frequencies == pytest.approx(c.model_frequencies, rel=3e-4)
         assert c.linked_frequencies == pytest.approx(c.full_frequencies, rel=5e-4)
         assert c.linked_frequencies[0] == pytest.approx(c.full_frequencies[0], rel=f1_tolerance)
+
+
+def test_fe_check_refuses_the_masses_lumped_on_a_parallelogram() -> None:
+    """The Delta: the frame builds its parallelograms' bars as members, the mass model
+    lumps the bars' halves on the arm's end and the forearm's joint; refused by name
+    (was a KeyError)."""
+    from helpers import design_named
+    from ppm_stiffness.core.errors import DesignError
+
+    with pytest.raises(DesignError, match="link arm: the frame builds a parallelogram's bars"):
+        _comparison(design_named("delta"))

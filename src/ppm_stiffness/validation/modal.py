@@ -304,13 +304,19 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
     Raises
     ------
     DesignError
-        A rotor on a joint away from the element before it, or a link the frame
-        lacks.
+        A rotor on a joint away from the element before it, a link the frame lacks,
+        or masses lumped on a parallelogram (the Delta's: the frame builds its bars).
     """
     n = 6 * len(fb.model.nodes)
     out = np.zeros((n, n))
     groups = _link_groups(fb)
     for link in _design_links(design, pose):
+        if link.end_mass > 0.0:
+            raise DesignError(
+                f"FE modal check, link {link.name}: the frame builds a parallelogram's "
+                "bars from their own members, the mass model lumps their halves at the "
+                "link's end; not compared"
+            )
         if link.mass is None:
             continue
         members = _link_members(groups, link)
@@ -329,6 +335,12 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
         for k, element in enumerate(chain):
             if not isinstance(element, Joint) or element.mass is None:
                 continue
+            if id(element) not in after:
+                raise DesignError(
+                    f"FE modal check, joint {element.name}: the frame builds it from its "
+                    "own members (a parallelogram's bars), the mass model lumps masses "
+                    "on it; not compared"
+                )
             d = _dof(fb, after[id(element)])
             out[d : d + 3, d : d + 3] += element.mass.mass * np.eye(3)
             if element.mass.rotor > 0.0:
@@ -408,7 +420,8 @@ def _lowest(k: FloatArray, m: FloatArray, count: int) -> FloatArray:
 
     n = k.shape[0]
     mu = eigh(m, k, eigvals_only=True, subset_by_index=[n - count, n - 1])
-    return np.sort(1.0 / np.sqrt(mu[::-1])) / (2.0 * math.pi)
+    with np.errstate(divide="ignore"):  # mu = 0: no mass there, an infinite frequency
+        return np.sort(1.0 / np.sqrt(mu[::-1])) / (2.0 * math.pi)
 
 
 def frame_stiffness(fb: FrameBuilder, node: str) -> FloatArray:
