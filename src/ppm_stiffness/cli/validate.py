@@ -10,6 +10,11 @@ twist direction) and the time the FE model takes. Exit code 0 when every figure 
 within its tolerance (planar 2 %, out-of-plane 5 %, whole matrix 2 %, directions 5 %),
 1 otherwise.
 
+``--modes``: also the natural frequencies at each pose: the whole FE frame's six lowest
+(its consistent beam masses, link bodies, the platform's inertia) against the model's
+with the legs' own modes (the default number per leg) and condensed
+(:func:`ppm_stiffness.validation.modal.modal_comparison`); within 0.5 % in f1..f6.
+
 ``--hinge FILE``: instead, each distinct notch hinge of a design (or one hinge) by a 2-D
 finite-element model, plane stress and plane strain (scikit-fem,
 :mod:`ppm_stiffness.validation.hinge_continuum`), beside the beam integrals.
@@ -50,9 +55,14 @@ if TYPE_CHECKING:  # the design schema and the FE model load when run, not for -
 
     from ppm_stiffness.design import Design
     from ppm_stiffness.validation.compare import PoseComparison
+    from ppm_stiffness.validation.modal import ModalComparison
 
 #: Upper bound of --poses: 2 to 10 minutes of FE solves on the reference machine.
 MAX_POSES = 1000
+#: --modes: the largest relative difference of f1..f6 accepted between the whole FE
+#: frame and the model with link modes (the issue's 0.5 %; the shipped examples
+#: measure 1.9e-4 at most, the flexure stage's notch hinges aside: 3.6e-3).
+FREQUENCY_TOLERANCE = 5e-3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -107,6 +117,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--json", action="store_true", help="print the comparison as one JSON object (SI)"
     )
+    parser.add_argument(
+        "--modes",
+        action="store_true",
+        help="also the natural frequencies f1..f6: the whole FE frame's (consistent beam "
+        "masses, link bodies) against the model's with link modes (default per leg) at "
+        f"each pose, within {FREQUENCY_TOLERANCE * 100:g} %% (needs a mass model)",
+    )
 
 
 #: Defaults of --radius [mm] and --angle [deg].
@@ -133,6 +150,76 @@ def _check_args(args: argparse.Namespace) -> None:
         elif not math.isfinite(value) or value < 0:
             raise InputDataError(f"--{name} must be finite and >= 0, got {value}")
     check_option_angle("--angle", args.angle)
+
+
+def _run_modes(
+    design: Design, poses: np.ndarray, args: argparse.Namespace
+) -> list[ModalComparison]:
+    from ppm_stiffness.validation.modal import modal_comparison
+
+    out: list[ModalComparison] = []
+    with progress("FE modes", len(poses), enabled=not (args.quiet or args.json)) as advance:
+        for pose in poses:
+            out.append(modal_comparison(design, pose))
+            advance(1)
+    return out
+
+
+def _frequency_difference(c: ModalComparison) -> float:
+    """The largest relative difference of f1..f6, the model with link modes against
+    the whole FE frame."""
+    return float(
+        max(abs(a / b - 1.0) for a, b in zip(c.linked_frequencies, c.full_frequencies, strict=True))
+    )
+
+
+def _modes_table(design: Design, modal: list[ModalComparison]) -> Table:
+    from rich import box
+    from rich.table import Table
+
+    link_modes = modal[0].link_modes if modal else 0
+    table = Table(
+        title="natural frequencies [Hz]: the model condensed and with "
+        f"{link_modes} link modes per leg vs the whole FE frame (PyNite, consistent beam "
+        "masses); f_link,1: the frame's with P held",
+        title_justify="left",
+        box=box.SIMPLE_HEAD,
+        pad_edge=False,
+    )
+    for name in ("pose", "f1 cond.", "f1 links", "f1 FE", "f1..f6 diff", "f_link,1"):
+        table.add_column(name, justify="right")
+    for i, c in enumerate(modal):
+        table.add_row(
+            "home" if i == 0 else str(i),
+            f"{c.model_frequencies[0]:.4g}",
+            f"{c.linked_frequencies[0]:.4g}",
+            f"{c.full_frequencies[0]:.4g}",
+            eng(_frequency_difference(c), 3),
+            f"{c.link_frequency:.4g}",
+        )
+    return table
+
+
+def _modes_json(modal: list[ModalComparison], worst: float) -> dict[str, object]:
+    """``--modes`` in the JSON document (module doc)."""
+    return {
+        "link_modes": modal[0].link_modes if modal else 0,
+        "poses": [
+            {
+                "frequencies_condensed": c.model_frequencies.tolist(),
+                "frequencies_link_modes": c.linked_frequencies.tolist(),
+                "frequencies_fe": c.full_frequencies.tolist(),
+                # None: no mass moves with P held (a leg without mass)
+                "link_frequency_fe": (
+                    float(c.link_frequency) if math.isfinite(c.link_frequency) else None
+                ),
+                "difference": _frequency_difference(c),
+            }
+            for c in modal
+        ],
+        "worst": worst,
+        "tolerance": FREQUENCY_TOLERANCE,
+    }
 
 
 def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:
@@ -237,6 +324,7 @@ _FRAME_OPTIONS = {
     "radius": None,
     "angle": None,
     "seed": 0,
+    "modes": False,
 }
 
 
@@ -336,10 +424,17 @@ def run(args: argparse.Namespace) -> int:
     radius, angle = args.radius * 1e-3, math.radians(args.angle)
     centre, half = sampling_box(design, radius, angle, args.region)
     poses = validation_poses(design, args.poses, args.seed, radius, angle, args.region)
+    if args.modes:
+        from ppm_stiffness.dynamics.mass import require_mass_model
+
+        require_mass_model(design)
     results = _run_poses(design, poses, args)
+    modal = _run_modes(design, poses, args) if args.modes else []
     names = figure_names(design)
     worst = {name: max(r.differences[name] for r in results) for name in names}
     ok = all(worst[name] <= TOLERANCES[name] for name in names)
+    worst_modes = max((_frequency_difference(c) for c in modal), default=0.0)
+    ok = ok and worst_modes <= FREQUENCY_TOLERANCE
     if args.csv:
         with output_files(args.overwrite) as out:
             _write_csv(out.temp(args.csv, "--csv"), args.csv, results)
@@ -369,7 +464,10 @@ def run(args: argparse.Namespace) -> int:
             "passed": ok,
             "csv": args.csv,
         }
-        print(json_document("validate", payload, _JSON_UNITS))
+        if args.modes:
+            payload["modes"] = _modes_json(modal, worst_modes)
+        units = {**_JSON_UNITS, **(_MODES_UNITS if args.modes else {})}
+        print(json_document("validate", payload, units))
         return 0 if ok else 1
     console.print(
         f"poses: the home pose and {args.poses} drawn with {describe_box(design, centre, half)}"
@@ -380,6 +478,13 @@ def run(args: argparse.Namespace) -> int:
         console.print(
             f"{name}: max {worst[name]:.2e} (tolerance {TOLERANCES[name]:.0%}) "
             f"{'ok' if worst[name] <= TOLERANCES[name] else 'FAILED'}"
+        )
+    if args.modes:
+        console.print(_modes_table(design, modal))
+        console.print(
+            f"frequencies (f1..f6, with link modes vs FE): max {worst_modes:.2e} "
+            f"(tolerance {FREQUENCY_TOLERANCE:.1%}) "
+            f"{'ok' if worst_modes <= FREQUENCY_TOLERANCE else 'FAILED'}"
         )
     _print_hinge_convergence(design)
     t_fe = float(np.mean([r.time_fe for r in results]))
@@ -402,4 +507,10 @@ _JSON_UNITS = {
     "poses.time_virtual_joint": "s",
     "worst": "1",
     "tolerances": "1",
+}
+#: The units of ``--modes`` in the JSON document.
+_MODES_UNITS = {
+    "modes.poses": "Hz (frequencies_*, link_frequency_fe); 1 (difference)",
+    "modes.worst": "1",
+    "modes.tolerance": "1",
 }

@@ -14,7 +14,8 @@ to the platform:
 
 * a **link** is an Euler-Bernoulli member from a node at its start to a node at its
   end with the link's section, its section axes those of the link frame (built as two
-  halves, see ``FrameBuilder.segment``);
+  members, see ``FrameBuilder.segment``, meeting at the middle or, for a link given as
+  a body whose centre lies inside it, at that centre: :func:`link_split`);
 * a **joint** (R, P, C, U or S, any axes) joins the node before it (a grounded node
   for the first joint) to a new node at the same point (the node after it):
   moment-only members for its rotations, axial springs through auxiliary nodes for
@@ -137,6 +138,38 @@ def _same(a: FloatArray, b: FloatArray) -> bool:
 #: A leg's notch hinges built as beam chains: chain index -> the hinge.
 Hinges = dict[int, FlexureHinge]
 
+#: A link body's centre closer than this fraction of the link's length to an end is
+#: carried by that end's node on a rigid offset (no member shorter than that).
+END_MARGIN = 1e-3
+
+
+def body_station(link: Link) -> float | None:
+    """Where a link given as a body has its centre: the distance [m] from the link's
+    start along it (negative behind the start, beyond its length past the end), as
+    the design gives it (``LinkMass``: ``centre`` from the start, or from the end with
+    ``from_end``; the middle when only an inertia is given); None for a uniform link
+    (no body: no ``centre`` and no ``transverse``) or a massless one."""
+    body = link.mass
+    if body is None or (body.centre is None and body.transverse is None):
+        return None
+    length = float(np.linalg.norm(_point(link.end) - _point(link.start)))
+    if body.centre is None:
+        return 0.5 * length
+    return length - body.centre if body.from_end else float(body.centre)
+
+
+def link_split(link: Link) -> float:
+    """The fraction of a link's length from its start at which the frame's two members
+    of the link meet (:meth:`FrameBuilder.segment`): its body's centre when that lies
+    inside the link (more than :data:`END_MARGIN` from both ends), so that the body
+    sits on a node of the beam; else the middle."""
+    station = body_station(link)
+    if station is None:
+        return 0.5
+    length = float(np.linalg.norm(_point(link.end) - _point(link.start)))
+    xi = station / length
+    return xi if END_MARGIN < xi < 1.0 - END_MARGIN else 0.5
+
 
 def _end_point(chain: Sequence[Element], hinges: Hinges) -> FloatArray:
     last = chain[-1]
@@ -247,7 +280,8 @@ def _plan_structure(
                     plan.add_point(0.5 * (pos + start))
                 plan.add_segment(start, end)
                 plan.add_point(start)
-                plan.add_point(0.5 * (start + end))
+                at = link_split(element)
+                plan.add_point((1.0 - at) * start + at * end)
                 plan.add_point(end)
                 pos = end
             else:
@@ -298,7 +332,7 @@ def _add_leg(
                 fb.rigid(current, offset)
                 current = offset
             tip = fb.node(end, "L") if out is None else out
-            fb.link(current, tip, element.section)
+            fb.link(current, tip, element.section, link_split(element))
             current, pos = tip, end
         else:
             notch = notches.get(n)

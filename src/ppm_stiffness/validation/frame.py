@@ -238,31 +238,40 @@ class FrameBuilder:
         return np.array([n.X, n.Y, n.Z]) * self.unit
 
     def segment(
-        self, a: str, b: str, section: str, material: str, y_axis: ArrayLike | None = None
+        self,
+        a: str,
+        b: str,
+        section: str,
+        material: str,
+        y_axis: ArrayLike | None = None,
+        at: float = 0.5,
     ) -> str:
-        """A straight member a-b as two members from each end to a new midpoint node
-        (local y along ``y_axis`` if given, else PyNite's default).
+        """A straight member a-b as two members from each end to a new node at the
+        fraction ``at`` of its length from a (the midpoint by default; a link's body
+        sits on it, :func:`ppm_stiffness.validation.fe_model.link_split`) (local y along
+        ``y_axis`` if given, else PyNite's default).
 
         PyNite splits a member at any node it finds strictly inside it; a node
         coincident with the member's j-end may land at ``t < L`` after round-off, but
         at the i-end ``t = 0`` exactly. Joints put twin nodes at both ends of a link,
         so both halves start at an end. Two Euler-Bernoulli members with the same
         section in series are the same beam (no load between them). Returns the
-        midpoint node.
+        node between them.
         """
-        mid = self.node(0.5 * (self.position(a) + self.position(b)), "H")
+        mid = self.node((1.0 - at) * self.position(a) + at * self.position(b), "H")
         for end in (a, b):
             name = self.member(end, mid, material, section)
             if y_axis is not None:
                 self.orient(name, y_axis)
         return mid
 
-    def link(self, a: str, b: str, section: BeamSection | SectionModel) -> str:
-        """An Euler-Bernoulli link a-b with the design's section (:meth:`segment`), its
-        section axes those of the link frame (:func:`link_y_axis`)."""
+    def link(self, a: str, b: str, section: BeamSection | SectionModel, at: float = 0.5) -> str:
+        """An Euler-Bernoulli link a-b with the design's section (:meth:`segment`, its
+        two members meeting at the fraction ``at`` from a), its section axes those of
+        the link frame (:func:`link_y_axis`)."""
         mat = self.material(section)
         y_axis = link_y_axis(self.position(b) - self.position(a))
-        return self.segment(a, b, mat, mat, y_axis)
+        return self.segment(a, b, mat, mat, y_axis, at)
 
     def rigid(self, a: str, b: str) -> str:
         """A stiff member a-b standing in for a rigid body (:meth:`segment`).

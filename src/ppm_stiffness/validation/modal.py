@@ -7,16 +7,26 @@ So the FE stiffness is taken from PyNite (the assembled global matrix of
 :func:`ppm_stiffness.validation.fe_model.build_model`, on its free degrees of freedom)
 and the mass matrix is assembled here:
 
-- every design link (two frame members, :meth:`FrameBuilder.segment`) gets the
-  consistent 12x12 Euler-Bernoulli beam mass of a uniform bar of its mass per length
-  ``m / L`` (spin about its axis neglected, as the mass model's default); the FE
-  check takes uniform links only (a link with its own centre of mass or inertia is
-  refused);
+- every uniform design link (two frame members, :meth:`FrameBuilder.segment`) gets
+  the consistent 12x12 Euler-Bernoulli beam mass of a uniform bar of its mass per
+  length ``m / L`` (and the consistent torsional inertia of its ``inertia_axial``
+  per length; spin neglected without it, as the mass model's default);
+- a link given as a body (its ``mass_centre`` or ``inertia_transverse`` given) is a
+  massless beam carrying a rigid body (its mass, and its inertia ``transverse``
+  normal to the link and ``axial`` about it) at its centre: on the node where the
+  link's two members meet when the centre lies inside the link (the frame puts that
+  node there, :func:`ppm_stiffness.validation.fe_model.link_split`), else tied rigidly
+  to the node at the nearer end by the offset (``T^T diag(m, m, m, I) T`` on that
+  node's motion, :func:`rigid_body_mass`): the rule of the mass model for a centre
+  beyond its link's end (:mod:`ppm_stiffness.dynamics.links`), while inside the link
+  the frame's beam carries the body at a node of its own where the model's leg FE
+  interpolates its elements (the Hermite shape of the element holding the centre);
 - the platform's rigid-body mass sits at its master node P (its spatial inertia at P,
   :mod:`ppm_stiffness.dynamics.inertia`);
 - an actuator's carriage mass sits at the node after its joint (the joint's output),
-  a rotor's reflected inertia on that node's motion along (about) the joint's axis
-  (a base joint's: the node before it is the ground).
+  a rotor's reflected inertia on the relative motion of that node and the node before
+  the joint along (about) the joint's axis (a base joint's: the node before it is the
+  ground).
 
 The eigenproblem ``K x = omega^2 M x`` of the whole frame is solved as
 ``M x = mu K x`` (K positive definite, M semi-definite: the massless degrees of
@@ -35,7 +45,10 @@ Any design, planar or spatial: the FE model builds every chain in space at the f
 pose (U and S joints included). Measured (docs/dynamics.md): the shipped 3-PRS agrees
 within 5.5e-5 reduced and 2.5e-5 whole (f_link,1 = 48 f1); a hexapod with uniform
 struts agrees reduced, but its struts' own bending (f_link,1 = 180 Hz) lies below the
-platform's f1 = 198 Hz and the whole frame's f1 is 24 % lower. SI throughout.
+platform's f1 = 198 Hz and the whole frame's f1 is 24 % lower than the condensed
+model's; with the legs' own modes (``linked_frequencies``, Craig-Bampton,
+:mod:`ppm_stiffness.dynamics.legmodes`) the model has the whole frame's frequencies.
+SI throughout.
 """
 
 from __future__ import annotations
@@ -47,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import BALANCE, FloatArray
+from ppm_stiffness.core.conventions import BALANCE, FloatArray, hat
 from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.mass import mass_matrix_at_pose, platform_mass_matrix
@@ -56,7 +69,7 @@ from ppm_stiffness.legs.chain import Element, Joint, Link
 from ppm_stiffness.legs.joint_kinds import joint_kind
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs, stiffness_at_pose
 from ppm_stiffness.poses import full_pose
-from ppm_stiffness.validation.fe_model import FESettings, build_model
+from ppm_stiffness.validation.fe_model import END_MARGIN, FESettings, body_station, build_model
 from ppm_stiffness.validation.frame import FrameBuilder, compliance_at_node
 
 #: PyNite's degrees of freedom of a node, in order, and their places in the library's
@@ -72,7 +85,12 @@ class ModalComparison:
     Attributes
     ----------
     model_frequencies : ndarray (6,) [Hz]
-        This library's, from K and M at P.
+        This library's, from K and M at P (the static condensation).
+    linked_frequencies : ndarray (6,) [Hz]
+        This library's with ``link_modes`` fixed-interface modes per leg
+        (:func:`ppm_stiffness.dynamics.legmodes.reduced_frequencies`).
+    link_modes : int
+        The fixed-interface modes per leg of ``linked_frequencies``.
     reduced_frequencies : ndarray (6,) [Hz]
         The FE frame reduced to P (Guyan), from ``fe_stiffness`` and ``fe_mass``.
     full_frequencies : ndarray (6,) [Hz]
@@ -90,6 +108,8 @@ class ModalComparison:
     """
 
     model_frequencies: FloatArray
+    linked_frequencies: FloatArray
+    link_modes: int
     reduced_frequencies: FloatArray
     full_frequencies: FloatArray
     link_frequency: float
@@ -101,20 +121,24 @@ class ModalComparison:
     n_dofs: int
 
 
-def beam_mass(mass: float, length: float) -> FloatArray:
+def beam_mass(mass: float, length: float, axial: float = 0.0) -> FloatArray:
     """Consistent mass (12, 12) of a uniform Euler-Bernoulli bar in its local axes,
-    PyNite's order (Dx, Dy, Dz, Rx, Ry, Rz at i, then at j), no rotary or torsional
-    inertia.
+    PyNite's order (Dx, Dy, Dz, Rx, Ry, Rz at i, then at j), no rotary inertia of the
+    section; its torsional inertia on the twist, linear along it.
 
     Parameters
     ----------
     mass : float [kg]
     length : float [m]
+    axial : float [kg·m^2]
+        The bar's inertia about its axis (0: spin neglected).
     """
     m, ell = mass, length
     out = np.zeros((12, 12))
     out[0, 0] = out[6, 6] = m / 3.0
     out[0, 6] = out[6, 0] = m / 6.0
+    out[3, 3] = out[9, 9] = axial / 3.0
+    out[3, 9] = out[9, 3] = axial / 6.0
     # bending in the local x-y plane: v (1, 7) and theta_z (5, 11), dv/dx = theta_z
     # bending in the local x-z plane: w (2, 8) and theta_y (4, 10), dw/dx = -theta_y
     for v1, r1, v2, r2, s in ((1, 5, 7, 11, 1.0), (2, 4, 8, 10, -1.0)):
@@ -187,6 +211,92 @@ def _dof(fb: FrameBuilder, node: str) -> int:
     return int(fb.model.nodes[node].ID) * 6
 
 
+def rigid_body_mass(mass: float, inertia: ArrayLike, offset: ArrayLike) -> FloatArray:
+    """The mass (6, 6) on a node's motion (PyNite's order: displacement, then rotation)
+    of a rigid body tied to the node, its centre at ``offset`` from it: ``T^T diag(m,
+    m, m, I) T`` with T the body's (velocity of its centre, angular velocity) from the
+    node's, ``v_c = d - hat(r) theta``.
+
+    Parameters
+    ----------
+    mass : float [kg]
+    inertia : array_like (3, 3) [kg·m^2]
+        About the body's centre, global axes.
+    offset : array_like (3,) [m]
+        The centre from the node, global axes.
+    """
+    t = np.eye(6)
+    t[:3, 3:] = -hat(np.asarray(offset, dtype=float))
+    w = np.zeros((6, 6))
+    w[:3, :3] = mass * np.eye(3)
+    w[3:, 3:] = np.asarray(inertia, dtype=float)
+    out = t.T @ w @ t
+    return np.asarray(0.5 * (out + out.T))
+
+
+def _link_members(
+    groups: list[tuple[FloatArray, FloatArray, list[object]]], link: Link
+) -> list[object]:
+    """The frame's two members of a design link (each from one of its ends)."""
+    start = np.asarray(link.start, dtype=float).reshape(3)
+    end = np.asarray(link.end, dtype=float).reshape(3)
+    match = [
+        g
+        for g in groups
+        if {tuple(np.round(g[0] / _SAME_POINT)), tuple(np.round(g[1] / _SAME_POINT))}
+        == {tuple(np.round(start / _SAME_POINT)), tuple(np.round(end / _SAME_POINT))}
+    ]
+    if len(match) != 1:
+        raise DesignError(f"FE modal check: link {link.name} not found in the frame")
+    return match[0][2]
+
+
+def _add_uniform_link(out: FloatArray, fb: FrameBuilder, link: Link, members: list[object]) -> None:
+    """The consistent mass of a uniform link's two members (module doc) into ``out``."""
+    assert link.mass is not None
+    body = link.mass
+    length = float(np.linalg.norm(np.asarray(link.end) - np.asarray(link.start)))
+    for member in members:
+        sub = next(iter(member.sub_members.values()))  # type: ignore[attr-defined]
+        part = float(sub.L()) * fb.unit
+        local = beam_mass(body.mass * part / length, part, body.axial * part / length)
+        t = np.asarray(sub.T(), dtype=float)
+        glob = t.T @ local @ t
+        dofs = np.r_[
+            _dof(fb, sub.i_node.name) + np.arange(6), _dof(fb, sub.j_node.name) + np.arange(6)
+        ]
+        out[np.ix_(dofs, dofs)] += glob
+
+
+def _add_link_body(
+    out: FloatArray, fb: FrameBuilder, link: Link, members: list[object], station: float
+) -> None:
+    """A link given as a body (module doc) into ``out``: a rigid body at its centre,
+    ``station`` [m] from the link's start, on the node where the link's members meet
+    (the centre inside the link) or tied to the nearer end's node."""
+    assert link.mass is not None
+    body = link.mass
+    start = np.asarray(link.start, dtype=float).reshape(3)
+    end = np.asarray(link.end, dtype=float).reshape(3)
+    length = float(np.linalg.norm(end - start))
+    axis = (end - start) / length
+    centre = start + station * axis
+    xi = station / length
+    if END_MARGIN < xi < 1.0 - END_MARGIN:  # on the node between the members (link_split)
+        node = str(members[0].j_node.name)  # type: ignore[attr-defined]
+    else:
+        near = start if xi < 0.5 else end
+        node = next(
+            str(m.i_node.name)  # type: ignore[attr-defined]
+            for m in members
+            if np.linalg.norm(fb.position(m.i_node.name) - near) <= _SAME_POINT  # type: ignore[attr-defined]
+        )
+    transverse = body.mass * length**2 / 12.0 if body.transverse is None else body.transverse
+    inertia = transverse * (np.eye(3) - np.outer(axis, axis)) + body.axial * np.outer(axis, axis)
+    d = _dof(fb, node)
+    out[d : d + 6, d : d + 6] += rigid_body_mass(body.mass, inertia, centre - fb.position(node))
+
+
 def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: str) -> FloatArray:
     """The frame's mass matrix over all its degrees of freedom (PyNite's numbering, SI:
     m and rad) from the design's mass model (module doc).
@@ -194,42 +304,27 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
     Raises
     ------
     DesignError
-        A link with its own centre of mass or inertia (the FE check takes uniform
-        links), a rotor on a joint that is not a base joint, or a link the frame lacks.
+        A rotor on a joint away from the element before it, a link the frame lacks,
+        or masses lumped on a parallelogram (the Delta's: the frame builds its bars).
     """
     n = 6 * len(fb.model.nodes)
     out = np.zeros((n, n))
     groups = _link_groups(fb)
     for link in _design_links(design, pose):
+        if link.end_mass > 0.0:
+            raise DesignError(
+                f"FE modal check, link {link.name}: the frame builds a parallelogram's "
+                "bars from their own members, the mass model lumps their halves at the "
+                "link's end; not compared"
+            )
         if link.mass is None:
             continue
-        body = link.mass
-        if body.centre is not None or body.transverse is not None or body.axial != 0.0:
-            raise DesignError(
-                f"FE modal check, link {link.name}: the frame models links as uniform bars; "
-                "give only the link's mass (no mass_centre or inertias)"
-            )
-        start = np.asarray(link.start, dtype=float).reshape(3)
-        end = np.asarray(link.end, dtype=float).reshape(3)
-        length = float(np.linalg.norm(end - start))
-        match = [
-            g
-            for g in groups
-            if {tuple(np.round(g[0] / _SAME_POINT)), tuple(np.round(g[1] / _SAME_POINT))}
-            == {tuple(np.round(start / _SAME_POINT)), tuple(np.round(end / _SAME_POINT))}
-        ]
-        if len(match) != 1:
-            raise DesignError(f"FE modal check: link {link.name} not found in the frame")
-        for member in match[0][2]:
-            sub = next(iter(member.sub_members.values()))  # type: ignore[attr-defined]
-            half = float(sub.L()) * fb.unit
-            local = beam_mass(body.mass * half / length, half)
-            t = np.asarray(sub.T(), dtype=float)
-            glob = t.T @ local @ t
-            dofs = np.r_[
-                _dof(fb, sub.i_node.name) + np.arange(6), _dof(fb, sub.j_node.name) + np.arange(6)
-            ]
-            out[np.ix_(dofs, dofs)] += glob
+        members = _link_members(groups, link)
+        station = body_station(link)
+        if station is None:
+            _add_uniform_link(out, fb, link, members)
+        else:
+            _add_link_body(out, fb, link, members, station)
     p = full_pose(design, pose)
     m_platform = platform_mass_matrix(design, p)[np.ix_(_FE_TO_TWIST, _FE_TO_TWIST)]
     dp = _dof(fb, p_node) + np.arange(6)
@@ -240,20 +335,67 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
         for k, element in enumerate(chain):
             if not isinstance(element, Joint) or element.mass is None:
                 continue
+            if id(element) not in after:
+                raise DesignError(
+                    f"FE modal check, joint {element.name}: the frame builds it from its "
+                    "own members (a parallelogram's bars), the mass model lumps masses "
+                    "on it; not compared"
+                )
             d = _dof(fb, after[id(element)])
             out[d : d + 3, d : d + 3] += element.mass.mass * np.eye(3)
             if element.mass.rotor > 0.0:
-                if k != 0:
-                    raise DesignError(
-                        "FE modal check: a rotor is taken on a base joint only (the node "
-                        "before it is the ground)"
-                    )
-                axis = np.asarray(element.axis, dtype=float).reshape(3)
-                axis = axis / np.linalg.norm(axis)
-                rotary = joint_kind(element.kind).first_rotates
-                block = slice(d + 3, d + 6) if rotary else slice(d, d + 3)
-                out[block, block] += element.mass.rotor * np.outer(axis, axis)
+                before = None if k == 0 else _node_before(fb, chain, k, groups, after)
+                _add_rotor(out, fb, element, after[id(element)], before)
     return 0.5 * (out + out.T)
+
+
+def _node_before(
+    fb: FrameBuilder,
+    chain: Sequence[Element],
+    k: int,
+    groups: list[tuple[FloatArray, FloatArray, list[object]]],
+    after: dict[int, str],
+) -> str:
+    """The node before joint ``chain[k]`` (k > 0): the end node of the link before it,
+    or the node after the joint before it, at the joint's point.
+
+    Raises
+    ------
+    DesignError
+        Neither is at the joint's point (a rigid offset between them).
+    """
+    point = np.asarray(chain[k].point, dtype=float).reshape(3)  # type: ignore[union-attr]
+    previous = chain[k - 1]
+    if isinstance(previous, Joint):
+        node = after[id(previous)]
+        if np.linalg.norm(fb.position(node) - point) <= _SAME_POINT:
+            return node
+    else:
+        for member in _link_members(groups, previous):
+            node = str(member.i_node.name)  # type: ignore[attr-defined]
+            if np.linalg.norm(fb.position(node) - point) <= _SAME_POINT:
+                return node
+    raise DesignError(
+        "FE modal check: a rotor on a joint away from the end of the element before it"
+    )
+
+
+def _add_rotor(
+    out: FloatArray, fb: FrameBuilder, joint: Joint, node: str, before: str | None
+) -> None:
+    """A rotor's reflected inertia (:class:`~ppm_stiffness.legs.chain.JointMass`) on
+    the relative motion of the joint's node ``node`` and the node ``before`` it (the
+    ground when None) along (about) the joint's axis, into ``out``."""
+    assert joint.mass is not None
+    axis = np.asarray(joint.axis, dtype=float).reshape(3)
+    axis = axis / np.linalg.norm(axis)
+    shift = 3 if joint_kind(joint.kind).first_rotates else 0
+    rows = [(_dof(fb, node) + shift, 1.0)]
+    if before is not None:
+        rows.append((_dof(fb, before) + shift, -1.0))
+    for di, si in rows:
+        for dj, sj in rows:
+            out[di : di + 3, dj : dj + 3] += si * sj * joint.mass.rotor * np.outer(axis, axis)
 
 
 def _free_dofs(fb: FrameBuilder) -> FloatArray:
@@ -278,13 +420,60 @@ def _lowest(k: FloatArray, m: FloatArray, count: int) -> FloatArray:
 
     n = k.shape[0]
     mu = eigh(m, k, eigvals_only=True, subset_by_index=[n - count, n - 1])
-    return np.sort(1.0 / np.sqrt(mu[::-1])) / (2.0 * math.pi)
+    with np.errstate(divide="ignore"):  # mu = 0: no mass there, an infinite frequency
+        return np.sort(1.0 / np.sqrt(mu[::-1])) / (2.0 * math.pi)
+
+
+def frame_stiffness(fb: FrameBuilder, node: str) -> FloatArray:
+    """The frame's stiffness matrix over all its degrees of freedom (PyNite's
+    numbering, SI: N/m, N, N·m/rad), assembled by PyNite after six unit-load solves at
+    ``node`` (which number the model and split its members)."""
+    compliance_at_node(fb, node)  # prepares the model (numbering, sub-members)
+    model = fb.model
+    combo = next(iter(model.load_combos))
+    k_all = np.asarray(model.Ke(combo, sparse=False, check_stability=False), dtype=float)
+    # model units -> SI: lengths in units of fb.unit, forces in N, so energies in
+    # N·unit: K_SI = unit D K D with D = 1 / unit on translations, 1 on rotations
+    scale = np.tile(np.r_[np.full(3, 1.0 / fb.unit), np.ones(3)], len(model.nodes))
+    return np.asarray(fb.unit * scale[:, None] * k_all * scale[None, :])
+
+
+def lowest_frequencies(
+    k_all: FloatArray, m_all: FloatArray, fb: FrameBuilder, count: int
+) -> FloatArray:
+    """The ``count`` lowest frequencies [Hz] of the frame (its free degrees of
+    freedom) from its stiffness and mass over all degrees of freedom (SI)."""
+    free = _free_dofs(fb)
+    k_ff = k_all[np.ix_(free, free)]
+    return _lowest(0.5 * (k_ff + k_ff.T), m_all[np.ix_(free, free)], count)
+
+
+def _linked_frequencies(
+    design: Design, pose: FloatArray, k_model: FloatArray, m_model: FloatArray, count: int
+) -> FloatArray:
+    """The model's six lowest frequencies [Hz] with ``count`` fixed-interface modes
+    per leg (:mod:`ppm_stiffness.dynamics.legmodes`), locked actuators."""
+    if count == 0:
+        return natural_frequencies(k_model, m_model)
+    from ppm_stiffness.dynamics.legmodes import (
+        design_leg_modes,
+        reduced_frequencies,
+        reduced_matrices,
+        stack_leg_modes,
+    )
+
+    k_act = actuator_stiffness_vector(design, None)
+    legs = design_leg_modes(design, pose, k_act, count)
+    return np.asarray(
+        reduced_frequencies(*reduced_matrices(k_model, m_model, *stack_leg_modes(legs)))[0]
+    )
 
 
 def modal_comparison(
     design: Design,
     pose: ArrayLike | None = None,
     settings: FESettings | None = None,
+    link_modes: int | None = None,
 ) -> ModalComparison:
     """The FE frame's frequencies and reduced M and K against the mass model's at one
     pose, locked actuators (module doc).
@@ -292,27 +481,28 @@ def modal_comparison(
     Parameters
     ----------
     design : Design
-        A design with a mass model whose links are uniform (planar or spatial).
+        A design with a mass model (planar or spatial; links uniform or given as
+        bodies).
     pose : array_like (n_task,) or (6,), optional
         The pose (the home pose if None).
     settings : FESettings, optional
+    link_modes : int, optional
+        Fixed-interface modes per leg of the model's ``linked_frequencies`` (the
+        default :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES` if None).
 
     Raises
     ------
-    DesignError, MissingExtraError, UnreachablePoseError, SingularConfigurationError
+    DesignError, InputDataError, MissingExtraError, UnreachablePoseError,
+    SingularConfigurationError
     """
+    from ppm_stiffness.dynamics.legmodes import resolve_link_modes
+
+    count = resolve_link_modes(link_modes)
     p = full_pose(design, pose)
     st = settings or FESettings()
     k_act = actuator_stiffness_vector(design, None)
     fb, p_node = build_model(design, p, k_act, st)
-    compliance_at_node(fb, p_node)  # prepares the model (numbering, sub-members)
-    model = fb.model
-    combo = next(iter(model.load_combos))
-    k_all = np.asarray(model.Ke(combo, sparse=False, check_stability=False), dtype=float)
-    # model units -> SI: lengths in units of fb.unit, forces in N, so energies in
-    # N·unit: K_SI = unit D K D with D = 1 / unit on translations, 1 on rotations
-    scale = np.tile(np.r_[np.full(3, 1.0 / fb.unit), np.ones(3)], len(model.nodes))
-    k_all = fb.unit * scale[:, None] * k_all * scale[None, :]
+    k_all = frame_stiffness(fb, p_node)
     m_all = fe_mass_matrix(design, p, fb, p_node)
     free = _free_dofs(fb)
     k_ff = k_all[np.ix_(free, free)]
@@ -341,6 +531,8 @@ def modal_comparison(
     fb_ = balance[:, None] * m_p * balance[None, :]
     return ModalComparison(
         model_frequencies=natural_frequencies(k_model, m_model),
+        linked_frequencies=_linked_frequencies(design, p, k_model, m_model, count),
+        link_modes=count,
         reduced_frequencies=natural_frequencies(k_p, m_p),
         full_frequencies=full,
         link_frequency=link,
