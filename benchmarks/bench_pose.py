@@ -7,14 +7,21 @@ principal compliances and, for a design with a mass model, the first natural fre
 as ``ppm-stiffness analyze`` prints them by default. For context, the medians of its
 parts: ``model.stiffness_at_pose`` (K alone), ``analysis.analyze_matrix`` (eigenscrews,
 both decouplings, principal compliances: ``matrix_us``), ``eigenscrews``,
-``decouple(K, "paper")`` and ``dynamics.analysis.first_mode`` (``modes_us``: the mass
-matrix by static condensation of the legs and the first mode).
+``decouple(K, "paper")`` and ``dynamics.analysis.first_mode`` with the default dynamics
+model (``modes_us``: the mass matrix by static condensation of the legs, each leg's
+fixed-interface modes, :data:`~ppm_stiffness.dynamics.legmodes.DEFAULT_LINK_MODES`
+per leg, and the first mode) and with the condensed one (``modes0_us``: ``link_modes``
+0).
 
-Calls are timed in batches of 20 (the median of the per-call batch means), so that the
-figure is robust to other processes on a shared machine.
+Calls are timed in batches of 20 by the process's CPU time (the median of the per-call
+batch means), so that the figure is robust to other processes on a shared machine;
+``pose_wall_us`` is the same median of ``analyze`` by the wall clock. Run with
+``OPENBLAS_NUM_THREADS=1`` on a shared machine (a multi-threaded BLAS pool spends
+several times the CPU on these small matrices under load; the variable is printed).
 
 The load average is printed before and after (the machine may be shared). The last
-line is ``pose_us=N k_us=N eigenscrews_us=N decouple_us=N matrix_us=N modes_us=N``.
+line is ``pose_us=N pose_wall_us=N k_us=N eigenscrews_us=N decouple_us=N matrix_us=N
+modes_us=N modes0_us=N``.
 ``--smoke``: one batch of each (a check that the script runs).
 Run: ``.venv/bin/python benchmarks/bench_pose.py [--design FILE] [--repeats N] [--smoke]``.
 """
@@ -43,15 +50,17 @@ from ppm_stiffness.model import (
 BATCH = 20
 
 
-def median_us(call: Callable[[], object], repeats: int) -> float:
-    """Median over ``repeats`` batches of the mean time of one call [us]."""
+def median_us(call: Callable[[], object], repeats: int, wall: bool = False) -> float:
+    """Median over ``repeats`` batches of the mean CPU time (the wall clock's with
+    ``wall``) of one call [us]."""
+    clock = time.perf_counter if wall else time.process_time
     call()  # warm caches and lazy imports
     means = []
     for _ in range(repeats):
-        t = time.perf_counter()
+        t = clock()
         for _ in range(BATCH):
             call()
-        means.append((time.perf_counter() - t) / BATCH)
+        means.append((clock() - t) / BATCH)
     return statistics.median(means) * 1e6
 
 
@@ -67,10 +76,12 @@ def main(argv: list[str] | None = None) -> int:
     pose = workspace_centre(design)
     print(
         f"design {design.name} ({design.architecture}) at pose {np.round(pose, 6).tolist()}; "
-        f"numpy {np.__version__}, python {sys.version.split()[0]}; load average "
+        f"numpy {np.__version__}, python {sys.version.split()[0]}; OPENBLAS_NUM_THREADS="
+        f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; load average "
         + " ".join(f"{x:.2f}" for x in os.getloadavg())
     )
     pose_us = median_us(lambda: pps.analyze(design, pose).to_dict(), args.repeats)
+    wall_us = median_us(lambda: pps.analyze(design, pose).to_dict(), args.repeats, wall=True)
     k = pps.stiffness_at_pose(design, pose)
     k_us = median_us(lambda: pps.stiffness_at_pose(design, pose), args.repeats)
     screws_us = median_us(lambda: pps.eigenscrews(k), args.repeats)
@@ -81,16 +92,21 @@ def main(argv: list[str] | None = None) -> int:
     k_tool = stiffness_at_tool_point(k, full, tool)
     matrix_us = median_us(lambda: analyze_matrix(k_tool).to_dict(), args.repeats)
     modes_us = median_us(lambda: first_mode(design, full, k_tool, k_act, tool), args.repeats)
+    modes0_us = median_us(
+        lambda: first_mode(design, full, k_tool, k_act, tool, link_modes=0), args.repeats
+    )
     print(
         f"analyze (K, eigenscrews, both decouplings, principal compliances, first mode): "
-        f"{pose_us:.0f} us; of which K {k_us:.0f} us, the matrix's analysis "
-        f"{matrix_us:.0f} us (eigenscrews {screws_us:.0f} us, paper decoupling "
-        f"{dec_us:.0f} us), the first mode {modes_us:.0f} us"
+        f"{pose_us:.0f} us CPU ({wall_us:.0f} us wall); of which K {k_us:.0f} us, the "
+        f"matrix's analysis {matrix_us:.0f} us (eigenscrews {screws_us:.0f} us, paper "
+        f"decoupling {dec_us:.0f} us), the first mode {modes_us:.0f} us (condensed: "
+        f"{modes0_us:.0f} us)"
     )
     print("load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
     print(
-        f"pose_us={pose_us:.0f} k_us={k_us:.0f} eigenscrews_us={screws_us:.0f} "
-        f"decouple_us={dec_us:.0f} matrix_us={matrix_us:.0f} modes_us={modes_us:.0f}"
+        f"pose_us={pose_us:.0f} pose_wall_us={wall_us:.0f} k_us={k_us:.0f} "
+        f"eigenscrews_us={screws_us:.0f} decouple_us={dec_us:.0f} matrix_us={matrix_us:.0f} "
+        f"modes_us={modes_us:.0f} modes0_us={modes0_us:.0f}"
     )
     return 0
 

@@ -43,6 +43,7 @@ Batched over leading axes (...) as the condensed model: every array of the chain
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -65,6 +66,8 @@ from ppm_stiffness.legs.chain import (
     freedom_count,
     freedom_screws,
     link_screws,
+    stack_chains,
+    structure_groups,
 )
 
 IntArray = NDArray[np.int_]
@@ -208,19 +211,31 @@ def _add_joint(b: _Builder, joint: Joint, k_act: FloatArray) -> None:
 
 
 def _add_link(b: _Builder, link: Link, elements: int) -> None:
+    """A link's ``elements`` Euler-Bernoulli elements, all at once: their tip screws
+    (n, e, 6, 6) and stiffnesses (the inverse of their cantilever compliances) as one
+    block of 6 e columns, element after element."""
     start, end = b.flat(link.start, (3,)), b.flat(link.end, (3,))
     fractions = np.linspace(0.0, 1.0, elements + 1)
     nodes = start[:, None, :] + fractions[None, :, None] * (end - start)[:, None, :]
-    node_cols = [b.count]  # the column count at each node (its twist map's extent)
-    for i in range(elements):
-        sub = Link(nodes[:, i], nodes[:, i + 1], link.section)
-        screws, length = link_screws(sub)
-        compliance = cantilever_compliance(link.section, length)
-        b.add(np.asarray(screws), np.asarray(np.linalg.inv(compliance), dtype=float))
-        node_cols.append(b.count)
+    screws, length = link_screws(Link(nodes[:, :-1], nodes[:, 1:], link.section))
+    stiff = np.asarray(np.linalg.inv(cantilever_compliance(link.section, length)), dtype=float)
+    first = b.add(
+        np.swapaxes(screws, 1, 2).reshape(b.n, 6, 6 * elements),
+        _block_diagonal(stiff),
+    )
+    node_cols = [first + 6 * i for i in range(elements + 1)]  # the column count at each node
     b.links.append((link, nodes, node_cols))
     if link.end_mass > 0.0:
         b.points.append((b.count, link.end_mass, end))
+
+
+def _block_diagonal(blocks: FloatArray) -> FloatArray:
+    """(n, e, m, m) -> (n, e m, e m) block diagonal."""
+    n, e, m = blocks.shape[:3]
+    out = np.zeros((n, e, m, e, m))
+    idx = np.arange(e)
+    out[:, idx, :, idx, :] = np.moveaxis(blocks, 1, 0)
+    return out.reshape(n, e * m, e * m)
 
 
 def chain_fe(
@@ -283,14 +298,18 @@ def _mass_factor(b: _Builder, screws: FloatArray) -> FloatArray:
     return np.concatenate(parts, axis=1)
 
 
+@functools.lru_cache(maxsize=256)
 def _unit_factor(mass: float, axial: float) -> FloatArray:
     """R (q, 12) with ``R^T R`` the consistent mass of a uniform element of length 1
-    (:func:`ppm_stiffness.dynamics.links.link_mass_matrix`), its null rows dropped."""
+    (:func:`ppm_stiffness.dynamics.links.link_mass_matrix`), its null rows dropped
+    (kept per element mass: a design's links call it pose after pose; read only)."""
     from ppm_stiffness.dynamics.links import _UNIT_TRANS, _UNIT_TWIST
 
     lam, w = np.linalg.eigh(mass * _UNIT_TRANS + axial * _UNIT_TWIST)
     keep = lam > 1e-14 * max(float(lam[-1]), 0.0)
-    return np.asarray(np.sqrt(lam[keep])[:, None] * w[:, keep].T)
+    out = np.asarray(np.sqrt(lam[keep])[:, None] * w[:, keep].T)
+    out.flags.writeable = False
+    return out
 
 
 def _link_factor(
@@ -312,19 +331,15 @@ def _link_factor(
     length = np.linalg.norm(d, axis=-1)
     axes = np.stack(frame_from_axis(d), axis=-1)
 
-    def node_rows(i: int) -> FloatArray:  # node i's (displacement, rotation), local axes
-        return upto(_node_map(nodes[:, i], axes), cols[i])
-
+    # every node's (displacement, rotation), local axes, over x: (n, e + 1, 6, N)
+    stack = _node_rows(nodes, axes, cols, upto)
     if body.centre is None and body.transverse is None:  # uniform: each element's share
         unit = _unit_factor(body.mass / elements, body.axial / elements)
         scale = np.ones((n, 12))
         scale[:, _BENDING_ROTATIONS] = (length / elements)[:, None]
-        maps = [node_rows(i) for i in range(elements + 1)]
-        parts = [
-            unit @ (scale[:, :, None] * np.concatenate([maps[i], maps[i + 1]], axis=-2))
-            for i in range(elements)
-        ]
-        return np.concatenate(parts, axis=1)
+        g = np.concatenate([stack[:, :-1], stack[:, 1:]], axis=-2)  # (n, e, 12, N)
+        parts = unit @ (scale[:, None, :, None] * g)  # (n, e, q, N)
+        return parts.reshape(n, -1, parts.shape[-1])
     # a body: on the Hermite shape of the element holding its centre
     if body.centre is None:
         s = 0.5 * length
@@ -336,7 +351,6 @@ def _link_factor(
     k = np.clip(np.floor(xi).astype(int), 0, elements - 1)
     local = xi - k
     rows = np.arange(n)
-    stack = np.stack([node_rows(i) for i in range(elements + 1)], axis=1)  # (n, e+1, 6, N)
     g = np.concatenate([stack[rows, k], stack[rows, k + 1]], axis=-2)  # (n, 12, N)
     transverse = body.mass * length**2 / 12.0 if body.transverse is None else body.transverse
     weights = np.zeros((n, 6))
@@ -345,6 +359,24 @@ def _link_factor(
     weights[:, 4] = weights[:, 5] = transverse
     motion = section_motion(local, length / elements) @ g  # (n, 6, N)
     return np.asarray(np.sqrt(weights)[:, :, None] * motion)
+
+
+def _node_rows(
+    nodes: FloatArray,
+    axes: FloatArray,
+    cols: list[int],
+    upto: Callable[[FloatArray, int], FloatArray],
+) -> FloatArray:
+    """Every node's map (n, e + 1, 6, N) from x to its (displacement, rotation) in the
+    link's local axes ``axes`` (n, 3, 3): node i moves with the first ``cols[i]``
+    coordinates (``upto`` of the node map over the whole chain, its later columns
+    zero)."""
+    n, nodes_count = nodes.shape[:2]
+    maps = _node_map(nodes, axes[:, None])  # (n, e + 1, 6, 6)
+    full = upto(maps.reshape(n, nodes_count * 6, 6), cols[-1])
+    full = full.reshape(n, nodes_count, 6, full.shape[-1])  # (n, e + 1, 6, N)
+    cut = np.arange(full.shape[-1])[None, :] < np.asarray(cols)[:, None]  # (e + 1, N)
+    return np.asarray(np.where(cut[None, :, None, :], full, 0.0))
 
 
 def elements_for(count: int) -> int:
@@ -581,10 +613,41 @@ def design_leg_modes(
     legs = design.legs  # type: ignore[attr-defined]
     q = np.asarray(poses, dtype=float)
     k = np.broadcast_to(np.asarray(actuator_stiffness, dtype=float), q.shape[:-1] + (len(legs),))
+    chains = [leg.chain(leg.solve(q)) for leg in legs]
+    if q.ndim > 1:
+        return [
+            fixed_interface_modes(chain, k[..., i], count, elements, checks)
+            for i, chain in enumerate(chains)
+        ]
+    # one pose: the legs of one structure in one batched call
+    out: list[LegModes | None] = [None] * len(chains)
+    for group in structure_groups(chains):
+        stacked = stack_chains([chains[i] for i in group])
+        assert stacked is not None
+        both = fixed_interface_modes(stacked, k[group], count, elements, checks)
+        for i, modes in zip(group, split_leg_modes(both, len(group)), strict=True):
+            out[i] = modes
+    return [m for m in out if m is not None]
+
+
+def split_leg_modes(modes: LegModes, legs: int) -> list[LegModes]:
+    """The legs' modes (:class:`LegModes`) of chains stacked along their first axis
+    (:func:`~ppm_stiffness.legs.chain.stack_chains`; batch ``legs * n``), one per leg,
+    each with its own slots (those any of its poses has: as computed alone)."""
+    n = modes.omega2.shape[0] // legs
     out = []
-    for i, leg in enumerate(legs):
-        chain = leg.chain(leg.solve(q))
-        out.append(fixed_interface_modes(chain, k[..., i], count, elements, checks))
+    for i in range(legs):
+        rows = slice(i * n, (i + 1) * n)
+        omega2 = modes.omega2[rows]
+        k = int(np.max(np.sum(np.isfinite(omega2), axis=-1), initial=0))
+        out.append(
+            LegModes(
+                omega2=omega2[:, :k],
+                coupling=modes.coupling[rows, :, :k],
+                condensed_mass=modes.condensed_mass[rows],
+                condensed_stiffness=modes.condensed_stiffness[rows],
+            )
+        )
     return out
 
 

@@ -26,6 +26,7 @@ from ppm_stiffness.core.errors import DesignError
 from ppm_stiffness.design import Design
 from ppm_stiffness.dynamics.condensation import leg_mass_matrix
 from ppm_stiffness.dynamics.inertia import rotated_inertia, spatial_inertia
+from ppm_stiffness.legs.chain import stack_chains, structure_groups
 from ppm_stiffness.model import actuator_stiffness_vector, solve_legs
 from ppm_stiffness.poses import full_pose
 
@@ -130,10 +131,15 @@ def leg_mass_matrices(
     require_mass_model(design)
     p = full_pose(design, pose)
     k_act = actuator_stiffness_vector(design, actuator_stiffness)
-    return [
-        leg_mass_matrix(leg.chain(lp), float(k))
-        for leg, lp, k in zip(design.legs, solve_legs(design, p), k_act, strict=True)
-    ]
+    chains = [leg.chain(lp) for leg, lp in zip(design.legs, solve_legs(design, p), strict=True)]
+    k = np.asarray(k_act, dtype=float)
+    out: list[FloatArray] = [np.zeros((6, 6))] * len(chains)
+    for group in structure_groups(chains):  # the legs of one structure in one batched call
+        stacked = stack_chains([chains[i] for i in group])
+        assert stacked is not None
+        for i, m in zip(group, leg_mass_matrix(stacked, k[group]), strict=True):
+            out[i] = m
+    return out
 
 
 def mass_matrix_at_pose(

@@ -55,7 +55,7 @@ joint's moving drive parts). The stiffness ignores them.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -420,3 +420,98 @@ def spring_stiffnesses(joint: Joint, count: int) -> FloatArray:
 def freedom_count(joint: Joint) -> int:
     """Number of freedoms of a joint (its kind's record)."""
     return joint_kind(joint.kind).freedom_count
+
+
+def chain_batch(chain: Sequence[Element]) -> tuple[int, ...]:
+    """The batch shape of a chain's points (every array (..., 3) or (3,))."""
+    return np.broadcast_shapes(
+        *[np.shape(e.point)[:-1] if isinstance(e, Joint) else np.shape(e.end)[:-1] for e in chain]
+    )
+
+
+def _same_array(arrays: Sequence[FloatArray | None]) -> bool:
+    """All None, or all equal arrays."""
+    first = arrays[0]
+    if first is None:
+        return all(a is None for a in arrays)
+    return all(a is not None and np.array_equal(a, first) for a in arrays[1:])
+
+
+def _same_kind(elements: Sequence[Element]) -> bool:
+    """Elements that differ only in their points and axes (and names)."""
+    e0 = elements[0]
+    if isinstance(e0, Link):
+        return all(
+            isinstance(e, Link)
+            and e.section == e0.section
+            and e.mass == e0.mass
+            and e.end_mass == e0.end_mass
+            for e in elements[1:]
+        )
+    key = (e0.kind, e0.actuated, e0.mass, e0.equivalent, e0.axis2 is None)
+    return (
+        all(
+            isinstance(e, Joint)
+            and (e.kind, e.actuated, e.mass, e.equivalent, e.axis2 is None) == key
+            for e in elements[1:]
+        )
+        and _same_array([e.springs for e in elements])  # type: ignore[union-attr]
+        and _same_array([e.elastic for e in elements])  # type: ignore[union-attr]
+    )
+
+
+def same_structure(a: Sequence[Element], b: Sequence[Element]) -> bool:
+    """Two chains that differ only in their points and axes (and names): the same
+    kinds, sections, springs and masses element by element (the legs of a symmetric
+    design)."""
+    return len(a) == len(b) and all(_same_kind(pair) for pair in zip(a, b, strict=True))
+
+
+def structure_groups(chains: Sequence[Sequence[Element]]) -> list[list[int]]:
+    """The chains' indices in groups of one structure (:func:`same_structure`), each in
+    order, the groups by their first."""
+    groups: list[list[int]] = []
+    for i, chain in enumerate(chains):
+        for group in groups:
+            if same_structure(chains[group[0]], chain):
+                group.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
+
+
+def stack_chains(
+    chains: Sequence[Sequence[Element]], batch: tuple[int, ...] = ()
+) -> list[Element] | None:
+    """Chains of one structure (:func:`same_structure`) as one chain whose points and
+    axes have a leading axis over the chains (L, *batch, 3), so that the batched models
+    evaluate every leg in one call; None if their structures differ.
+
+    Parameters
+    ----------
+    chains : sequence of chains
+        Each base to platform, arrays (..., 3) or (3,).
+    batch : tuple of int
+        A shape every chain's arrays broadcast to (with theirs, :func:`chain_batch`).
+    """
+    if not chains or not all(same_structure(chains[0], c) for c in chains[1:]):
+        return None
+    shape = np.broadcast_shapes(batch, *[chain_batch(c) for c in chains]) + (3,)
+
+    def stacked(arrays: Sequence[ArrayLike]) -> FloatArray:
+        return np.stack([np.broadcast_to(np.asarray(a, dtype=float), shape) for a in arrays])
+
+    out: list[Element] = []
+    for elements in zip(*chains, strict=True):
+        e0 = elements[0]
+        if isinstance(e0, Link):
+            links: Sequence[Link] = elements
+            start = stacked([e.start for e in links])
+            out.append(replace(e0, start=start, end=stacked([e.end for e in links])))
+            continue
+        joints: Sequence[Joint] = elements
+        axis2 = None if e0.axis2 is None else stacked([e.axis2 for e in joints])  # type: ignore[misc]
+        axis = stacked([e.axis for e in joints])
+        out.append(replace(e0, axis=axis, point=stacked([e.point for e in joints]), axis2=axis2))
+    return out
