@@ -3,9 +3,9 @@
 The virtual-joint model lumps a notch hinge (:mod:`ppm_stiffness.legs.flexure_hinge`)
 into an elastic R at its centre with springs 1 / C_ii (its compliance at the centre,
 diagonal for a symmetric notch). The FE frame instead builds the notch itself: ``n``
-Euler-Bernoulli members of equal length L / n from its base-side end (centre - L/2 e2)
-to its platform-side end (centre + L/2 e2), e2 the notch's direction (the joint's
-``axis2``), each member's section the *harmonic mean* of the profile's over its length
+Euler-Bernoulli members, graded along it (:func:`stations`), from its base-side end
+(centre - L/2 e2) to its platform-side end (centre + L/2 e2), e2 the notch's direction
+(the joint's ``axis2``), each member's section the *harmonic mean* of the profile's over its length
 (:func:`segment_sections`), its local y the hinge's y (e3) and local z the rotation axis
 (e1). A drive in parallel with the hinge (the actuated hinge of a piezo-lever stage) is a
 rotational spring about e1 between the notch's two end nodes (:func:`add_hinge`).
