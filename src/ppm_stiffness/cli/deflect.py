@@ -444,19 +444,21 @@ def write_csv(
     path: str | Path,
     moving: MovingDeflection | None = None,
     hinges: dict[str, Any] | None = None,
+    moving_hinges: dict[str, Any] | None = None,
 ) -> None:
     """Load and the six twist components (deg, mm), with the case in comments; with
     ``hinges`` (:func:`~ppm_stiffness.statics.hinge_stress.curve_stresses`) the largest
     hinge stress [MPa] and its utilisation after them; with ``moving`` the
     moving-geometry curve's six components and ``K_F_vs_K`` after them (``moving_``
-    columns), a cell empty where a curve has stopped (such a file is not a measurement
-    file)."""
+    columns, and ``moving_hinge_stress_max_MPa``, ``moving_hinge_utilisation`` with
+    ``moving_hinges``), a cell empty where a curve has stopped (such a file is not a
+    measurement file)."""
     import numpy as np
 
     from ppm_stiffness.statics.measurements import HINGE_COLUMNS, cli_order
 
     if moving is not None:
-        _write_both_csv(curve, moving, path, hinges)
+        _write_both_csv(curve, moving, path, hinges, moving_hinges)
         return
     twist = curve.twists * np.array([180 / math.pi] * 3 + [1e3] * 3)
     lines = [
@@ -486,7 +488,8 @@ def write_csv(
 
 def _hinge_csv_comment(hinges: dict[str, Any]) -> str:
     return (
-        "# hinge_stress_max_MPa: the largest notch-hinge peak stress along the frozen curve; "
+        "# hinge_stress_max_MPa: the largest notch-hinge peak stress along the frozen curve "
+        "(moving_: the moving curve); "
         f"hinge_utilisation: its stress / (yield / SF), SF = {hinges['safety_factor']:g}"
     )
 
@@ -503,6 +506,7 @@ def _write_both_csv(
     moving: MovingDeflection,
     path: str | Path,
     hinges: dict[str, Any] | None = None,
+    moving_hinges: dict[str, Any] | None = None,
 ) -> None:
     import numpy as np
 
@@ -528,7 +532,8 @@ def _write_both_csv(
         + ","
         + ",".join(f"moving_{c}" for c in CSV_COLUMNS)
         + ",K_F_vs_K"
-        + "".join(f",{c}" for c in (HINGE_COLUMNS if hinges is not None else ())),
+        + "".join(f",{c}" for c in (HINGE_COLUMNS if hinges is not None else ()))
+        + "".join(f",moving_{c}" for c in (HINGE_COLUMNS if moving_hinges is not None else ())),
     ]
 
     def cells(values: np.ndarray, at: np.ndarray, load: float, n: int) -> list[str]:
@@ -544,6 +549,9 @@ def _write_both_csv(
         if hinges is not None:
             at = np.flatnonzero(curve.loads == load)
             row += _hinge_cells(hinges, int(at[0])) if at.size else ["", ""]
+        if moving_hinges is not None:
+            at = np.flatnonzero(m.loads == load)
+            row += _hinge_cells(moving_hinges, int(at[0])) if at.size else ["", ""]
         lines.append(f"{load:.12g}," + ",".join(row))
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
 
@@ -590,7 +598,7 @@ _JSON_UNITS = {
     "moving_geometry": "twists: rad, m (the tool point's finite rotation vector and "
     "displacement); displaced_poses: m, rad of P; loads, wrenches and actuator values as "
     "above; stiffness_difference: ||K_F - K|| / ||K|| (length-balanced); stopped: load "
-    "in load_unit",
+    "in load_unit; hinge_stress: as above, along the moving curve",
 }
 
 
@@ -607,10 +615,13 @@ def _stop_json(stop: CurveStop | None) -> dict[str, Any] | None:
     }
 
 
-def _moving_json(moving: MovingDeflection) -> dict[str, Any]:
-    """What ``--geometry moving`` adds: the moving curve and where each curve stops."""
+def _moving_json(moving: MovingDeflection, hinges: dict[str, Any] | None = None) -> dict[str, Any]:
+    """What ``--geometry moving`` adds: the moving curve and where each curve stops (and
+    the hinge stress along it, ``hinges``: :func:`~ppm_stiffness.statics.hinge_stress
+    .moving_curve_stresses`)."""
     m = moving.moving
-    return {
+    extra = {} if hinges is None else {"hinge_stress": hinges}
+    return extra | {
         "loads": m.loads,
         "wrenches": m.wrenches,
         "twists": m.twists,
@@ -629,10 +640,11 @@ def _json(
     rms: dict[str, Any] | None,
     moving: MovingDeflection | None = None,
     hinges: dict[str, Any] | None = None,
+    moving_hinges: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
 
     pose = {name: float(v) for name, v in zip(POSE_COORDINATES, curve.pose, strict=True)}
-    extra = {} if moving is None else {"moving_geometry": _moving_json(moving)}
+    extra = {} if moving is None else {"moving_geometry": _moving_json(moving, moving_hinges)}
     if hinges is not None:
         extra = extra | {"hinge_stress": hinges}
     return extra | {
@@ -723,13 +735,13 @@ def _print(curve: DeflectionCurve, rms: dict[str, Any] | None, moving: bool = Fa
         c.print(f"  per component: {comps}")
 
 
-def _print_hinges(curve: DeflectionCurve, hinges: dict[str, Any]) -> None:
-    """The largest hinge stress at each load and its utilisation."""
+def _print_hinges(curve: DeflectionCurve, hinges: dict[str, Any], geometry: str = "frozen") -> None:
+    """The largest hinge stress at each load of ``curve`` and its utilisation."""
     from rich.markup import escape
 
     sf = hinges["safety_factor"]
     t = _load_table(
-        f"notch hinges along the frozen curve: the hinge nearest yield / SF (SF = {sf:g})",
+        f"notch hinges along the {geometry} curve: the hinge nearest yield / SF (SF = {sf:g})",
         curve.load_unit,
     )
     for name in ("stress \\[MPa]", "util.", "hinge"):
@@ -800,7 +812,7 @@ def _print_actuators(curve: DeflectionCurve) -> None:
 def run(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
-    from ppm_stiffness.statics.hinge_stress import curve_stresses
+    from ppm_stiffness.statics.hinge_stress import curve_stresses, moving_curve_stresses
     from ppm_stiffness.statics.measurements import rms_differences
 
     check_output_path(args.csv, "--csv", (".csv",), overwrite=args.overwrite)
@@ -821,11 +833,14 @@ def run(args: argparse.Namespace) -> int:
     sf = hinge_safety_factor(args, design)
     curve, meas, moving = compute(args)
     hinges = None if sf is None else curve_stresses(design, curve, sf)
+    moving_hinges = (
+        None if sf is None or moving is None else moving_curve_stresses(design, moving, sf)
+    )
     rms = rms_differences(curve, meas) if meas is not None else None
     bands, unc = curve_uncertainty(args, design, variables, curve)
     with output_files(args.overwrite) as out:
         if args.csv:
-            write_csv(curve, out.temp(args.csv, "--csv"), moving, hinges)
+            write_csv(curve, out.temp(args.csv, "--csv"), moving, hinges, moving_hinges)
         if args.plot:
             from ppm_stiffness.visuals import save_figure, use_headless_backend
             from ppm_stiffness.visuals.deflection import plot_deflection_curves
@@ -837,7 +852,9 @@ def run(args: argparse.Namespace) -> int:
                 fig = plot_deflection_curves([curve, moving.moving])
             save_figure(fig, out.temp(args.plot, "--plot"))
     if args.json:
-        doc = _json(curve, rms, moving, hinges) | ({} if unc is None else {"uncertainty": unc})
+        doc = _json(curve, rms, moving, hinges, moving_hinges) | (
+            {} if unc is None else {"uncertainty": unc}
+        )
         print(json_document("deflect", doc, _JSON_UNITS))
         return 0
     _print(curve, rms, moving is not None)
@@ -845,6 +862,8 @@ def run(args: argparse.Namespace) -> int:
         _print_hinges(curve, hinges)
     if moving is not None:
         _print_moving(moving)
+        if moving_hinges is not None:
+            _print_hinges(moving.moving, moving_hinges, "moving")
     if unc is not None:
         print_curve_uncertainty(curve, unc)
     if args.csv:

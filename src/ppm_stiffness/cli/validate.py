@@ -124,7 +124,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "masses, link bodies) against the model's with link modes (default per leg) at "
         f"each pose, within {FREQUENCY_TOLERANCE * 100:g} %% (needs a mass model)",
     )
+    parser.add_argument(
+        "--hinge-segments",
+        type=int,
+        default=DEFAULT_HINGE_SEGMENTS,
+        metavar="N",
+        help="a design with notch hinges: the convergence check at home builds each hinge "
+        "as N/4, N/2 and N beam members (N a multiple of 4, at most "
+        f"{MAX_HINGE_SEGMENTS}; default {DEFAULT_HINGE_SEGMENTS}: about 1.5 min on the "
+        "3-RRR flexure stage; 0 skips it)",
+    )
 
+
+#: Default and largest --hinge-segments (the finest mesh of the hinge convergence check;
+#: beyond it the solve's round-off, rising as N^3, passes the discretisation error).
+DEFAULT_HINGE_SEGMENTS = 256
+MAX_HINGE_SEGMENTS = 256
 
 #: Defaults of --radius [mm] and --angle [deg].
 DEFAULT_RADIUS_MM = 10.0
@@ -133,6 +148,11 @@ DEFAULT_ANGLE_DEG = 5.0
 
 def _check_args(args: argparse.Namespace) -> None:
     """Check the options; fill in the defaults of --radius and --angle."""
+    n = args.hinge_segments
+    if n != 0 and not (4 <= n <= MAX_HINGE_SEGMENTS and n % 4 == 0):
+        raise InputDataError(
+            f"--hinge-segments must be 0 or a multiple of 4 from 4 to {MAX_HINGE_SEGMENTS}, got {n}"
+        )
     if not 0 <= args.poses <= MAX_POSES:
         raise InputDataError(
             f"--poses must be between 0 and {MAX_POSES} (0.1 to 0.6 s of FE solve each), "
@@ -325,6 +345,7 @@ _FRAME_OPTIONS = {
     "angle": None,
     "seed": 0,
     "modes": False,
+    "hinge_segments": DEFAULT_HINGE_SEGMENTS,
 }
 
 
@@ -341,7 +362,7 @@ def _run_hinge(args: argparse.Namespace) -> int:
         require_skfem,
     )
 
-    given = [f"--{k}" for k, v in _FRAME_OPTIONS.items() if getattr(args, k) != v]
+    given = [f"--{k.replace('_', '-')}" for k, v in _FRAME_OPTIONS.items() if getattr(args, k) != v]
     if given:
         raise InputDataError(f"--hinge checks hinges alone: give it without {', '.join(given)}")
     require_skfem()
@@ -385,21 +406,22 @@ def _run_hinge(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_hinge_convergence(design: Design) -> None:
-    """A design with notch hinges: the FE frame's hinge chains against the model at home
-    (docs/flexures.md, "FE frame")."""
+def _print_hinge_convergence(design: Design, finest: int) -> None:
+    """A design with notch hinges: the FE frame's hinge chains of ``finest`` / 4, / 2 and
+    ``finest`` members against the model at home (docs/flexures.md, "FE frame")."""
     from ppm_stiffness.validation.compare import has_notch_hinges, hinge_convergence
 
-    if not has_notch_hinges(design):
+    if finest == 0 or not has_notch_hinges(design):
         return
-    r = hinge_convergence(design)
+    r = hinge_convergence(design, segments=(finest // 4, finest // 2, finest))
     console.print(
         "notch hinges in the FE frame as chains of "
         + "/".join(str(n) for n in r.segments)
         + " beam members (harmonic-mean sections), at home: max|dK_ij|/sqrt(K_ii K_jj) "
         + ", ".join(f"{d:.2e}" for d in r.differences)
         + (f", observed order {r.order:.2f}" if r.order is not None else "")
-        + f"; Richardson limit {r.extrapolated:.2e}"
+        + f"; Richardson limit {r.extrapolated:.2e}; reciprocity of the FE compliance "
+        + f"{max(r.asymmetry):.1e}"
     )
 
 
@@ -486,7 +508,7 @@ def run(args: argparse.Namespace) -> int:
             f"(tolerance {FREQUENCY_TOLERANCE:.1%}) "
             f"{'ok' if worst_modes <= FREQUENCY_TOLERANCE else 'FAILED'}"
         )
-    _print_hinge_convergence(design)
+    _print_hinge_convergence(design, args.hinge_segments)
     t_fe = float(np.mean([r.time_fe for r in results]))
     t_vj = float(np.mean([r.time_virtual_joint for r in results]))
     console.print(

@@ -600,7 +600,6 @@ def curve_stresses(design: Design, curve: Any, safety_factor: float = 1.0) -> di
     if not (np.isfinite(safety_factor) and safety_factor > 0.0):
         raise DesignError(f"safety factor {safety_factor!r}: must be positive and finite")
     model = hinge_model(design, curve.pose)
-    limits = model.limits(safety_factor)
     offset = tool_offset(curve.pose, curve.tool_point)
     at_p = np.asarray(curve.twists) @ twist_b_from_twist_a(np.eye(3), offset).T
     terms = LegStructures(design, curve.pose).terms
@@ -608,7 +607,13 @@ def curve_stresses(design: Design, curve: Any, safety_factor: float = 1.0) -> di
     rel = at_p[:, None, :] - delta[..., None] * terms.actuator[0][None]
     legs = np.einsum("lij,klj->kli", terms.rigid[0], rel)
     sigma = model.carried_stresses(legs, delta)  # (n, n_hinges)
-    ratio = sigma / limits
+    return _most_utilised(model, sigma, safety_factor)
+
+
+def _most_utilised(model: HingeModel, sigma: FloatArray, safety_factor: float) -> dict[str, Any]:
+    """At each load (rows of ``sigma`` (n, n_hinges) [Pa]) the hinge nearest its
+    allowed stress (:func:`curve_stresses`' return)."""
+    ratio = sigma / model.limits(safety_factor)
     names = [f"leg{h.leg + 1}.{h.name}" for h in model.hinges]
     # the first hinge within round-off of the largest ratio (symmetric hinges tie)
     worst = np.argmax(ratio >= (1.0 - 1e-9) * np.max(ratio, axis=1, keepdims=True), axis=1)
@@ -619,3 +624,86 @@ def curve_stresses(design: Design, curve: Any, safety_factor: float = 1.0) -> di
         "hinge": [names[j] if sigma[k, j] > 0 else "" for k, j in enumerate(worst)],
         "utilisation": ratio[rows, worst],
     }
+
+
+def _rotation_column(screws: FloatArray, hinge: HingeRecord, c0: FloatArray) -> int:
+    """The column of a leg's screw chain (6, n) (twists about c0) that is the hinge's
+    rotation: about its axis z, through its centre."""
+    z, r = hinge.axes[:, 2], hinge.centre - c0
+    for n in range(screws.shape[1]):
+        w, v = screws[:3, n], screws[3:, n]
+        if abs(float(w @ z)) > 1.0 - 1e-9 and np.allclose(v, np.cross(r, w), atol=1e-12):
+            return n
+    raise DesignError(f"hinge {hinge.name}: no rotation about its axis in its leg's chain")
+
+
+def _prefix(screws: FloatArray, coordinates: FloatArray, upto: int) -> tuple[FloatArray, ...]:
+    """(R, p): the displacement of the chain's body before column ``upto``, the product
+    of exp(s_k x_k) for k < upto (:func:`ppm_stiffness.legs.screw_chain.forward`)."""
+    from ppm_stiffness.legs.screw_chain import se3_exp
+
+    g = np.eye(4)
+    if upto:
+        rots, poss = se3_exp((screws[:, :upto] * coordinates[:upto]).T[None])
+        for r_k, p_k in zip(rots[0], poss[0], strict=True):
+            step = np.eye(4)
+            step[:3, :3], step[:3, 3] = r_k, p_k
+            g = g @ step
+    return g[:3, :3], g[:3, 3]
+
+
+def moving_hinge_loads(design: Design, moving: Any) -> tuple[HingeModel, FloatArray]:
+    """Each hinge's loads (m; f) at its displaced centre, in its displaced axes, at each
+    load of a moving-geometry curve (:class:`~ppm_stiffness.statics.moving_deflection
+    .MovingDeflection`): the leg's wrench of the moving equilibrium (about the displaced
+    load point) moved to the hinge's centre carried by the chain's solved coordinates
+    (the bodies before the hinge's rotation); a hinge in parallel with a drive carries
+    ``k_h delta`` about its axis (delta its joint's displacement).
+
+    Returns
+    -------
+    (HingeModel, ndarray (n, n_hinges, 6))
+        The hinges at the unloaded pose and their loads [N·m, N].
+    """
+    from ppm_stiffness.model import tool_offset
+    from ppm_stiffness.statics.moving_path import platform_chains
+
+    curve = moving.moving
+    if moving.leg_wrenches is None or moving.coordinates is None:
+        raise DesignError("the moving curve carries no equilibrium states")
+    pose = np.asarray(curve.pose, dtype=float).reshape(1, 6)
+    c0 = tool_offset(pose[0], curve.tool_point)
+    model = hinge_model(design, pose[0])
+    chains = platform_chains(design, pose, c0[None]).chains
+    twists = np.asarray(curve.twists, dtype=float)
+    delta = np.asarray(curve.actuator_displacements, dtype=float)
+    out = np.zeros((twists.shape[0], len(model.hinges), 6))
+    for j, h in enumerate(model.hinges):
+        screws = chains[h.leg].screws[0]
+        column = _rotation_column(screws, h, c0)
+        for k in range(twists.shape[0]):
+            rot, pos = _prefix(screws, moving.coordinates[h.leg][k], column)
+            centre = rot @ (h.centre - c0) + pos
+            axes = rot @ h.axes
+            w = moving.leg_wrenches[k, h.leg]
+            m_c = w[:3] + np.cross(twists[k, 3:] - centre, w[3:])
+            m_local, f_local = m_c @ axes, w[3:] @ axes
+            if h.parallel > 0.0:
+                m_local[2] = h.parallel * delta[k, h.leg]
+            out[k, j] = np.concatenate([m_local, f_local])
+    return model, out
+
+
+def moving_curve_stresses(
+    design: Design, moving: Any, safety_factor: float = 1.0
+) -> dict[str, Any]:
+    """The largest hinge stress at each load of a moving-geometry curve and its ratio
+    to the allowed stress (:func:`curve_stresses`' return), each hinge's peak stress
+    from :func:`moving_hinge_loads`."""
+    if not (np.isfinite(safety_factor) and safety_factor > 0.0):
+        raise DesignError(f"safety factor {safety_factor!r}: must be positive and finite")
+    model, loads = moving_hinge_loads(design, moving)
+    sigma = np.stack(
+        [peak_stress(h.hinge, loads[:, j]) for j, h in enumerate(model.hinges)], axis=-1
+    ).reshape(loads.shape[0], len(model.hinges))
+    return _most_utilised(model, sigma, safety_factor)

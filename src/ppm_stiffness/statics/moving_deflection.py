@@ -105,6 +105,11 @@ class MovingDeflection:
         tool point).
     frozen_stop, moving_stop : CurveStop or None
         Where each curve stops before the last load (None: it does not).
+    leg_wrenches : ndarray (n, n_legs, 6) or None
+        Each leg's wrench about the displaced load point under each load of ``moving``
+        [N·m, N] (:class:`~ppm_stiffness.statics.moving.MovingBatch`).
+    coordinates : tuple of ndarray (n, n_i) or None
+        Each leg's chain coordinates at each load of ``moving`` [m or rad].
     """
 
     frozen: DeflectionCurve
@@ -113,6 +118,8 @@ class MovingDeflection:
     stiffness_difference: FloatArray
     frozen_stop: CurveStop | None
     moving_stop: CurveStop | None
+    leg_wrenches: FloatArray | None = None
+    coordinates: tuple[FloatArray, ...] | None = None
 
     def stops(self) -> list[str]:
         """A line for each curve that stops early."""
@@ -226,6 +233,8 @@ def moving_deflection(
         stiffness_difference=diff,
         frozen_stop=frozen_stop,
         moving_stop=moving_stop,
+        leg_wrenches=batch.leg_wrenches[:n].copy(),
+        coordinates=tuple(c[:n].copy() for c in batch.coordinates),
     )
 
 

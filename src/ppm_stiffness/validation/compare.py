@@ -34,7 +34,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ppm_stiffness.core.conventions import FloatArray, length_balanced
-from ppm_stiffness.core.errors import InputDataError, PPMStiffnessError, UnreachablePoseError
+from ppm_stiffness.core.errors import (
+    InputDataError,
+    PPMStiffnessError,
+    SingularConfigurationError,
+    UnreachablePoseError,
+)
 from ppm_stiffness.core.pose import ANGLE_COORDINATES, POSE_COORDINATES, POSE_CSV_COLUMNS
 from ppm_stiffness.core.singularity import nonsingular
 from ppm_stiffness.design import Design
@@ -390,7 +395,12 @@ def has_notch_hinges(design: Design) -> bool:
 
 
 #: FE settings of :func:`hinge_convergence` (its doc).
-HINGE_SETTINGS = FESettings(rigid_stiffness=1e12)
+HINGE_SETTINGS = FESettings(rigid_stiffness=1e12, length_unit=0.01, check_stability=False)
+#: The meshes of :func:`hinge_convergence` (members per hinge).
+HINGE_MESHES = (64, 128, 256)
+#: Largest Maxwell-Betti asymmetry of the FE compliance at P accepted by
+#: :func:`hinge_convergence` (its doc): half the 1e-4 the finest mesh must reach.
+HINGE_ROUND_OFF = 5e-5
 
 
 @dataclass(frozen=True)
@@ -409,18 +419,22 @@ class HingeConvergence:
     extrapolated : float
         The same measure for the Richardson limit of the last two meshes at order 2,
         ``K_2n + (K_2n - K_n) / 3``.
+    asymmetry : tuple of float
+        The Maxwell-Betti asymmetry of each mesh's compliance at P
+        (:attr:`FEResult.asymmetry`): the solve's round-off in it.
     """
 
     segments: tuple[int, ...]
     differences: tuple[float, ...]
     order: float | None
     extrapolated: float
+    asymmetry: tuple[float, ...]
 
 
 def hinge_convergence(
     design: Design,
     pose: ArrayLike | None = None,
-    segments: Sequence[int] = (8, 16, 32),
+    segments: Sequence[int] = HINGE_MESHES,
     settings: FESettings | None = None,
 ) -> HingeConvergence:
     """K of the FE frame with its notch hinges as ``n`` members each
@@ -429,12 +443,25 @@ def hinge_convergence(
 
     ``settings`` default to :data:`HINGE_SETTINGS`: rigid parts 10 times stiffer than
     the frame's default, so that their own compliance (7.6e-5 of K on the 3-RRR flexure
-    stage at the default 1e11 N/m) stays below the hinge chains' Richardson limit.
+    stage at the default 1e11 N/m) stays well below the target 1e-4; a length unit of
+    1 cm; and PyNite's residual check off, replaced by the compliance's reciprocity.
+    The chains' short members make the frame's stiffness matrix ill-conditioned as n^3
+    (a member's transverse stiffness 12 EI / D^3 beside the hinges' rotational
+    stiffness): PyNite's check, ``|K x - f| <= 1e-6 |f|``, refuses any backward-stable
+    solve once ``eps |K| |x| / |f|`` passes 1e-6 (the stage from n = 64 on), whatever
+    the accuracy of the displacements at P. Their round-off shows instead in the
+    asymmetry of the compliance at P (Maxwell-Betti), which must stay below
+    :data:`HINGE_ROUND_OFF` (on the stage 2.4e-6 at n = 256; a frame PyNite cannot solve,
+    moduli of 1e20 Pa, 3e-4 to 1e-2). The asymmetry understates the round-off in K:
+    on the stage K at n = 256 changes by 6.4e-5 of its diagonal with the length unit
+    (1 cm against 10 cm; 9.5e-6 at n = 128), so that finer meshes gain nothing.
 
     Raises
     ------
     InputDataError
         Fewer than two meshes, or a count that does not double.
+    SingularConfigurationError
+        A mesh whose compliance at P is less reciprocal than :data:`HINGE_ROUND_OFF`.
     """
     from dataclasses import replace
 
@@ -445,10 +472,17 @@ def hinge_convergence(
     k = stiffness_at_pose(design, p)
     scale = np.sqrt(np.outer(np.diag(k), np.diag(k)))
     base = settings or HINGE_SETTINGS
-    ks = [
-        fe_stiffness_at_pose(design, p, settings=replace(base, hinge_segments=n)).stiffness
-        for n in counts
+    results = [
+        fe_stiffness_at_pose(design, p, settings=replace(base, hinge_segments=n)) for n in counts
     ]
+    for n, r in zip(counts, results, strict=True):
+        if r.asymmetry > HINGE_ROUND_OFF:
+            raise SingularConfigurationError(
+                f"FE model with {n} members per notch hinge: its compliance at P is "
+                f"reciprocal only to {r.asymmetry:.1e} (round-off; at most "
+                f"{HINGE_ROUND_OFF:.0e}): use fewer members"
+            )
+    ks = [r.stiffness for r in results]
 
     def measure(a: FloatArray, b: FloatArray) -> float:
         return float(np.max(np.abs(a - b) / scale))
@@ -457,4 +491,10 @@ def hinge_convergence(
     if len(ks) >= 3:
         order = float(np.log2(measure(ks[-2], ks[-3]) / measure(ks[-1], ks[-2])))
     limit = ks[-1] + (ks[-1] - ks[-2]) / 3.0
-    return HingeConvergence(counts, tuple(measure(x, k) for x in ks), order, measure(limit, k))
+    return HingeConvergence(
+        counts,
+        tuple(measure(x, k) for x in ks),
+        order,
+        measure(limit, k),
+        tuple(r.asymmetry for r in results),
+    )
