@@ -110,10 +110,18 @@ def test_the_default_compliance_is_the_quadrature_once_per_hinge() -> None:
     """The default quadrature is computed once per (frozen) hinge and handed out as a
     new array: equal bit for bit to a fresh quadrature, and a caller's change to the
     array it got does not reach the next caller."""
-    from ppm_stiffness.legs.flexure_hinge import PANELS, POINTS, quadrature_compliance
+    from ppm_stiffness.legs.flexure_hinge import (
+        PANELS,
+        POINTS,
+        _default_compliance,
+        quadrature_compliance,
+    )
 
     hinge = circular(2e-3, 2e-5)
+    held = _default_compliance.cache_size()  # type: ignore[attr-defined]
     first = hinge.compliance()
+    hinge.compliance()
+    assert _default_compliance.cache_size() == held + 1  # type: ignore[attr-defined]
     assert np.array_equal(first, quadrature_compliance(hinge, PANELS, POINTS))
     first[2, 2] = 0.0
     assert hinge.compliance()[2, 2] == quadrature_compliance(hinge, PANELS, POINTS)[2, 2] > 0

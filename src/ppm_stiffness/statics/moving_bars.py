@@ -42,22 +42,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ppm_stiffness.core.conventions import FloatArray
+from ppm_stiffness.core.conventions import FloatArray, hat
 from ppm_stiffness.legs.screw_chain import (
     BarPair,
     ScrewChain,
     cross,
     forward,
 )
-
-
-def _hat(v: FloatArray) -> FloatArray:
-    """``[v]x`` (..., 3, 3) of vectors (..., 3)."""
-    out = np.zeros(v.shape + (3,))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
 
 
 def bar_ends(
@@ -108,7 +99,7 @@ def bar_terms(
     vel = np.swapaxes(jac[:, 3:, :], 1, 2)
     v_near = vel[:, None] + cross(om[:, None], near[:, :, None, :])  # (k, 2, n, 3)
     d_far = np.zeros(far.shape + (6,))  # (k, 2, 3, 6): dF/dt
-    d_far[..., :3] = -_hat(far - translation[:, None])
+    d_far[..., :3] = -hat(far - translation[:, None])
     d_far[..., 3:] = np.eye(3)
     l_x = -np.einsum("kbi,kbni->kbn", u, v_near)
     l_t = np.einsum("kbi,kbic->kbc", u, d_far)
@@ -118,11 +109,11 @@ def bar_terms(
         eye = np.eye(3)
         proj = (eye - u[..., :, None] * u[..., None, :]) / length[..., None, None]
         # dw0 / dd_j through dn_j: N_j ([E_j]x ; I) P_j / l_j  (k, 2, 6, 3)
-        g_u = np.concatenate([_hat(near), np.broadcast_to(eye, near.shape + (3,))], axis=-2)
+        g_u = np.concatenate([hat(near), np.broadcast_to(eye, near.shape + (3,))], axis=-2)
         m_u = force[..., None, None] * (g_u @ proj)
         # dw0 / dE_j at fixed n_j: N_j (-[n_j]x ; 0)
         g_e = np.zeros(near.shape[:2] + (6, 3))
-        g_e[..., :3, :] = -force[..., None, None] * _hat(u)
+        g_e[..., :3, :] = -force[..., None, None] * hat(u)
         w_x = np.einsum("kbic,kbnc->kin", g_e - m_u, v_near)
         w_t = np.einsum("kbic,kbcs->kis", m_u, d_far)
     return {

@@ -59,7 +59,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ppm_stiffness.core.conventions import BALANCE, LENGTH_SCALE, BoolArray, FloatArray
+from ppm_stiffness.core.conventions import BALANCE, LENGTH_SCALE, BoolArray, FloatArray, hat
 from ppm_stiffness.core.pose import rotation_exp
 from ppm_stiffness.legs.screw_chain import (
     ScrewChain,
@@ -458,7 +458,7 @@ def linearize_bar_leg(
     dw0 = now - wrench + _about_displaced_increment(w_z @ dz0[..., None], translation)[..., 0]
     dw_t = _about_displaced_increment(w_z @ dz_t + t["w_t"], translation)
     if geometric:  # the moment arm of c' moving: -dv x f
-        dw_t[:, :3, 3:] += _hat3(w0[:, 3:])
+        dw_t[:, :3, 3:] += hat(w0[:, 3:])
     scale = np.where(chain.rotational, LENGTH_SCALE, 1.0)
     x_scaled = t["x"] * scale
     r_spring = np.where(held, 0.0, np.abs((t["x"] - defl) * scale))
@@ -487,19 +487,6 @@ def _about_displaced_increment(dw: FloatArray, translation: FloatArray) -> Float
     out = dw.copy()
     out[:, :3, :] -= cross(translation[:, None, :], np.swapaxes(dw[:, 3:, :], 1, 2)).swapaxes(1, 2)
     return out
-
-
-def _hat3(v: FloatArray) -> FloatArray:
-    """``[v]x`` (k, 3, 3) of vectors (k, 3)."""
-    z = np.zeros(v.shape[0])
-    return np.stack(
-        [
-            np.stack([z, -v[:, 2], v[:, 1]], axis=1),
-            np.stack([v[:, 2], z, -v[:, 0]], axis=1),
-            np.stack([-v[:, 1], v[:, 0], z], axis=1),
-        ],
-        axis=1,
-    )
 
 
 @dataclass(frozen=True)
