@@ -3,7 +3,7 @@ of one structure are evaluated in one batched call (:func:`ppm_stiffness.legs.ch
 .stack_chains`), each link's elements at once. It is the batched (map) path's model,
 leg by leg, run on other arrays: every shipped example's leg modes, M and f1..f6 at one
 pose equal those of the batched path over poses (which keeps one call per leg) to
-1e-12. Residuals measured when the tolerances were set are given at each assertion."""
+1e-13. Residuals measured when the tolerances were set are given at each assertion."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ from ppm_stiffness.model import (
 from ppm_stiffness.poses import full_pose
 
 #: Relative agreement of the one-pose path with the batched one.
-AGREEMENT = 1e-12
+AGREEMENT = 1e-13
 #: The frequencies from inputs that agree to AGREEMENT (the reduced pair's conditioning).
 FREQUENCY_AGREEMENT = 3e-11
 
@@ -55,8 +55,9 @@ def _chains(design: Design, pose: np.ndarray) -> list[list[object]]:
 def test_the_one_pose_leg_modes_and_mass_are_the_batched_ones(name: str) -> None:
     """Each leg's fixed-interface modes (omega^2, and ``C C^T``, which does not depend on
     the basis of a degenerate pair) and M at one pose against the batched path at two
-    poses (one call per leg; measured: equal bit for bit but the Tricept's M, 2.8e-16
-    of its largest entry: the legs' reciprocal bases by the scalar and the array code)."""
+    poses (one call per leg; measured: the Tricept's M 2.8e-16 of its largest entry, the
+    legs' reciprocal bases by the scalar and the array code; the 3-PRR's omega^2
+    1.1e-14, the other examples' below 1e-14: 1e-14 failed on the 3-PRR)."""
     design = design_named(name)
     p = _centre(design)
     k_act = actuator_stiffness_vector(design, None)
