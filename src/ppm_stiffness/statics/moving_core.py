@@ -558,9 +558,10 @@ def _same_structure(a: ScrewChain, b: ScrewChain) -> bool:
         return False
     if a.actuator != b.actuator or a.law != b.law or a.parallel != b.parallel:
         return False
-    if (a.elastic is None) != (b.elastic is None):
-        return False
-    if a.elastic is not None and not np.array_equal(a.elastic, b.elastic):
+    if a.elastic is None or b.elastic is None:
+        if a.elastic is not b.elastic:
+            return False
+    elif not np.array_equal(a.elastic, b.elastic):
         return False
     return bool(np.array_equal(a.passive, b.passive) and np.array_equal(a.rotational, b.rotational))
 
