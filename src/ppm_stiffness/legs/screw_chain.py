@@ -394,9 +394,10 @@ def bracket_form(jacobian: FloatArray, wrench: FloatArray) -> FloatArray:
     f = wrench[:, None, 3:]
     # m . (w_l x w_m) = w_l . (w_m x m);  f . (w_l x v_m) = w_l . (v_m x f)
     vf = cross(vel, f)
-    a = np.einsum("kli,kmi->klm", om, cross(om, m) + vf)
+    # (batched matmul: some 15x faster than einsum's loop at n = 30)
+    a = om @ np.swapaxes(cross(om, m) + vf, 1, 2)
     # f . (w_m x v_l) = w_m . (v_l x f)
-    b = np.einsum("kmi,kli->klm", om, vf)
+    b = vf @ np.swapaxes(om, 1, 2)
     return np.asarray(a - b)
 
 
