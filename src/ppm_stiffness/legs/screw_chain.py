@@ -362,10 +362,18 @@ def forward(screws: FloatArray, coordinates: FloatArray) -> ChainKinematics:
     coordinates : ndarray (k, n) [m or rad]
     """
     k, _, n = screws.shape
-    r_e, p_e = se3_exp(np.swapaxes(screws, 1, 2) * coordinates[:, :, None])  # (k, n, ...)
+    twists = np.swapaxes(screws, 1, 2) * coordinates[:, :, None]  # (k, n, 6)
     steps = np.zeros((k, n, 4, 4))
-    steps[:, :, :3, :3] = r_e
-    steps[:, :, :3, 3] = p_e
+    turning = np.any(screws[:, :3, :] != 0, axis=(0, 1))  # (n,)
+    if turning.all():
+        steps[:, :, :3, :3], steps[:, :, :3, 3] = se3_exp(twists)
+    else:  # a translation's exp is (I, v) exactly: se3_exp of the others only
+        t = np.flatnonzero(turning)
+        steps[:, :, :3, :3] = np.eye(3)
+        steps[:, :, :3, 3] = twists[:, :, 3:]
+        r_t, p_t = se3_exp(twists[:, t])
+        steps[:, t, :3, :3] = r_t
+        steps[:, t, :3, 3:] = p_t[..., None]
     steps[:, :, 3, 3] = 1.0
     prefix = np.empty((k, n + 1, 4, 4))  # g_1 ... g_{i-1}, before coordinate i
     prefix[:, 0] = np.eye(4)

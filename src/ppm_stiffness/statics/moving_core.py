@@ -523,7 +523,7 @@ def linearize(
     the load point."""
     disp = _displacement_size(state.rotation, state.translation)
     out: list[LegLinearization | None] = [None] * len(system.chains)
-    for group in _stackable(system.chains):
+    for group in _stackable(system.chains, system.size):
         if len(group) == 1:
             i = group[0]
             c = system.chains[i]
@@ -551,6 +551,13 @@ def linearize(
     return Linearization(legs, stiffness, unbalance, np.maximum(residual, r_force), residual, ok)
 
 
+#: Problems solved as one batch by :func:`linearize` at most (legs of one structure
+#: stacked): larger batches of (n + 6)-square systems leave the cache (the hexapod's
+#: 10 x 10 margin map, 62 poses: every leg stacked was no faster than leg by leg; two
+#: legs at a time 14-16 s of CPU against 16-17 s, load 4.5-6.9, noisy).
+STACKED_PROBLEMS = 128
+
+
 def _same_structure(a: ScrewChain, b: ScrewChain) -> bool:
     """Whether two legs' chains differ only in their screws and compliances (their
     steps can be solved as one batch: the same numbers as each on its own)."""
@@ -566,13 +573,15 @@ def _same_structure(a: ScrewChain, b: ScrewChain) -> bool:
     return bool(np.array_equal(a.passive, b.passive) and np.array_equal(a.rotational, b.rotational))
 
 
-def _stackable(chains: tuple[ScrewChain, ...]) -> list[list[int]]:
+def _stackable(chains: tuple[ScrewChain, ...], size: int = 1) -> list[list[int]]:
     """The legs in groups of the same structure (:func:`_same_structure`), in order of
-    their first leg."""
+    their first leg, each group of at most :data:`STACKED_PROBLEMS` problems at ``size``
+    problems per leg (at least one leg)."""
+    most = max(STACKED_PROBLEMS // max(size, 1), 1)
     groups: list[list[int]] = []
     for i, c in enumerate(chains):
         for g in groups:
-            if _same_structure(chains[g[0]], c):
+            if len(g) < most and _same_structure(chains[g[0]], c):
                 g.append(i)
                 break
         else:
