@@ -116,3 +116,29 @@ def test_unloaded_chain_gives_todays_leg_stiffness(name: str) -> None:
         err = np.abs((k_chain - k_today) * scale[:, None] * scale).max()
         tol = 6e-12 if flexure_jointed(design) else 2e-13
         assert err <= tol * np.abs(k_today * scale[:, None] * scale).max()
+
+
+def test_forward_with_translations_is_the_product_of_the_exps() -> None:
+    """``forward`` takes a translation's exp as (I, v) without se3_exp (issue 32 item 2):
+    the product of every coordinate's se3_exp, to round-off, on a chain of rotations and
+    translations at random coordinates (bit for bit the code before on the shipped
+    examples' chains, checked when the shortcut was made)."""
+    rng = np.random.default_rng(3)
+    k, n = 4, 8
+    screws = rng.normal(size=(k, 6, n))
+    screws[:, :3, [1, 4, 5]] = 0.0  # three translations
+    x = rng.normal(size=(k, n)) * 0.1
+    r_e, p_e = se3_exp(np.swapaxes(screws, 1, 2) * x[:, :, None])
+    rot = np.broadcast_to(np.eye(3), (k, 3, 3)).copy()
+    pos = np.zeros((k, 3))
+    jac = np.zeros((k, 6, n))
+    for i in range(n):  # J_i = Ad(g_1 ... g_{i-1}) s_i, then g <- g g_i
+        w = np.einsum("kij,kj->ki", rot, screws[:, :3, i])
+        v = np.einsum("kij,kj->ki", rot, screws[:, 3:, i]) + np.cross(pos, w)
+        jac[:, :, i] = np.concatenate([w, v], axis=1)
+        pos = pos + np.einsum("kij,kj->ki", rot, p_e[:, i])
+        rot = rot @ r_e[:, i]
+    kin = forward(screws, x)
+    np.testing.assert_allclose(kin.rotation, rot, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(kin.translation, pos, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(kin.jacobian, jac, rtol=0, atol=1e-14)

@@ -509,18 +509,25 @@ def linearize(
     """Every leg's step and the platform's row at a state, under ``wrench`` (k, 6) at
     the load point."""
     disp = _displacement_size(state.rotation, state.translation)
-    legs = tuple(
-        (linearize_leg if c.bars is None else linearize_bar_leg)(
-            c,
-            state.coordinates[i],
-            state.wrenches[:, i],
-            state.rotation,
-            state.translation,
-            geometric,
-            disp,
-        )
-        for i, c in enumerate(system.chains)
-    )
+    out: list[LegLinearization | None] = [None] * len(system.chains)
+    for group in _stackable(system.chains, system.size):
+        if len(group) == 1:
+            i = group[0]
+            c = system.chains[i]
+            out[i] = (linearize_leg if c.bars is None else linearize_bar_leg)(
+                c,
+                state.coordinates[i],
+                state.wrenches[:, i],
+                state.rotation,
+                state.translation,
+                geometric,
+                disp,
+            )
+            continue
+        stacked = _linearize_stacked(system, state, group, geometric, disp)
+        for i, leg in zip(group, stacked, strict=True):
+            out[i] = leg
+    legs = tuple(leg for leg in out if leg is not None)
     stiffness = np.sum([leg.dw_t for leg in legs], axis=0)
     total = state.wrenches.sum(axis=1)
     unbalance = wrench - total - np.sum([leg.dw0 for leg in legs], axis=0)
@@ -529,6 +536,85 @@ def linearize(
     residual = np.max([leg.residual for leg in legs], axis=0)
     ok = np.all([leg.ok for leg in legs], axis=0) & np.all(np.isfinite(stiffness), axis=(1, 2))
     return Linearization(legs, stiffness, unbalance, np.maximum(residual, r_force), residual, ok)
+
+
+#: Problems solved as one batch by :func:`linearize` at most (legs of one structure
+#: stacked): larger batches of (n + 6)-square systems leave the cache (the hexapod's
+#: 10 x 10 margin map, 62 poses: every leg stacked was no faster than leg by leg; two
+#: legs at a time 14-16 s of CPU against 16-17 s, load 4.5-6.9, noisy).
+STACKED_PROBLEMS = 128
+
+
+def _same_structure(a: ScrewChain, b: ScrewChain) -> bool:
+    """Whether two legs' chains differ only in their screws and compliances (their
+    steps can be solved as one batch: the same numbers as each on its own)."""
+    if a.bars is not None or b.bars is not None or a.screws.shape != b.screws.shape:
+        return False
+    if a.actuator != b.actuator or a.law != b.law or a.parallel != b.parallel:
+        return False
+    if a.elastic is None or b.elastic is None:
+        if a.elastic is not b.elastic:
+            return False
+    elif not np.array_equal(a.elastic, b.elastic):
+        return False
+    return bool(np.array_equal(a.passive, b.passive) and np.array_equal(a.rotational, b.rotational))
+
+
+def _stackable(chains: tuple[ScrewChain, ...], size: int = 1) -> list[list[int]]:
+    """The legs in groups of the same structure (:func:`_same_structure`), in order of
+    their first leg, each group of at most :data:`STACKED_PROBLEMS` problems at ``size``
+    problems per leg (at least one leg)."""
+    most = max(STACKED_PROBLEMS // max(size, 1), 1)
+    groups: list[list[int]] = []
+    for i, c in enumerate(chains):
+        for g in groups:
+            if len(g) < most and _same_structure(chains[g[0]], c):
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
+
+
+def _linearize_stacked(
+    system: PlatformChains,
+    state: ChainState,
+    group: list[int],
+    geometric: bool,
+    disp: FloatArray,
+) -> list[LegLinearization]:
+    """:func:`linearize_leg` of the legs ``group`` (of one structure) as one batch of
+    ``len(group) * k`` problems (leg-major), split back per leg: every problem is
+    solved on its own, so each leg's numbers are those of its own call."""
+    k = system.size
+    g = len(group)
+    first = system.chains[group[0]]
+    chain = replace(
+        first,
+        screws=np.concatenate([system.chains[i].screws for i in group]),
+        compliance=np.concatenate([system.chains[i].compliance for i in group]),
+    )
+    lin = linearize_leg(
+        chain,
+        np.concatenate([state.coordinates[i] for i in group]),
+        np.concatenate([state.wrenches[:, i] for i in group]),
+        np.concatenate([state.rotation] * g),
+        np.concatenate([state.translation] * g),
+        geometric,
+        np.concatenate([disp] * g),
+    )
+    return [
+        LegLinearization(
+            dx0=lin.dx0[j * k : (j + 1) * k],
+            dx_t=lin.dx_t[j * k : (j + 1) * k],
+            dw0=lin.dw0[j * k : (j + 1) * k],
+            dw_t=lin.dw_t[j * k : (j + 1) * k],
+            residual=lin.residual[j * k : (j + 1) * k],
+            forces=lin.forces[j * k : (j + 1) * k],
+            ok=lin.ok[j * k : (j + 1) * k],
+        )
+        for j in range(g)
+    ]
 
 
 def platform_step(lin: Linearization, fixed: bool = False) -> FloatArray:
