@@ -115,10 +115,14 @@ def default_extent(design: Design) -> tuple[np.ndarray, float]:
     grid: ``maps.slices.slice_bounds``) and its CPU seconds: computed once, apart from
     the map's own rate (for a chain-leg design it costs as much as some 30,000 poses of
     inverse kinematics, whatever the map's size)."""
-    from ppm_stiffness.maps.slices import map_slice, slice_bounds
+    from ppm_stiffness.maps.slices import map_slice, slice_grid
 
     c = time.process_time()
-    box = np.asarray(slice_bounds(design, map_slice(design)), dtype=float)
+    # the corners of a 2 x 2 default grid: the extent shrunk as the map shrinks it (no
+    # grid point exactly on a limit, where the map and the single-pose API may differ
+    # by round-off)
+    u, v = slice_grid(design, map_slice(design), 2)
+    box = np.array([u[0], u[-1], v[0], v[-1]])
     return box, time.process_time() - c
 
 
