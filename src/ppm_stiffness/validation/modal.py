@@ -197,6 +197,13 @@ def _bar_links(design: Design, pose: FloatArray) -> list[Link]:
     return links
 
 
+def lumps_bar_masses(design: Design, pose: ArrayLike | None = None) -> bool:
+    """Whether the mass model lumps a parallelogram's bar masses (a link's
+    ``end_mass``): there, its rule (halves at the crossbars, no bending of the bars)
+    differs from the frame's continuous bars by physics (docs/dynamics.md, the Delta)."""
+    return any(link.end_mass > 0.0 for link in _design_links(design, full_pose(design, pose)))
+
+
 def _joint_nodes(fb: FrameBuilder, chains: Sequence[Sequence[Element]]) -> dict[int, str]:
     """The node after each joint (id of the Joint element -> node name): each joint adds
     one ``J`` node at its point, in chain order."""
