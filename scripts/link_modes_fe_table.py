@@ -3,7 +3,9 @@ modes": f1..f3 of the condensed model, of the model with each leg's own modes (t
 default number per leg) and of the whole FE frame, at the home pose, locked
 actuators, for the designs of tests/test_modal_validation.py with uniform links; then
 f1 of every shipped example as it is (links given as bodies included), with the
-largest difference of f1..f6 (with link modes against the frame) and f_link,1.
+largest difference of f1..f6 (with link modes against the frame) and f_link,1;
+then the Delta's f1..f6 at home and validate's two drawn poses (seed 0): condensed,
+reduced frame (Guyan), with link modes, whole frame (``--delta`` prints only that).
 
 Run from the repository's top folder (about two minutes; needs the extra "validate"):
 
@@ -18,8 +20,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
 
+import numpy as np  # noqa: E402
+
 from helpers import design_named  # noqa: E402
 from ppm_stiffness.dynamics.analysis import modal_analysis  # noqa: E402
+from ppm_stiffness.validation.compare import validation_poses  # noqa: E402
 from ppm_stiffness.validation.modal import modal_comparison  # noqa: E402
 from test_dynamics import _with_masses  # noqa: E402
 
@@ -82,8 +87,37 @@ def shipped_table() -> None:
         )
 
 
+def delta_table() -> None:
+    """The Delta's f1..f6 at three poses: the model's bar-mass rule (halves lumped at
+    the crossbars, no bending) against the frame's continuous bars."""
+    print("| pose (x, y, z mm) | | f₁ … f₆ [Hz] |")
+    print("| --- | --- | --- |")
+    design = design_named("delta")
+    for pose in validation_poses(design, 2, 0):
+        c = modal_comparison(design, pose)
+        where = ", ".join(f"{1e3 * v:.1f}" for v in pose[:3])
+        rows = {
+            "condensed": c.model_frequencies,
+            "frame reduced to P": c.reduced_frequencies,
+            "with link modes": c.linked_frequencies,
+            "whole frame": c.full_frequencies,
+            "with link modes / whole frame − 1": c.linked_frequencies / c.full_frequencies - 1,
+        }
+        for label, values in rows.items():
+            fmt = "{:+.4f}" if "/" in label else "{:.2f}"
+            cells = ", ".join(fmt.format(v) for v in np.asarray(values))
+            print(f"| {where} | {label} | {cells} |", flush=True)
+            where = ""
+        print(f"| | f_link,1 (frame) | {c.link_frequency:.2f} |", flush=True)
+
+
 def main() -> None:
+    if "--delta" in sys.argv:
+        delta_table()
+        return
     shipped_table()
+    print()
+    delta_table()
     print()
     print(
         "| design | f₁ … f₃ condensed | f₁ … f₃ with link modes | f₁ … f₃ whole FE "

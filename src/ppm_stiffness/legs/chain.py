@@ -161,7 +161,8 @@ class Joint:
         A joint of an element's equivalent chain (a parallelogram's two P joints and
         U): exact for the stiffness and the masses, not a part; pictures draw the
         element's parts instead (:meth:`~ppm_stiffness.legs.base.LegModel.
-        drawn_members`) and the FE frame refuses it.
+        drawn_members`) and the FE frame builds those parts, with their masses, in
+        its place.
     elastic : ndarray (FREEDOMS[kind],) or None
         Stiffness along each freedom [N·m/rad or N/m] (a flexure, a torsion spring),
         positive and finite: the freedoms are elastic, not passive (module doc); an

@@ -21,6 +21,11 @@ and the mass matrix is assembled here:
   beyond its link's end (:mod:`ppm_stiffness.dynamics.links`), while inside the link
   the frame's beam carries the body at a node of its own where the model's leg FE
   interpolates its elements (the Hermite shape of the element holding the centre);
+- a parallelogram's bars (the Delta's) are members of the frame: each carries its
+  own mass as a uniform bar (consistent beam mass, no spin), where the mass model
+  lumps its halves at the crossbars' centres and has no bending of the bars: the
+  Delta's f1, f2 differ by that rule, -3.6 %, and the frame's f4..f6 are the bars'
+  bending near 104 Hz (docs/dynamics.md);
 - the platform's rigid-body mass sits at its master node P (its spatial inertia at P,
   :mod:`ppm_stiffness.dynamics.inertia`);
 - an actuator's carriage mass sits at the node after its joint (the joint's output),
@@ -183,6 +188,22 @@ def _design_links(design: Design, pose: FloatArray) -> list[Link]:
     return links
 
 
+def _bar_links(design: Design, pose: FloatArray) -> list[Link]:
+    """The parallelograms' bars as the frame builds them, with their own masses
+    (:meth:`~ppm_stiffness.legs.base.LegModel.drawn_members`)."""
+    links = []
+    for leg, lp in zip(design.legs, solve_legs(design, pose), strict=True):
+        links += [e for e in leg.drawn_members(lp)[0] if e.mass is not None]
+    return links
+
+
+def lumps_bar_masses(design: Design, pose: ArrayLike | None = None) -> bool:
+    """Whether the mass model lumps a parallelogram's bar masses (a link's
+    ``end_mass``): there, its rule (halves at the crossbars, no bending of the bars)
+    differs from the frame's continuous bars by physics (docs/dynamics.md, the Delta)."""
+    return any(link.end_mass > 0.0 for link in _design_links(design, full_pose(design, pose)))
+
+
 def _joint_nodes(fb: FrameBuilder, chains: Sequence[Sequence[Element]]) -> dict[int, str]:
     """The node after each joint (id of the Joint element -> node name): each joint adds
     one ``J`` node at its point, in chain order."""
@@ -301,23 +322,23 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
     """The frame's mass matrix over all its degrees of freedom (PyNite's numbering, SI:
     m and rad) from the design's mass model (module doc).
 
+    A parallelogram's bars (the Delta's) are members of the frame: each carries its own
+    mass as a uniform bar (consistent beam mass, no spin), where the mass model lumps
+    each bar's halves at its crossbars' centres (the arm link's ``end_mass`` and the
+    equivalent U joint's mass, :mod:`ppm_stiffness.legs.types._parallelogram`): the
+    frame takes neither of those.
+
     Raises
     ------
     DesignError
         A rotor on a joint away from the element before it, a link the frame lacks,
-        or masses lumped on a parallelogram (the Delta's: the frame builds its bars).
+        or a joint with a mass the frame does not build at its point.
     """
     n = 6 * len(fb.model.nodes)
     out = np.zeros((n, n))
     groups = _link_groups(fb)
-    for link in _design_links(design, pose):
-        if link.end_mass > 0.0:
-            raise DesignError(
-                f"FE modal check, link {link.name}: the frame builds a parallelogram's "
-                "bars from their own members, the mass model lumps their halves at the "
-                "link's end; not compared"
-            )
-        if link.mass is None:
+    for link in _design_links(design, pose) + _bar_links(design, pose):
+        if link.mass is None:  # a link's end_mass: its parallelogram's bars, below
             continue
         members = _link_members(groups, link)
         station = body_station(link)
@@ -333,13 +354,12 @@ def fe_mass_matrix(design: Design, pose: FloatArray, fb: FrameBuilder, p_node: s
     after = _joint_nodes(fb, chains)
     for chain in chains:
         for k, element in enumerate(chain):
-            if not isinstance(element, Joint) or element.mass is None:
-                continue
+            if not isinstance(element, Joint) or element.mass is None or element.equivalent:
+                continue  # an equivalent joint's mass: its parallelogram's bars
             if id(element) not in after:
                 raise DesignError(
-                    f"FE modal check, joint {element.name}: the frame builds it from its "
-                    "own members (a parallelogram's bars), the mass model lumps masses "
-                    "on it; not compared"
+                    f"FE modal check, joint {element.name}: the frame has no node at its "
+                    "point for its mass"
                 )
             d = _dof(fb, after[id(element)])
             out[d : d + 3, d : d + 3] += element.mass.mass * np.eye(3)

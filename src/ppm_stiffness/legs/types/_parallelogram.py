@@ -54,7 +54,7 @@ import numpy as np
 from ppm_stiffness.core.beam import BeamSection
 from ppm_stiffness.core.conventions import FloatArray, cross
 from ppm_stiffness.legs.base import check_plausible
-from ppm_stiffness.legs.chain import Joint, JointMass, Link, unit
+from ppm_stiffness.legs.chain import Joint, JointMass, Link, LinkMass, unit
 from ppm_stiffness.legs.parts import Finite, PartModel, Positive, SectionModel, SphericalModel
 from ppm_stiffness.legs.types._spatial import check_unit
 
@@ -176,7 +176,9 @@ def parallelogram_members(
     """The element's parts as pictures draw them and the FE frame builds them, from its
     corners (2, 3) at one pose (relative to P) [m]: links: the near crossbar, the two
     bars (their section; :data:`RIGID_PART` for rigid bars), the far crossbar as two
-    halves ending at its centre (where the leg meets the platform); joints: a ball
+    halves ending at its centre (where the leg meets the platform); each bar with its
+    own mass as a uniform rod without spin (the frame's consistent beam mass; the
+    mass model lumps its halves instead, module doc); joints: a ball
     joint with the corner springs at each corner, in pairs (near, far) per bar."""
     section = (
         element.parallelogram.section()
@@ -184,10 +186,12 @@ def parallelogram_members(
         else RIGID_PART
     )
     centre = far.mean(axis=0)
+    bar_mass = element.bar_mass()
+    mass = LinkMass(mass=bar_mass) if bar_mass > 0.0 else None  # uniform, no spin
     links = [
         Link(near[0], near[1], RIGID_PART, name=f"{name}.crossbar"),
-        Link(near[0], far[0], section, name=name),
-        Link(near[1], far[1], section, name=name),
+        Link(near[0], far[0], section, name=name, mass=mass),
+        Link(near[1], far[1], section, name=name, mass=mass),
         Link(far[0], centre, RIGID_PART, name=f"{name}.crossbar"),
         Link(far[1], centre, RIGID_PART, name=f"{name}.crossbar"),
     ]
