@@ -64,6 +64,7 @@ import sys
 import time
 
 import numpy as np
+from _common import load_text
 
 from ppm_stiffness.core import solver
 from ppm_stiffness.core.conventions import length_balanced
@@ -270,14 +271,6 @@ def peak_memory(grid: int, design_file: str | None) -> dict[str, float]:
         env=env,
     )
     return json.loads(out.stdout.strip().splitlines()[-1])
-
-
-def load_text() -> str:
-    try:
-        one, five, fifteen = os.getloadavg()
-    except OSError:
-        return "load average unknown"
-    return f"load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
 
 
 def time_fixed(design: Design, calls: int = 30) -> float:

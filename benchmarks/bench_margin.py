@@ -34,6 +34,8 @@ import subprocess
 import sys
 import time
 
+from _common import load_text
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = os.path.join(HERE, "..", "examples")
 #: This checkout's library.
@@ -45,14 +47,6 @@ CASES = (
     ("rrr", "3rrr.toml", (0.0, 0.0, 2.0, 400.0, 400.0, 0.0)),
     ("hexapod", "hexapod_6ups.toml", (2000.0, 2000.0, -5000.0, 20000.0, 20000.0, 50000.0)),
 )
-
-
-def load_text() -> str:
-    try:
-        one, five, fifteen = os.getloadavg()
-    except OSError:
-        return "load average unknown"
-    return f"load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
 
 
 def worker(name: str, wrench: list[float], grid: int) -> None:

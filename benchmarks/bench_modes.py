@@ -49,6 +49,7 @@ import sys
 import time
 
 import numpy as np
+from _common import load_text
 
 from ppm_stiffness.design import Design, load_design
 from ppm_stiffness.dynamics.mass import mass_matrix, mass_matrix_at_pose
@@ -63,14 +64,6 @@ AGREEMENT = 1e-12
 #: The same with link modes (the map and ``modal_analysis`` share the legs' FE).
 LINK_AGREEMENT = 1e-10
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
-
-
-def load_text() -> str:
-    try:
-        one, five, fifteen = os.getloadavg()
-    except OSError:
-        return "load average unknown"
-    return f"load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
 
 
 def time_map(

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-BENCHMARKS = sorted((Path(__file__).parents[1] / "benchmarks").glob("*.py"))
+BENCHMARKS = sorted((Path(__file__).parents[1] / "benchmarks").glob("bench_*.py"))  # not _common.py
 #: A line of the machine-readable figures: one or more space-separated key=value fields.
 KEY_VALUES = re.compile(r"^[A-Za-z_][\w.]*=\S+( [A-Za-z_][\w.]*=\S+)*$")
 #: Optional extras a benchmark needs (it is skipped without them).

@@ -11,6 +11,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
+def home_points(leg: Any, home: ArrayLike) -> tuple[dict[str, Any], dict[str, float]]:
+    """A preset leg at the design's home pose (6,): its points [m] in F_b (name -> (3,))
+    and its scalar coordinates (name -> value [m or rad]), from its own solve."""
+    h = np.asarray(home, dtype=float)
+    at_home = leg.solve(h)
+    points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
+    coordinates = {
+        k: float(np.reshape(v, -1)[0]) for k, v in at_home.coordinates.items() if np.size(v) == 1
+    }
+    return points, coordinates
+
+
 def part_table(part: Any) -> dict[str, Any]:
     """A part's design-file table (its fields that are set)."""
     return dict(part.model_dump(exclude_none=True))
@@ -40,4 +52,4 @@ def chain_table(actuator: Any, elements: list[dict[str, Any]]) -> dict[str, Any]
     return {"type": "chain", "actuator": part_table(actuator), "elements": elements}
 
 
-__all__ = ["chain_table", "joint_table", "link_table", "part_table"]
+__all__ = ["chain_table", "home_points", "joint_table", "link_table", "part_table"]

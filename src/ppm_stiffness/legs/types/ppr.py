@@ -46,7 +46,7 @@ from ppm_stiffness.legs.parts import (
     RevoluteModel,
     SectionModel,
 )
-from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
+from ppm_stiffness.legs.types._joint_lists import chain_table, home_points, joint_table, link_table
 from ppm_stiffness.legs.types._ppr_reduced import reduce_ppr_leg
 
 
@@ -157,10 +157,8 @@ class PPRLeg(PlanarLegModel):
         the home rod length), the distal link (the rod, from the bearing), R at D about
         z."""
         h = np.asarray(home, dtype=float)
-        at_home = self.solve(h)
-        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
-        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
-        rod = float(np.reshape(at_home.coordinates["rod"], -1)[0])
+        points, coordinates = home_points(self, h)
+        rho, rod = coordinates["rho"], coordinates["rod"]
         u, w = self.directions()
         return chain_table(
             self.law(),

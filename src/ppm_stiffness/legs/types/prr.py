@@ -45,7 +45,7 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     joint_springs,
 )
-from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
+from ppm_stiffness.legs.types._joint_lists import chain_table, home_points, joint_table, link_table
 
 
 class PRRLeg(PlanarLegModel):
@@ -128,9 +128,8 @@ class PRRLeg(PlanarLegModel):
         (``carried_by = "after"``: the guide's springs act at the moving carriage, as
         here), R at C, the distal link, R at D; revolute axes along z."""
         h = np.asarray(home, dtype=float)
-        at_home = self.solve(h)
-        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
-        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
+        points, coordinates = home_points(self, h)
+        rho = coordinates["rho"]
         z = {"axis": [0.0, 0.0, 1.0]}
         return chain_table(
             self.law(),

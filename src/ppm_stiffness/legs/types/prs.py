@@ -51,7 +51,7 @@ from ppm_stiffness.legs.parts import (
     SphericalModel,
     joint_springs,
 )
-from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
+from ppm_stiffness.legs.types._joint_lists import chain_table, home_points, joint_table, link_table
 from ppm_stiffness.legs.types._spatial import (
     angle_limit,
     check_normal,
@@ -163,9 +163,8 @@ class PRSLeg(LegModel):
         its stroke the travel from the home rho; R about e_R at C, the link, S at B (its
         ``mounting_axis`` the platform joint's axis at home)."""
         h = np.asarray(home, dtype=float)
-        at_home = self.solve(h)
-        points = {k: np.reshape(v, 3) + h[:3] for k, v in at_home.points.items()}
-        rho = float(np.reshape(at_home.coordinates["rho"], -1)[0])
+        points, coordinates = home_points(self, h)
+        rho = coordinates["rho"]
         u, e = self.directions()
         axis = pose6.platform_offset(h, np.asarray(self.platform_joint_axis))
         return chain_table(

@@ -47,7 +47,7 @@ from ppm_stiffness.legs.parts import (
     SectionModel,
     joint_springs,
 )
-from ppm_stiffness.legs.types._joint_lists import chain_table, joint_table, link_table
+from ppm_stiffness.legs.types._joint_lists import chain_table, home_points, joint_table, link_table
 
 
 class RRRLeg(PlanarLegModel):
@@ -136,9 +136,9 @@ class RRRLeg(PlanarLegModel):
         its stroke the turn from the home angle), the proximal link, R at C, the distal
         link, R at D on the platform, every axis along z."""
         h = np.asarray(home, dtype=float)
-        at_home = self.solve(h)
-        points = {k: (np.reshape(v, 3) + h[:3]).tolist() for k, v in at_home.points.items()}
-        theta = float(np.reshape(at_home.coordinates["theta"], -1)[0])
+        at, coordinates = home_points(self, h)
+        points = {k: v.tolist() for k, v in at.items()}
+        theta = coordinates["theta"]
         z = {"axis": [0.0, 0.0, 1.0]}
         stroke = [self.stroke[0] - theta, self.stroke[1] - theta]
         return chain_table(
