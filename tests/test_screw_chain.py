@@ -142,3 +142,25 @@ def test_forward_with_translations_is_the_product_of_the_exps() -> None:
     np.testing.assert_allclose(kin.rotation, rot, rtol=0, atol=1e-15)
     np.testing.assert_allclose(kin.translation, pos, rtol=0, atol=1e-15)
     np.testing.assert_allclose(kin.jacobian, jac, rtol=0, atol=1e-14)
+
+
+def test_a_chain_with_bars_shifted_is_the_chain_about_the_new_point() -> None:
+    """The Delta's chains (each ends in a parallelogram's two bars) built about P and
+    then shifted to a point d equal those built about d: the twists, and the bars' ends
+    relative to the new point (``shifted`` left the bars' ends relative to the old one)."""
+    from ppm_stiffness.poses import full_pose
+    from ppm_stiffness.statics.moving_path import platform_chains
+
+    design = design_named("delta")
+    pose = full_pose(design, home_pose(design)[:3] + np.array([0.02, -0.01, 0.03]))[None, :]
+    d = np.array([[0.03, -0.05, 0.08]])
+    about_p = platform_chains(design, pose, np.zeros((1, 3)))
+    about_d = platform_chains(design, pose, d)
+    for a, b in zip(about_p.chains, about_d.chains, strict=True):
+        assert a.bars is not None and b.bars is not None
+        moved = a.shifted(d)
+        assert moved.bars is not None
+        np.testing.assert_allclose(moved.screws, b.screws, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(moved.bars.near, b.bars.near, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(moved.bars.far, b.bars.far, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(moved.bars.rest, b.bars.rest, rtol=0, atol=1e-15)

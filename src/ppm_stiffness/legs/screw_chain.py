@@ -163,11 +163,15 @@ class ScrewChain:
 
     def shifted(self, offset: ArrayLike) -> ScrewChain:
         """The same chain with its twists about ``c0 + offset`` (offset (k, 3) or (3,)
-        [m], axes of F_b): ``v' = v + w x offset``."""
+        [m], axes of F_b): ``v' = v + w x offset``; its bars' ends, if any, relative to
+        the new point."""
         d = np.broadcast_to(np.asarray(offset, dtype=float), (self.size, 3))
         s = self.screws.copy()
         s[:, 3:, :] += cross(np.swapaxes(s[:, :3, :], 1, 2), d[:, None, :]).swapaxes(1, 2)
-        return replace(self, screws=s)
+        if self.bars is None:
+            return replace(self, screws=s)
+        near, far = self.bars.near - d[:, None, :], self.bars.far - d[:, None, :]
+        return replace(self, screws=s, bars=replace(self.bars, near=near, far=far))
 
 
 def screw_chain(
