@@ -400,3 +400,16 @@ def test_sweep_ranks_by_reachable_workspace(capsys: pytest.CaptureFixture[str]) 
     # the JSON rows carry the quantity swept (they had the table figures alone)
     assert doc["quantity"] == {"name": "reachable-workspace", "unit": "1"}
     assert [row["reachable-workspace"] for row in doc["rows"]] == expected
+
+
+def test_the_hinge_range_is_stated_in_its_drives_unit() -> None:
+    """On the stage (three rotary drives) the ``range`` objective and constraint are in
+    rad (they said "rad or m", which the optimize table printed); a design whose drives
+    are of both kinds would keep "rad or m" (none is shipped)."""
+    from ppm_stiffness.optimize.objectives import for_design
+
+    stage = pps.load_design(ROOT / "examples/flexure_3rrr.toml")
+    assert OBJECTIVES["range"].unit == "rad or m"
+    assert for_design(OBJECTIVES["range"], stage).unit == "rad"
+    assert parse_constraint("range>=0.02", stage).quantity.unit == "rad"
+    assert for_design(OBJECTIVES["stress"], stage).unit == "Pa"

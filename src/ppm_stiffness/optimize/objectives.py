@@ -296,12 +296,15 @@ _CONSTRAINT = re.compile(r"^\s*([A-Za-z_][\w-]*)\s*(<=|>=)\s*(\S+)\s*$")
 
 
 def for_design(q: Quantity, design: Design) -> Quantity:
-    """``q`` with its unit stated for ``design``: ``actuator-effort``'s "N or N·m"
-    becomes N (linear drives) or N·m (rotary drives) when the drives are of one kind;
-    any other quantity unchanged."""
-    if q.name != "actuator-effort":
+    """``q`` with its unit stated for ``design`` when its drives are of one kind:
+    ``actuator-effort``'s "N or N·m" becomes N (linear drives) or N·m (rotary ones),
+    ``range``'s "rad or m" rad or m; any other quantity unchanged."""
+    if q.name == "actuator-effort":
+        kinds = {u for u in drive_units(design) if u is not None}
+    elif q.name == "range":
+        kinds = {leg.actuator_units()[1] for leg in design.legs if leg.is_actuated()}
+    else:
         return q
-    kinds = {u for u in drive_units(design) if u is not None}
     if len(kinds) != 1:
         return q
     from dataclasses import replace
