@@ -27,8 +27,9 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from ppm_stiffness.cli.common import (
     add_design_argument,
@@ -65,6 +66,9 @@ MAX_POSES = 1000
 #: frame and the model with link modes (the issue's 0.5 %; the shipped examples
 #: measure 1.9e-4 at most, the flexure stage's notch hinges aside: 3.6e-3).
 FREQUENCY_TOLERANCE = 5e-3
+
+
+_Result = TypeVar("_Result")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -179,12 +183,7 @@ def _run_modes(
 ) -> list[ModalComparison]:
     from ppm_stiffness.validation.modal import modal_comparison
 
-    out: list[ModalComparison] = []
-    with progress("FE modes", len(poses), enabled=not (args.quiet or args.json)) as advance:
-        for pose in poses:
-            out.append(modal_comparison(design, pose))
-            advance(1)
-    return out
+    return _at_each_pose("FE modes", design, poses, args, modal_comparison)
 
 
 def _frequency_difference(c: ModalComparison) -> float:
@@ -260,10 +259,22 @@ def _modes_json(modal: list[ModalComparison], worst: float) -> dict[str, object]
 def _run_poses(design: Design, poses: np.ndarray, args: argparse.Namespace) -> list[PoseComparison]:
     from ppm_stiffness.validation.compare import compare_at_pose
 
-    out: list[PoseComparison] = []
-    with progress("FE model", len(poses), enabled=not (args.quiet or args.json)) as advance:
+    return _at_each_pose("FE model", design, poses, args, compare_at_pose)
+
+
+def _at_each_pose(
+    what: str,
+    design: Design,
+    poses: np.ndarray,
+    args: argparse.Namespace,
+    compare: Callable[[Design, np.ndarray], _Result],
+) -> list[_Result]:
+    """``compare(design, pose)`` at each pose, with a progress bar named ``what``
+    (none with --quiet or --json)."""
+    out: list[_Result] = []
+    with progress(what, len(poses), enabled=not (args.quiet or args.json)) as advance:
         for pose in poses:
-            out.append(compare_at_pose(design, pose))
+            out.append(compare(design, pose))
             advance(1)
     return out
 
